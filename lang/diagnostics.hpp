@@ -1,5 +1,6 @@
 #pragma once
-/// The diagnostic engine: every problem of a run is collected here, then rendered as text, JSON or SARIF.
+/// The diagnostic engine: every problem of a run is collected here, then rendered as text, JSON or
+/// SARIF.
 
 #include "lang/source.hpp"
 
@@ -24,9 +25,9 @@ enum class DiagId {
 
 /// The static description of a diagnostic kind.
 struct DiagKind {
-  Severity severity;      ///< default severity
-  const char* code;       ///< stable code shown in brackets, e.g. "unknown-node"
-  const char* format;     ///< fmt format string of the message
+  Severity severity;  ///< default severity
+  const char* code;   ///< stable code shown in brackets, e.g. "unknown-node"
+  const char* format; ///< fmt format string of the message
 };
 
 /// The static description of a kind.
@@ -37,10 +38,11 @@ struct Diagnostic {
   Severity severity = Severity::error; ///< note, warning or error
   std::string code;                    ///< e.g. "unknown-node"
   std::string message;                 ///< the formatted message
-  std::optional<Span> at;              ///< reported location (line:col of at->begin); none for file-less problems
-  std::optional<Span> mark;            ///< range under the caret (defaults to `at`)
-  std::string file_hint;               ///< path to name when `at` is empty (e.g. a file that cannot be read)
-  std::vector<Diagnostic> notes;       ///< attached notes, rendered after the diagnostic
+  std::optional<Span>
+      at; ///< reported location (line:col of at->begin); none for file-less problems
+  std::optional<Span> mark; ///< range under the caret (defaults to `at`)
+  std::string file_hint;    ///< path to name when `at` is empty (e.g. a file that cannot be read)
+  std::vector<Diagnostic> notes; ///< attached notes, rendered after the diagnostic
 };
 
 /// Collects diagnostics of one run; stops accepting errors after a limit so no input floods it.
@@ -50,19 +52,31 @@ public:
   explicit DiagnosticEngine(const SourceManager& sources, std::size_t error_limit = 200)
       : sources_(&sources), error_limit_(error_limit) {}
 
+  /// Builds (without reporting) a diagnostic of a kind with message arguments.
+  template <typename... Args>
+  static Diagnostic make(DiagId id, std::optional<Span> at, std::optional<Span> mark,
+                         Args&&... args) {
+    const DiagKind& k = diag_kind(id);
+    return Diagnostic{k.severity, k.code, fmt::vformat(k.format, fmt::make_format_args(args...)),
+                      at,         mark,   {},
+                      {}};
+  }
   /// Reports a diagnostic of a kind with message arguments; returns it so notes can be attached.
   template <typename... Args>
   Diagnostic& report(DiagId id, std::optional<Span> at, std::optional<Span> mark, Args&&... args) {
-    const DiagKind& k = diag_kind(id);
-    return add(Diagnostic{k.severity, k.code,
-                          fmt::vformat(k.format, fmt::make_format_args(args...)), at, mark, {}, {}});
+    return add(make(id, at, mark, std::forward<Args>(args)...));
   }
   /// Builds a note (to push into a diagnostic's notes) of a kind with message arguments.
   template <typename... Args>
   static Diagnostic note(DiagId id, std::optional<Span> at, Args&&... args) {
     const DiagKind& k = diag_kind(id);
-    return Diagnostic{Severity::note, k.code, fmt::vformat(k.format, fmt::make_format_args(args...)),
-                      at, std::nullopt, {}, {}};
+    return Diagnostic{Severity::note,
+                      k.code,
+                      fmt::vformat(k.format, fmt::make_format_args(args...)),
+                      at,
+                      std::nullopt,
+                      {},
+                      {}};
   }
   /// Adds a fully built diagnostic (also used for file-level problems).
   Diagnostic& add(Diagnostic d);
@@ -89,14 +103,17 @@ private:
   std::size_t warnings_ = 0;
 };
 
-/// Renders diagnostics compiler-style: "file:line:col: severity: message [code]", source line, caret.
+/// Renders diagnostics compiler-style: "file:line:col: severity: message [code]", source line,
+/// caret.
 std::string render_text(const DiagnosticEngine& engine, bool color = false);
-/// Renders diagnostics as a JSON list of {file, line, column, severity, code, message} (notes included).
+/// Renders diagnostics as a JSON list of {file, line, column, severity, code, message} (notes
+/// included).
 std::string render_json(const DiagnosticEngine& engine);
 /// Renders diagnostics as a SARIF 2.1.0 log with one run of the tool "thermnet".
 std::string render_sarif(const DiagnosticEngine& engine, const std::string& tool_version);
 
 /// The closest candidate to `word` by edit distance, if close enough to be a plausible typo.
-std::optional<std::string> closest_match(const std::string& word, const std::vector<std::string>& candidates);
+std::optional<std::string> closest_match(const std::string& word,
+                                         const std::vector<std::string>& candidates);
 
 } // namespace thermnet::lang

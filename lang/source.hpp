@@ -14,15 +14,15 @@ using FileId = std::uint32_t;
 
 /// A half-open byte range [begin, end) inside one source file.
 struct Span {
-  FileId file = 0;          ///< which file
-  std::uint32_t begin = 0;  ///< first byte
-  std::uint32_t end = 0;    ///< one past the last byte
+  FileId file = 0;         ///< which file
+  std::uint32_t begin = 0; ///< first byte
+  std::uint32_t end = 0;   ///< one past the last byte
 };
 
 /// A 1-based line and column (column counts UTF-8 code points).
 struct LineCol {
-  std::uint32_t line = 1;    ///< 1-based line
-  std::uint32_t column = 1;  ///< 1-based column
+  std::uint32_t line = 1;   ///< 1-based line
+  std::uint32_t column = 1; ///< 1-based column
 };
 
 /// Owns the text of every file read for a model and maps offsets to lines and columns.

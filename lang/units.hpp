@@ -17,19 +17,22 @@ struct Dimension {
   /// Product of two dimensions (exponents add).
   constexpr Dimension operator*(const Dimension& o) const {
     Dimension r;
-    for (std::size_t i = 0; i < exp.size(); ++i) r.exp[i] = static_cast<std::int8_t>(exp[i] + o.exp[i]);
+    for (std::size_t i = 0; i < exp.size(); ++i)
+      r.exp[i] = static_cast<std::int8_t>(exp[i] + o.exp[i]);
     return r;
   }
   /// Quotient of two dimensions (exponents subtract).
   constexpr Dimension operator/(const Dimension& o) const {
     Dimension r;
-    for (std::size_t i = 0; i < exp.size(); ++i) r.exp[i] = static_cast<std::int8_t>(exp[i] - o.exp[i]);
+    for (std::size_t i = 0; i < exp.size(); ++i)
+      r.exp[i] = static_cast<std::int8_t>(exp[i] - o.exp[i]);
     return r;
   }
   /// Integer power of a dimension.
   constexpr Dimension pow(int n) const {
     Dimension r;
-    for (std::size_t i = 0; i < exp.size(); ++i) r.exp[i] = static_cast<std::int8_t>(exp[i] * n);
+    for (std::size_t i = 0; i < exp.size(); ++i)
+      r.exp[i] = static_cast<std::int8_t>(exp[i] * n);
     return r;
   }
   /// True when every exponent is zero.
@@ -78,7 +81,8 @@ struct UnitError : std::runtime_error {
 /// Parses a unit expression ("mm", "W/(m^2*K)", "J/(kg*K)", "degC", "1/s"); throws UnitError.
 Unit parse_unit(std::string_view text);
 
-/// Human-readable name of a dimension, preferring engineering forms ("W/K", "J/K", "m^2", "W/(m*K)").
+/// Human-readable name of a dimension, preferring engineering forms ("W/K", "J/K", "m^2",
+/// "W/(m*K)").
 std::string describe(const Dimension& d);
 
 /// Every unit symbol the table knows (without prefixes), for suggestions.

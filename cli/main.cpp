@@ -1,0 +1,39 @@
+// thermnet: one executable, subcommands as in shared/spec/cli.md. Every error is caught here and
+// rendered; no input ends in a crash.
+
+#include "cli/exit_status.hpp"
+#include "cli/lint_command.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <exception>
+#include <iostream>
+
+int main(int argc, char** argv) {
+  using namespace thermnet::cli;
+  CLI::App app{"thermnet: lumped-parameter thermal networks (lint, simulate, calibrate, diagnose)",
+               "thermnet"};
+  app.set_version_flag("--version", std::string("thermnet ") + THERMNET_VERSION);
+  app.require_subcommand(1);
+  int status = exit_ok;
+  add_lint_command(app, status);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return exit_usage;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "thermnet: error: out of memory\n";
+    return exit_failure;
+  } catch (const std::exception& e) {
+    std::cerr << "thermnet: error: " << e.what() << "\n";
+    return exit_failure;
+  }
+  return status;
+}

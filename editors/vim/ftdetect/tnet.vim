@@ -1,0 +1,2 @@
+" thermnet model files
+autocmd BufRead,BufNewFile *.tnet setfiletype tnet

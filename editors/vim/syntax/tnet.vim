@@ -1,0 +1,120 @@
+" Vim syntax file
+" Language:    thermnet model language (.tnet)
+" Contract:    shared/spec/language.md (core language) and thermnet's extensions
+"              (plugin statement, annulus_convection/cavity_convection kinds,
+"              `initial = steady` in a case)
+
+if exists('b:current_syntax')
+  finish
+endif
+
+let s:cpo_save = &cpo
+set cpo&vim
+
+syn case match
+syn iskeyword @,48-57,_
+" Brace blocks (case, series, parallel) span lines: parse from the top (model files are small).
+syn sync fromstart
+
+" A statement starts at the beginning of a line or after ';'.
+let s:sos = '\%(\%(^\|;\)\s*\)\@<='
+" An identifier that is not followed by '=', '(' or '.' (so not a key, a call or a target).
+let s:bare = '\<\h\w*\>\%(\s*\%(=\|(\|\.\%(\.\)\@!\)\)\@!'
+
+" ---------------------------------------------------------------- expressions
+syn match   tnetOperator     "[-+*/^=]"
+syn match   tnetDelimiter    "[,:]"
+syn match   tnetTerminator   ";"
+syn match   tnetRangeOp      "\.\."
+" Numbers: 12 -3.5 1e-3 2.5E+4 (not the digits of an identifier such as node2)
+syn match   tnetNumber       "\%([[:alnum:]_)\]]\)\@<!\%([^.]\.\)\@<!-\=\%(\d\+\%(\.\d\+\)\=\|\.\d\+\)\%([eE][-+]\=\d\+\)\=\%([[:alnum:]_]\)\@!"
+" Units in square brackets: 160 [W/(m*K)]
+syn region  tnetUnit         matchgroup=tnetUnitBracket start="\[" end="\]" oneline
+" Strings: \" and \\ are escapes
+syn region  tnetString       start=+"+ skip=+\\[\\"]+ end=+"+ end=+$+ oneline contains=tnetEscape
+syn match   tnetEscape       +\\[\\"]+ contained
+syn match   tnetSignal       "\<\%(step\|pwl\|table\)\ze\s*("
+syn match   tnetFunction     "\<\%(sqrt\|exp\|log10\|log\|sin\|cos\|tan\|abs\|min\|max\|pow\)\ze\s*("
+syn match   tnetConstant     "\<\%(pi\|sigma\)\>\%(\s*[=(]\)\@!"
+syn match   tnetContinuation "\\\ze\s*$"
+syn keyword tnetTodo         contained TODO FIXME XXX NOTE
+syn match   tnetComment      "#.*$" contains=tnetTodo,@Spell
+
+" Keys: NAME = ...
+syn match   tnetKey          "\<\h\w*\ze\s*="
+" A param's range: param NAME = EXPR range LO .. HI
+syn match   tnetRange        "\%(\%(^\|;\)\s*param\>[^;#]*\)\@<=\<range\>\%(\s*[=(]\)\@!"
+
+syn cluster tnetExpr contains=tnetOperator,tnetDelimiter,tnetRangeOp,tnetNumber,tnetUnit,tnetString,tnetSignal,tnetFunction,tnetConstant,tnetContinuation,tnetComment
+
+" ------------------------------------------------------- element statements
+" KIND NAME NODE_A [NODE_B] key = EXPR ...
+" Any kind (a plugin's too) is recognised by its shape: the first word of a
+" statement followed by two more names. Defined first: the statement keywords
+" below win over it.
+exe 'syn match tnetKind "' . s:sos . '\<\h\w*\>\ze\s\+\h\w*\s\+' . s:bare . '" nextgroup=tnetElementName skipwhite'
+syn match   tnetKind         "\%(\%(^\|;\)\s*\)\@<=\<\%(conductance\|resistor\|conduction\|cylinder_conduction\|contact\|convection\|radiation\|heater\|thermostat\|annulus_convection\|cavity_convection\)\>" nextgroup=tnetElementName skipwhite
+exe 'syn match tnetElementName "' . s:bare . '" contained nextgroup=tnetNodeRef,tnetBlock,tnetHeaderCont skipwhite'
+exe 'syn match tnetNodeRef "' . s:bare . '" contained nextgroup=tnetNodeRef,tnetBlock,tnetHeaderCont skipwhite'
+" a '\' continuation among the terminals: they go on on the next line
+syn match   tnetHeaderCont   "\\\ze\s*$" contained nextgroup=tnetNodeRef,tnetBlock skipwhite skipnl
+" thermostat ... sense = NODE
+syn match   tnetNodeRef      "\%(\<sense\s*=\s*\)\@<=\<\h\w*\>\%(\s*[(.]\)\@!"
+
+" Inner elements of series/parallel blocks: { KIND key = EXPR ... ; KIND ... }
+syn region  tnetBlock        matchgroup=tnetBrace start="{" end="}" contained contains=tnetInnerKind,tnetKey,tnetTerminator,@tnetExpr
+exe 'syn match tnetInnerKind "\%(\%(^\|[{;]\)\s*\)\@<=' . s:bare . '" contained'
+
+" ---------------------------------------------------------------- statements
+syn match   tnetStatement    "\%(\%(^\|;\)\s*\)\@<=\<\%(include\|plugin\)\>"
+syn match   tnetStatement    "\%(\%(^\|;\)\s*\)\@<=\<\%(model\|const\|param\|node\|boundary\)\>" nextgroup=tnetName skipwhite
+syn match   tnetStatement    "\%(\%(^\|;\)\s*\)\@<=\<\%(series\|parallel\)\>" nextgroup=tnetElementName skipwhite
+syn match   tnetStatement    "\%(\%(^\|;\)\s*\)\@<=\<case\>" nextgroup=tnetCaseName skipwhite
+syn match   tnetName         "\<\h\w*\>" contained
+syn match   tnetCaseName     "\<\h\w*\>" contained nextgroup=tnetCaseBlock skipwhite skipnl
+
+" ---------------------------------------------------------------- case blocks
+syn region  tnetCaseBlock    matchgroup=tnetBrace start="{" end="}" contained contains=tnetKey,tnetCaseTarget,tnetCaseKey,tnetSteady,tnetTerminator,@tnetExpr
+" ELEMENT.key = ... / BOUNDARY.T = ...
+syn match   tnetCaseTarget   "\<\h\w*\ze\.\h\w*\s*=" contained nextgroup=tnetAccessor
+syn match   tnetAccessor     "\." contained nextgroup=tnetKey
+syn match   tnetCaseKey      "\<\%(duration\|initial\|output\)\ze\s*=" contained
+syn match   tnetCaseKey      +\%(\%(^\|[{;]\)\s*\)\@<=\<data\>\ze\s*"+ contained
+syn match   tnetSteady       "\%(\<initial\s*=\s*\)\@<=\<steady\>" contained
+
+" ---------------------------------------------------------------- highlighting
+hi def link tnetComment      Comment
+hi def link tnetTodo         Todo
+hi def link tnetStatement    Statement
+hi def link tnetRange        Keyword
+hi def link tnetCaseKey      Keyword
+hi def link tnetKind         Type
+hi def link tnetInnerKind    tnetKind
+hi def link tnetName         Function
+hi def link tnetElementName  Function
+hi def link tnetCaseName     Function
+hi def link tnetNodeRef      Identifier
+hi def link tnetCaseTarget   Identifier
+hi def link tnetKey          Special
+hi def link tnetNumber       Number
+hi def link tnetUnit         PreProc
+hi def link tnetUnitBracket  Delimiter
+hi def link tnetString       String
+hi def link tnetEscape       SpecialChar
+hi def link tnetSignal       Function
+hi def link tnetFunction     Function
+hi def link tnetConstant     Constant
+hi def link tnetSteady       Constant
+hi def link tnetOperator     Operator
+hi def link tnetRangeOp      Operator
+hi def link tnetDelimiter    Delimiter
+hi def link tnetTerminator   Delimiter
+hi def link tnetBrace        Delimiter
+hi def link tnetAccessor     Delimiter
+hi def link tnetContinuation SpecialChar
+hi def link tnetHeaderCont   tnetContinuation
+
+let b:current_syntax = 'tnet'
+
+let &cpo = s:cpo_save
+unlet s:cpo_save

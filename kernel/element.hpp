@@ -1,0 +1,83 @@
+#pragma once
+/// The physics interface of element plugins: heat flows stamped into F, derivatives into dF/dT.
+///
+/// Node indices are those of the NetworkSpec (nodes and boundaries together). T, F and the
+/// Jacobian values cover every node: boundary rows and columns map to scratch slots that the
+/// kernel discards, so stamping code never branches on whether a terminal is a boundary.
+
+#include "lang/network_spec.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace thermnet {
+
+/// Hands out Jacobian slots for (row, column) node pairs while a network is built.
+class JacobianLayout {
+public:
+  virtual ~JacobianLayout() = default;
+  /// The slot of dF_row/dT_col in the Jacobian values array.
+  virtual int slot(int row, int col) = 0;
+};
+
+/// An element instantiated in a network.
+class Element {
+public:
+  virtual ~Element() = default;
+  /// Requests the Jacobian entries it stamps (called when the network is built; keep the slots).
+  virtual void declare(JacobianLayout& layout) = 0;
+  /// Adds heat flows into F (W, into each node) and their derivatives into J (W/K) at time t.
+  virtual void stamp(double t, const double* T, double* F, double* J) const = 0;
+  /// Appends the times where its inputs jump or bend.
+  virtual void breakpoints(std::vector<double>& /*out*/) const {}
+  /// Number of event functions it owns (thermostats: 1).
+  virtual int event_count() const { return 0; }
+  /// Writes its event functions' values into g.
+  virtual void events(double /*t*/, const double* /*T*/, double* /*g*/) const {}
+  /// Reacts to its event function `which` crossing zero; true if its output changed.
+  virtual bool apply_event(int /*which*/, double /*t*/, const double* /*T*/) { return false; }
+  /// Sets event state consistent with the temperatures at the start.
+  virtual void init_events(double /*t*/, const double* /*T*/) {}
+  /// Heat it adds to the network from outside, W (sources), for energy accounting.
+  virtual double power_in(double /*t*/, const double* /*T*/) const { return 0.0; }
+  /// Heat flowing from its first terminal to its second, W (two-terminal links).
+  virtual double flow(double /*t*/, const double* /*T*/) const { return 0.0; }
+};
+
+/// A two-terminal link with a constant conductance G: Q = G (T_a - T_b).
+class LinearLink final : public Element {
+public:
+  /// A link between nodes a and b.
+  LinearLink(int a, int b, double G) : a_(a), b_(b), G_(G) {}
+  /// The conductance, W/K.
+  double conductance() const { return G_; }
+  void declare(JacobianLayout& layout) override;
+  void stamp(double t, const double* T, double* F, double* J) const override;
+  double flow(double, const double* T) const override { return G_ * (T[a_] - T[b_]); }
+
+private:
+  int a_, b_;
+  double G_;
+  int aa_ = 0, ab_ = 0, ba_ = 0, bb_ = 0;
+};
+
+/// Stamps a two-terminal heat flow Q(Ta, Tb) from a to b with partial derivatives.
+inline void stamp_link(double* F, double* J, int a, int b, double q, double dq_da, double dq_db,
+                       const int slots[4]) {
+  F[a] -= q;
+  F[b] += q;
+  J[slots[0]] -= dq_da;
+  J[slots[1]] -= dq_db;
+  J[slots[2]] += dq_da;
+  J[slots[3]] += dq_db;
+}
+
+/// Declares the four slots (aa, ab, ba, bb) of a two-terminal link.
+inline void declare_link(JacobianLayout& layout, int a, int b, int slots[4]) {
+  slots[0] = layout.slot(a, a);
+  slots[1] = layout.slot(a, b);
+  slots[2] = layout.slot(b, a);
+  slots[3] = layout.slot(b, b);
+}
+
+} // namespace thermnet

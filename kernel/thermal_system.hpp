@@ -1,0 +1,57 @@
+#pragma once
+/// The equations the integrators solve: C_i dT_i/dt = F_i(t, T), with events and breakpoints.
+
+#include <string>
+#include <vector>
+
+namespace thermnet {
+
+/// A sparsity pattern in compressed sparse row form over the unknowns (diagonal always present).
+struct SparsityPattern {
+  int n = 0;                ///< number of rows and columns
+  std::vector<int> row_ptr; ///< row starts, size n + 1
+  std::vector<int> col_idx; ///< column of each stored entry, sorted within a row
+  /// Number of stored entries.
+  int nnz() const { return row_ptr.empty() ? 0 : row_ptr.back(); }
+};
+
+/// A lumped thermal system C_i dT_i/dt = F_i(t, T) in kelvin; C_i = 0 marks an algebraic
+/// (arithmetic) node.
+///
+/// Implementations (the kernel's Network) stamp element heat flows into F and their derivatives
+/// into dF/dT at entries of a pattern fixed when the system is built. Inputs may switch at
+/// breakpoints (step/pwl corners) and at events (thermostat thresholds, found by root-finding).
+class ThermalSystem {
+public:
+  virtual ~ThermalSystem() = default;
+  /// Number of unknown temperatures.
+  virtual int size() const = 0;
+  /// Heat capacity of each unknown in J/K (0 for an algebraic node).
+  virtual const std::vector<double>& capacities() const = 0;
+  /// Net heat flow into each unknown, F(t, T), in W.
+  virtual void heat_balance(double t, const double* T, double* F) = 0;
+  /// The fixed pattern of dF/dT.
+  virtual const SparsityPattern& jacobian_pattern() const = 0;
+  /// Values of dF/dT at (t, T), in the order of jacobian_pattern() entries, in W/K.
+  virtual void jacobian(double t, const double* T, double* values) = 0;
+
+  /// Number of event functions (e.g. one per thermostat).
+  virtual int event_count() const { return 0; }
+  /// Event functions g(t, T); an event fires where one crosses zero.
+  virtual void events(double /*t*/, const double* /*T*/, double* /*g*/) {}
+  /// Applies the events flagged in `fired` (one flag per event function); true if any input
+  /// changed.
+  virtual bool apply_events(double /*t*/, const double* /*T*/, const std::vector<int>& /*fired*/) {
+    return false;
+  }
+  /// Sets event-driven state (thermostats on/off) consistent with T at the start time.
+  virtual void init_events(double /*t*/, const double* /*T*/) {}
+
+  /// Times strictly inside (t0, t1] where inputs are discontinuous; the integrator restarts there.
+  virtual std::vector<double> breakpoints(double /*t0*/, double /*t1*/) const { return {}; }
+
+  /// Name of an unknown for messages (the node name).
+  virtual std::string unknown_name(int i) const { return "#" + std::to_string(i); }
+};
+
+} // namespace thermnet

@@ -1,0 +1,132 @@
+#include "lang/csv.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace thermnet::lang {
+namespace {
+
+std::string trim(std::string_view s) {
+  auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string_view::npos) return {};
+  auto e = s.find_last_not_of(" \t\r");
+  std::string out(s.substr(b, e - b + 1));
+  if (out.size() >= 2 && out.front() == '"' && out.back() == '"')
+    out = out.substr(1, out.size() - 2);
+  return out;
+}
+
+std::vector<std::string> split(std::string_view line) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  for (;;) {
+    auto comma = line.find(',', start);
+    fields.push_back(
+        trim(line.substr(start, comma == std::string_view::npos ? comma : comma - start)));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return fields;
+}
+
+bool parse_number(const std::string& s, double& out) {
+  if (s.empty()) return false;
+  const char* b = s.data();
+  if (*b == '+') ++b;
+  auto [p, ec] = std::from_chars(b, s.data() + s.size(), out);
+  return ec == std::errc() && p == s.data() + s.size();
+}
+
+bool is_missing(const std::string& s) {
+  if (s.empty()) return true;
+  std::string l(s);
+  std::transform(l.begin(), l.end(), l.begin(), [](unsigned char c) { return std::tolower(c); });
+  return l == "nan" || l == "na";
+}
+
+} // namespace
+
+CsvError::CsvError(const std::string& path, std::size_t row_, std::size_t column_,
+                   const std::string& msg)
+    : std::runtime_error(row_ == 0      ? fmt::format("{}: {}", path, msg)
+                         : column_ == 0 ? fmt::format("{}:{}: {}", path, row_, msg)
+                                        : fmt::format("{}:{}:{}: {}", path, row_, column_, msg)),
+      row(row_), column(column_) {}
+
+int CsvTable::column_index(const std::string& name) const {
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    if (columns[i] == name) return static_cast<int>(i);
+  return -1;
+}
+
+CsvTable parse_csv(const std::string& text, const std::string& path) {
+  CsvTable t;
+  t.path = path;
+  std::size_t pos = 0, line_no = 0;
+  bool header = true;
+  while (pos <= text.size()) {
+    auto nl = text.find('\n', pos);
+    std::string_view line(text.data() + pos, (nl == std::string::npos ? text.size() : nl) - pos);
+    pos = nl == std::string::npos ? text.size() + 1 : nl + 1;
+    ++line_no;
+    if (trim(line).empty()) continue;
+    if (line.find('\0') != std::string_view::npos)
+      throw CsvError(path, line_no, 0, "contains a NUL byte; is this a binary file?");
+    auto fields = split(line);
+    if (header) {
+      header = false;
+      if (fields[0] != "time")
+        throw CsvError(path, line_no, 1,
+                       fmt::format("the first column must be 'time', found '{}'", fields[0]));
+      for (std::size_t c = 0; c < fields.size(); ++c) {
+        if (fields[c].empty()) throw CsvError(path, line_no, c + 1, "empty column name");
+        for (std::size_t k = 0; k < c; ++k)
+          if (fields[k] == fields[c])
+            throw CsvError(path, line_no, c + 1,
+                           fmt::format("column '{}' appears twice", fields[c]));
+      }
+      t.columns = fields;
+      t.cells.assign(fields.size(), {});
+      continue;
+    }
+    if (fields.size() != t.columns.size())
+      throw CsvError(
+          path, line_no, 0,
+          fmt::format("row has {} fields, the header has {}", fields.size(), t.columns.size()));
+    for (std::size_t c = 0; c < fields.size(); ++c) {
+      double v = std::numeric_limits<double>::quiet_NaN();
+      if (!is_missing(fields[c]) && !parse_number(fields[c], v))
+        throw CsvError(path, line_no, c + 1, fmt::format("'{}' is not a number", fields[c]));
+      if (!std::isnan(v) && !std::isfinite(v))
+        throw CsvError(path, line_no, c + 1, fmt::format("'{}' is not finite", fields[c]));
+      if (c == 0) {
+        if (std::isnan(v)) throw CsvError(path, line_no, 1, "the time is missing");
+        if (!t.cells[0].empty() && !(v > t.cells[0].back()))
+          throw CsvError(path, line_no, 1,
+                         fmt::format("time {:g} does not increase (previous row: {:g})", v,
+                                     t.cells[0].back()));
+      }
+      t.cells[c].push_back(v);
+    }
+  }
+  if (header) throw CsvError(path, 1, 0, "the file is empty; expected a header row 'time,...'");
+  return t;
+}
+
+CsvTable read_csv(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CsvError(path, 0, 0, std::strerror(errno));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_csv(ss.str(), path);
+}
+
+} // namespace thermnet::lang

@@ -1,0 +1,78 @@
+#pragma once
+/// Elaboration: turns a Model's declarations, for one case and one set of param values, into a
+/// NetworkSpec, reporting every problem through a callback (lint collects, simulate throws).
+
+#include "lang/evaluator.hpp"
+#include "lang/model.hpp"
+
+#include <functional>
+#include <set>
+#include <unordered_map>
+
+namespace thermnet::lang {
+
+/// Receives each problem found; may throw to stop at the first error.
+using Reporter = std::function<void(Diagnostic)>;
+
+/// Evaluates and checks one instantiation of a model.
+class Elaborator {
+public:
+  /// Elaborates `model` for case `c` (nullptr: the base model) with param overrides.
+  Elaborator(const Model& model, Reporter report, const CaseDecl* c, const ParamValues& overrides,
+             bool check_data);
+  /// Builds the network; problems go to the reporter (the result is partial after an error).
+  NetworkSpec run();
+  /// Names of consts and params looked up during run().
+  const std::set<std::string>& used_names() const { return used_; }
+  /// The value of a const or param (evaluated on first use); throws EvalError.
+  Quantity value_of(const std::string& name, Span use);
+  /// The evaluated range of a ranged param, if value_of evaluated it.
+  std::optional<std::pair<double, double>> range_of(const std::string& name) const {
+    auto it = ranges_.find(name);
+    return it == ranges_.end() ? std::nullopt : std::optional(it->second);
+  }
+
+private:
+  /// Where a value goes: what to call it in messages, and what it must be.
+  struct Place {
+    std::string what;                  ///< "key 'k' of conduction 'g1'"
+    Dimension dim;                     ///< expected dimension
+    bool absolute_temperature = false; ///< bare numbers are degC
+    const KeySchema* key = nullptr;    ///< for range checks
+  };
+
+  Evaluator evaluator(FileId f);
+  std::optional<double> to_place(const Quantity& q, const Place& p, Span at, Span mark);
+  std::optional<double> number(const ast::Expr& e, FileId f, const Place& p, Span at);
+  std::optional<Signal> signal(const ast::Value& v, FileId f, const Place& p, Span at);
+  bool check_range(double v, const Place& p, Span at, Span mark);
+  std::optional<int> resolve_node(const ast::Identifier& id, FileId f, Span at);
+  void report(Diagnostic d);
+  void report_eval(const EvalError& e);
+
+  void elaborate_node(const NodeDecl& d, NodeSpec& out);
+  bool fill_keys(const ElementSchema& schema, const std::vector<ast::KeyValue>& keys, FileId f,
+                 Span at, const std::string& owner, ElementSpec& out);
+  std::optional<ElementSpec> elaborate_element(const ElementDecl& d);
+  std::optional<ElementSpec> elaborate_composite(const ElementDecl& d);
+  void apply_case(NetworkSpec& net);
+  void apply_override(NetworkSpec& net, const ast::CaseAssign& a, FileId f);
+  void check_data(const NetworkSpec& net, const std::string& path, Span at, Span mark);
+
+  const Model& m_;
+  Reporter report_;
+  const CaseDecl* case_;
+  ParamValues overrides_;
+  bool check_data_;
+  std::unordered_map<std::string, const ValueDecl*> value_decls_;
+  std::unordered_map<std::string, Quantity> values_;
+  std::unordered_map<std::string, std::pair<double, double>> ranges_;
+  std::map<std::string, double> pending_params_;
+  std::vector<std::string> evaluating_;
+  std::set<std::string> used_;
+  std::unordered_map<std::string, int> node_index_;
+  std::unordered_map<std::string, const ElementDecl*> element_decls_;
+  std::unordered_map<std::string, int> element_index_;
+};
+
+} // namespace thermnet::lang

@@ -1,0 +1,60 @@
+#pragma once
+/// Evaluation of expressions to SI values with dimension analysis.
+
+#include "lang/ast.hpp"
+#include "lang/diagnostics.hpp"
+#include "lang/units.hpp"
+
+#include <exception>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace thermnet::lang {
+
+/// A value in SI with its dimension; a bare number (no unit anywhere) has no dimension.
+struct Quantity {
+  double value = 0.0;           ///< SI value
+  std::optional<Dimension> dim; ///< dimension, or none for a bare number
+};
+
+/// A problem found while evaluating: a complete diagnostic ready to report.
+struct EvalError : std::exception {
+  /// Wraps a diagnostic.
+  explicit EvalError(Diagnostic d) : diag(std::move(d)) {}
+  Diagnostic diag; ///< what went wrong, where
+  /// The message.
+  const char* what() const noexcept override { return diag.message.c_str(); }
+};
+
+/// Evaluates expressions of one file; names are resolved by a callback that may throw EvalError.
+class Evaluator {
+public:
+  /// Resolves a const/param name to its value.
+  using Lookup = std::function<Quantity(const ast::Identifier&, FileId)>;
+  /// An evaluator for expressions written in `file`.
+  Evaluator(FileId file, Lookup lookup) : file_(file), lookup_(std::move(lookup)) {}
+  /// Evaluates an expression; throws EvalError on unknown names, unit errors or non-finite results.
+  Quantity eval(const ast::Expr& e) const;
+  /// The span of a tagged node of this file.
+  Span span(const ast::Tagged& t) const { return Span{file_, t.begin, t.end}; }
+
+private:
+  Quantity term(const ast::Term& t) const;
+  Quantity signed_power(const ast::Signed& s) const;
+  Quantity power(const ast::Power& p) const;
+  Quantity primary(const ast::Primary& p) const;
+  Quantity quantity(const ast::Quantity& q) const;
+  Quantity call(const ast::Call& c) const;
+  Quantity combine_sum(Quantity a, Quantity b, char op, const ast::Tagged& where) const;
+  Quantity raise(Quantity base, Quantity exp, const ast::Tagged& where) const;
+  [[noreturn]] void fail(Diagnostic d) const;
+
+  FileId file_;
+  Lookup lookup_;
+};
+
+/// Formats an SI value with its unit for messages ("-5 W/K", "17 degC" for absolute temperatures).
+std::string format_value(double si, const Dimension& dim, bool absolute_temperature = false);
+
+} // namespace thermnet::lang

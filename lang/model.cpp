@@ -1,0 +1,144 @@
+// The Model's checking entry points: lint (collect everything), instantiate (throw at the first
+// error), params, and the topology warnings lint adds.
+
+#include "lang/model.hpp"
+#include "lang/elaborator.hpp"
+
+#include <numeric>
+#include <set>
+#include <tuple>
+
+namespace thermnet::lang {
+namespace {
+
+/// Union-find over node indices.
+struct Components {
+  std::vector<int> parent;
+  explicit Components(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int i) {
+    while (parent[static_cast<std::size_t>(i)] != i)
+      i = parent[static_cast<std::size_t>(i)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+    return i;
+  }
+  void join(int a, int b) { parent[static_cast<std::size_t>(find(a))] = find(b); }
+};
+
+Span start_of(const Span& s) {
+  return Span{s.file, s.begin, s.begin};
+}
+
+/// Warnings about the network's shape: isolated nodes, and groups with no path to a boundary.
+void check_topology(const Model& m, const NetworkSpec& net, const Reporter& report) {
+  const std::size_t n = net.nodes.size();
+  if (n != m.nodes().size()) return;
+  Components comp(n);
+  std::vector<int> degree(n, 0);
+  for (const auto& e : net.elements) {
+    if (e.nodes.size() != 2) continue;
+    comp.join(e.nodes[0], e.nodes[1]);
+    ++degree[static_cast<std::size_t>(e.nodes[0])];
+    ++degree[static_cast<std::size_t>(e.nodes[1])];
+  }
+  std::map<int, std::vector<std::size_t>> groups;
+  std::set<int> grounded;
+  for (std::size_t i = 0; i < n; ++i) {
+    int root = comp.find(static_cast<int>(i));
+    if (net.nodes[i].boundary)
+      grounded.insert(root);
+    else
+      groups[root].push_back(i);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (net.nodes[i].boundary || degree[i] != 0) continue;
+    const NodeDecl& d = m.nodes()[i];
+    report(DiagnosticEngine::make(DiagId::isolated_node, start_of(d.where), d.name_span, d.name));
+  }
+  for (const auto& [root, members] : groups) {
+    if (grounded.count(root) || members.size() < 2) continue;
+    std::string names;
+    for (std::size_t k = 0; k < members.size() && k < 4; ++k)
+      names += (k ? ", '" : "'") + net.nodes[members[k]].name + "'";
+    if (members.size() > 4) names += fmt::format(" and {} more", members.size() - 4);
+    const NodeDecl& d = m.nodes()[members.front()];
+    report(DiagnosticEngine::make(DiagId::floating_group, start_of(d.where), d.name_span,
+                                  "nodes " + names));
+  }
+}
+
+} // namespace
+
+void Model::lint(DiagnosticEngine& diags) const {
+  // The base model is elaborated once per case; report each identical problem only once.
+  std::set<std::tuple<std::string, FileId, std::uint32_t, std::string>> seen;
+  Reporter collect = [&](Diagnostic d) {
+    auto key = std::make_tuple(d.code, d.at ? d.at->file : 0u, d.at ? d.at->begin : 0u, d.message);
+    if (seen.insert(key).second) diags.add(std::move(d));
+  };
+  Elaborator base(*this, collect, nullptr, {}, true);
+  NetworkSpec net = base.run();
+  for (const auto& v : values_) {
+    try {
+      base.value_of(v.name, v.name_span); // problems in unused declarations are problems too
+    } catch (const EvalError&) {
+    }
+  }
+  check_topology(*this, net, collect);
+  std::set<std::string> used = base.used_names();
+  for (const auto& c : cases_) {
+    if (diags.saturated()) return;
+    Elaborator ec(*this, collect, &c, {}, true);
+    ec.run();
+    used.insert(ec.used_names().begin(), ec.used_names().end());
+  }
+  for (const auto& v : values_)
+    if (!used.count(v.name))
+      collect(DiagnosticEngine::make(v.is_param ? DiagId::unused_param : DiagId::unused_const,
+                                     start_of(v.where), v.name_span, v.name));
+}
+
+NetworkSpec Model::instantiate(const std::string& case_name, const ParamValues& params) const {
+  std::string name = resolve_case(case_name);
+  const CaseDecl* c = nullptr;
+  for (const auto& d : cases_)
+    if (d.name == name) c = &d;
+  Reporter fail = [](Diagnostic d) {
+    if (d.severity == Severity::error) throw ModelError(std::move(d));
+  };
+  Elaborator e(*this, fail, c, params, false);
+  NetworkSpec net = e.run();
+  if (!c) net.settings.name = name;
+  return net;
+}
+
+std::vector<ParamInfo> Model::params() const {
+  Reporter fail = [](Diagnostic d) {
+    if (d.severity == Severity::error) throw ModelError(std::move(d));
+  };
+  Elaborator e(*this, fail, nullptr, {}, false);
+  std::vector<ParamInfo> out;
+  for (const auto& v : values_) {
+    if (!v.is_param) continue;
+    Quantity q;
+    try {
+      q = e.value_of(v.name, v.name_span);
+    } catch (const EvalError& err) {
+      throw ModelError(err.diag);
+    }
+    ParamInfo p;
+    p.name = v.name;
+    p.value = q.value;
+    p.dim = q.dim;
+    p.doc = v.doc;
+    p.file = v.file;
+    p.value_span = Span{v.file, v.expr->begin, v.expr->end};
+    if (auto r = e.range_of(v.name)) {
+      p.lo = r->first;
+      p.hi = r->second;
+    }
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+} // namespace thermnet::lang

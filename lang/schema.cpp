@@ -1,0 +1,36 @@
+#include "lang/schema.hpp"
+
+#include <fmt/format.h>
+
+namespace thermnet::lang {
+
+std::string KeySchema::range_text() const {
+  if (min && max)
+    return fmt::format("in {}{:g}, {:g}{}", min_exclusive ? '(' : '[', *min, *max,
+                       max_exclusive ? ')' : ']');
+  if (min) return fmt::format("{} {:g}", min_exclusive ? ">" : ">=", *min);
+  if (max) return fmt::format("{} {:g}", max_exclusive ? "<" : "<=", *max);
+  return {};
+}
+
+bool KeySchema::accepts(double v) const {
+  if (min && (min_exclusive ? !(v > *min) : !(v >= *min))) return false;
+  if (max && (max_exclusive ? !(v < *max) : !(v <= *max))) return false;
+  return true;
+}
+
+const KeySchema* ElementSchema::key(std::string_view name) const {
+  for (const auto& k : keys)
+    if (k.name == name) return &k;
+  return nullptr;
+}
+
+std::vector<std::string> ElementSchema::key_names() const {
+  std::vector<std::string> names;
+  names.reserve(keys.size());
+  for (const auto& k : keys)
+    names.push_back(k.name);
+  return names;
+}
+
+} // namespace thermnet::lang

@@ -1,0 +1,31 @@
+#pragma once
+/// Time-dependent values in SI: constant, piecewise constant (step) or piecewise linear (pwl,
+/// table).
+
+#include <vector>
+
+namespace thermnet::lang {
+
+/// A value over time; times in s, values in SI (K for temperatures, W for powers).
+struct Signal {
+  /// The shape of a signal.
+  enum class Kind { constant, step, pwl };
+  Kind kind = Kind::constant; ///< shape
+  double constant = 0.0;      ///< value when kind == constant
+  std::vector<double> t;      ///< corner times, increasing (step, pwl)
+  std::vector<double> v;      ///< values at the corners (step: held until the next corner)
+
+  /// A constant signal.
+  static Signal of(double value) { return Signal{Kind::constant, value, {}, {}}; }
+  /// The value at a time (step: v_k on [t_k, t_k+1), first value before t_0; pwl: clamped at the
+  /// ends).
+  double at(double time) const;
+  /// True for a constant.
+  bool is_constant() const { return kind == Kind::constant; }
+  /// Times where the signal jumps or bends (where an integrator should restart).
+  const std::vector<double>& corners() const { return t; }
+  /// Multiplies every value by a factor.
+  Signal scaled(double factor) const;
+};
+
+} // namespace thermnet::lang

@@ -1,0 +1,55 @@
+// Element plugin 'radiation': grey-body exchange Q = sigma GR (T_a^4 - T_b^4), in kelvin.
+#include "kernel/element_registry.hpp"
+
+namespace thermnet {
+namespace {
+
+constexpr double stefan_boltzmann = 5.670374419e-8;
+
+/// Radiative exchange between two surfaces with a fixed radiative exchange factor GR.
+class RadiationLink final : public Element {
+public:
+  RadiationLink(int a, int b, double GR) : a_(a), b_(b), k_(stefan_boltzmann * GR) {}
+  void declare(JacobianLayout& layout) override { declare_link(layout, a_, b_, slots_); }
+  void stamp(double, const double* T, double* F, double* J) const override {
+    double ta = T[a_], tb = T[b_];
+    double ta3 = ta * ta * ta, tb3 = tb * tb * tb;
+    stamp_link(F, J, a_, b_, k_ * (ta3 * ta - tb3 * tb), 4.0 * k_ * ta3, -4.0 * k_ * tb3, slots_);
+  }
+  double flow(double, const double* T) const override {
+    double ta2 = T[a_] * T[a_], tb2 = T[b_] * T[b_];
+    return k_ * (ta2 * ta2 - tb2 * tb2);
+  }
+
+private:
+  int a_, b_;
+  double k_;
+  int slots_[4] = {0, 0, 0, 0};
+};
+
+/// GR from the keys: given directly, or F A / (1/eps1 + 1/eps2 - 1).
+double exchange_factor(const lang::KeyValues& v) {
+  if (auto gr = v.find("GR"); gr != v.end()) return gr->second;
+  return v.at("F") * v.at("A") / (1.0 / v.at("eps1") + 1.0 / v.at("eps2") - 1.0);
+}
+
+ElementPlugin make_radiation() {
+  lang::ElementSchema s;
+  s.kind = "radiation";
+  s.terminals = 2;
+  s.doc = "radiation exchange, Q = sigma GR (T_a^4 - T_b^4) in kelvin";
+  s.keys.push_back(Key("GR", lang::dim::area, "radiative exchange factor [m^2]").positive());
+  s.keys.push_back(Key("A", lang::dim::area, "radiating area [m^2]").positive());
+  s.keys.push_back(Key("F", lang::dim::none, "view factor (default 1)").fraction().otherwise(1.0));
+  s.keys.push_back(Key("eps1", lang::dim::none, "emissivity of surface A, in (0, 1]").fraction());
+  s.keys.push_back(Key("eps2", lang::dim::none, "emissivity of surface B, in (0, 1]").fraction());
+  s.alternatives = {{"GR"}, {"A", "eps1", "eps2"}};
+  return ElementPlugin{std::move(s), [](const lang::ElementSpec& e) -> std::unique_ptr<Element> {
+                         return std::make_unique<RadiationLink>(e.nodes.at(0), e.nodes.at(1),
+                                                                exchange_factor(e.key_values()));
+                       }};
+}
+
+} // namespace
+THERMNET_REGISTER_ELEMENT(make_radiation);
+} // namespace thermnet

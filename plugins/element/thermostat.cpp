@@ -1,0 +1,67 @@
+// Element plugin 'thermostat': an on/off heater with hysteresis, switched by root-finding.
+#include "kernel/element_registry.hpp"
+
+namespace thermnet {
+namespace {
+
+/// Heats its node with P while on; turns on below T_on and off above T_off (of the sensed node).
+class Thermostat final : public Element {
+public:
+  Thermostat(int node, int sense, double P, double on, double off)
+      : node_(node), sense_(sense), P_(P), on_(on), off_(off) {}
+  void declare(JacobianLayout&) override {}
+  void stamp(double, const double*, double* F, double*) const override {
+    if (heating_) F[node_] += P_;
+  }
+  int event_count() const override { return 1; }
+  /// While off the event is the sensed temperature reaching T_on; while on, reaching T_off.
+  void events(double, const double* T, double* g) const override {
+    g[0] = T[sense_] - (heating_ ? off_ : on_);
+  }
+  bool apply_event(int, double, const double*) override {
+    heating_ = !heating_;
+    return true;
+  }
+  void init_events(double, const double* T) override { heating_ = T[sense_] < on_; }
+  double power_in(double, const double*) const override { return heating_ ? P_ : 0.0; }
+
+private:
+  int node_, sense_;
+  double P_, on_, off_;
+  bool heating_ = false;
+};
+
+ElementPlugin make_thermostat() {
+  lang::ElementSchema s;
+  s.kind = "thermostat";
+  s.terminals = 1;
+  s.doc = "on/off heater with hysteresis: on below 'on', off above 'off'";
+  s.is_source = true;
+  s.keys.push_back(Key("P", lang::dim::power, "heating power while on [W]").required().positive());
+  s.keys.push_back(Key("on", lang::dim::temperature, "switch-on temperature [degC]")
+                       .required()
+                       .absolute_temperature());
+  s.keys.push_back(Key("off", lang::dim::temperature, "switch-off temperature [degC]")
+                       .required()
+                       .absolute_temperature());
+  s.keys.push_back(
+      Key("sense", lang::dim::none, "node whose temperature is sensed (default: the heated node)")
+          .node());
+  s.check = [](const lang::KeyValues& v) {
+    std::vector<lang::KeyProblem> p;
+    if (!(v.at("on") < v.at("off")))
+      p.push_back({"off", "'off' must be above 'on' (the hysteresis band)"});
+    return p;
+  };
+  return ElementPlugin{std::move(s), [](const lang::ElementSpec& e) -> std::unique_ptr<Element> {
+                         auto it = e.node_keys.find("sense");
+                         int node = e.nodes.at(0);
+                         return std::make_unique<Thermostat>(
+                             node, it == e.node_keys.end() ? node : it->second, e.number("P"),
+                             e.number("on"), e.number("off"));
+                       }};
+}
+
+} // namespace
+THERMNET_REGISTER_ELEMENT(make_thermostat);
+} // namespace thermnet
