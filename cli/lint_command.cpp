@@ -32,14 +32,17 @@ int run_lint(const LintOptions& o) {
     model->lint(diags);
   }
   diags.sort();
-  if (o.format == "json") std::cout << lang::render_json(diags);
-  else if (o.format == "sarif") std::cout << lang::render_sarif(diags, THERMNET_VERSION);
+  if (o.format == "json")
+    std::cout << lang::render_json(diags);
+  else if (o.format == "sarif")
+    std::cout << lang::render_sarif(diags, THERMNET_VERSION);
   else {
     std::cout << lang::render_text(diags, use_color(STDOUT_FILENO));
     std::size_t e = diags.error_count(), w = diags.warning_count();
     if (e || w)
       std::cerr << fmt::format("{} error{} and {} warning{} in {} file{}.\n", e, e == 1 ? "" : "s",
-                               w, w == 1 ? "" : "s", sources.size(), sources.size() == 1 ? "" : "s");
+                               w, w == 1 ? "" : "s", sources.size(),
+                               sources.size() == 1 ? "" : "s");
   }
   std::cout.flush();
   if (unreadable) return exit_usage;

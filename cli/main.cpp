@@ -3,6 +3,7 @@
 
 #include "cli/exit_status.hpp"
 #include "cli/lint_command.hpp"
+#include "cli/simulate_command.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -17,6 +18,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   int status = exit_ok;
   add_lint_command(app, status);
+  add_simulate_command(app, status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -1,8 +1,16 @@
 #include "cli/model_loading.hpp"
 
+#include "cli/exit_status.hpp"
 #include "kernel/element_registry.hpp"
+#include "lang/units.hpp"
 
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
 #include <cstdlib>
+#include <iostream>
+#include <stdexcept>
 #include <unistd.h>
 
 namespace thermnet::cli {
@@ -12,6 +20,63 @@ std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceMan
   return lang::Model::load(path, ElementRegistry::global(), sources, diags);
 }
 
-bool use_color(int fd) { return ::isatty(fd) && std::getenv("NO_COLOR") == nullptr; }
+std::unique_ptr<lang::Model> load_checked_model(const std::string& path,
+                                                lang::SourceManager& sources, int& status) {
+  lang::DiagnosticEngine diags(sources);
+  auto model = load_model(path, sources, diags);
+  if (model) model->lint(diags);
+  diags.sort();
+  if (!diags.all().empty()) std::cerr << lang::render_text(diags, use_color(STDERR_FILENO));
+  if (!model) {
+    status = exit_usage;
+    return nullptr;
+  }
+  if (diags.error_count() > 0) {
+    std::cerr << fmt::format("thermnet: {} error{} in the model; nothing was run\n",
+                             diags.error_count(), diags.error_count() == 1 ? "" : "s");
+    status = exit_failure;
+    return nullptr;
+  }
+  return model;
+}
+
+void print_diagnostic(const lang::Diagnostic& d, const lang::SourceManager& sources) {
+  lang::DiagnosticEngine one(sources);
+  one.add(d);
+  std::cerr << lang::render_text(one, use_color(STDERR_FILENO));
+}
+
+double parse_time(const std::string& text) {
+  std::size_t b = text.find_first_not_of(" \t");
+  if (b == std::string::npos) throw std::invalid_argument("empty time");
+  double value = 0;
+  auto [p, ec] = std::from_chars(text.data() + b, text.data() + text.size(), value);
+  if (ec != std::errc())
+    throw std::invalid_argument(fmt::format("'{}' is not a time (e.g. 2500, 3h, 45min)", text));
+  std::string unit(p, text.data() + text.size());
+  unit.erase(0, unit.find_first_not_of(" \t["));
+  while (!unit.empty() && (unit.back() == ' ' || unit.back() == ']'))
+    unit.pop_back();
+  double seconds = value;
+  if (!unit.empty()) {
+    lang::Unit u;
+    try {
+      u = lang::parse_unit(unit);
+    } catch (const lang::UnitError& e) {
+      throw std::invalid_argument(fmt::format("'{}': {}", text, e.what()));
+    }
+    if (!(u.dim == lang::dim::time))
+      throw std::invalid_argument(
+          fmt::format("'{}' is not a time: its unit is {}", text, lang::describe(u.dim)));
+    seconds = u.scale * value;
+  }
+  if (!std::isfinite(seconds) || seconds <= 0)
+    throw std::invalid_argument(fmt::format("'{}' must be a positive time", text));
+  return seconds;
+}
+
+bool use_color(int fd) {
+  return ::isatty(fd) && std::getenv("NO_COLOR") == nullptr;
+}
 
 } // namespace thermnet::cli

@@ -1,5 +1,5 @@
 #pragma once
-/// Loading models for the subcommands: one place that wires the registry and plugin loading.
+/// Loading models for the subcommands: one place that wires the registry, checking and reporting.
 
 #include "lang/diagnostics.hpp"
 #include "lang/model.hpp"
@@ -12,6 +12,18 @@ namespace thermnet::cli {
 /// Loads a model against the global element registry; problems go to diags.
 std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceManager& sources,
                                         lang::DiagnosticEngine& diags);
+
+/// Loads and lints a model for a command; on errors prints them to stderr, sets `status` and
+/// returns nullptr (status 2 when the file cannot be read, 1 for errors in it).
+std::unique_ptr<lang::Model> load_checked_model(const std::string& path,
+                                                lang::SourceManager& sources, int& status);
+
+/// Prints one diagnostic (e.g. from a ModelError) to stderr, compiler-style.
+void print_diagnostic(const lang::Diagnostic& d, const lang::SourceManager& sources);
+
+/// Parses a time such as "2500", "3h", "45 min" or "1.5 [h]" into seconds; throws
+/// std::invalid_argument.
+double parse_time(const std::string& text);
 
 /// True when stderr/stdout should be coloured (a terminal, and NO_COLOR unset).
 bool use_color(int fd);

@@ -1,0 +1,124 @@
+#include "cli/simulate_command.hpp"
+
+#include "cli/atomic_file.hpp"
+#include "cli/exit_status.hpp"
+#include "cli/model_loading.hpp"
+#include "cli/result_output.hpp"
+#include "kernel/simulation.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+#include <iostream>
+#include <memory>
+
+namespace thermnet::cli {
+namespace {
+
+struct SimulateOptions {
+  std::string model;
+  std::string case_name;
+  bool steady = false;
+  std::string duration;
+  std::string output_interval;
+  std::string out;
+  std::string plot;
+  std::vector<std::string> nodes;
+  bool stats = false;
+  double rtol = 1e-6;
+  double atol = 1e-6;
+  std::string linear_solver = "auto";
+};
+
+LinearSolverKind solver_kind(const std::string& s) {
+  if (s == "dense") return LinearSolverKind::dense;
+  if (s == "klu") return LinearSolverKind::klu;
+  if (s == "krylov") return LinearSolverKind::krylov;
+  return LinearSolverKind::automatic;
+}
+
+void print_stats(const SolverStats& s, double wall) {
+  std::cerr << fmt::format(
+      "thermnet: {} with {} linear solver: {} steps, {} rhs evaluations, {} Jacobians, "
+      "{} linear setups, {} Newton iterations ({} failed), {} error test failures, "
+      "{} events, {} restarts, {:.3f} s wall\n",
+      s.integrator, s.linear_solver, s.steps, s.rhs_evals, s.jac_evals, s.linear_setups,
+      s.nonlinear_iters, s.nonlinear_fails, s.error_test_fails, s.events, s.restarts, wall);
+}
+
+int run_simulate(const SimulateOptions& o) {
+  lang::SourceManager sources;
+  int status = exit_ok;
+  auto model = load_checked_model(o.model, sources, status);
+  if (!model) return status;
+  SimulationOptions sim;
+  try {
+    if (!o.duration.empty()) sim.duration = parse_time(o.duration);
+    if (!o.output_interval.empty()) sim.output = parse_time(o.output_interval);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "thermnet simulate: error: " << e.what() << "\n";
+    return exit_usage;
+  }
+  sim.steady = o.steady;
+  sim.solver.rtol = o.rtol;
+  sim.solver.atol = o.atol;
+  sim.solver.linear_solver = solver_kind(o.linear_solver);
+  try {
+    Network net(model->instantiate(o.case_name));
+    auto start = std::chrono::steady_clock::now();
+    SimulationResult r = simulate(net, sim);
+    double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (o.stats) print_stats(r.stats, wall);
+    std::string svg;
+    if (!o.plot.empty())
+      svg = plot_result_svg(r, o.nodes,
+                            fmt::format("{} — case {}", model->name(), net.spec().settings.name));
+    std::string csv = format_result_csv(r);
+    if (o.out.empty())
+      std::cout << csv;
+    else
+      write_file_atomically(o.out, csv);
+    if (!svg.empty()) write_file_atomically(o.plot, svg);
+  } catch (const lang::ModelError& e) {
+    print_diagnostic(e.diag, sources);
+    return exit_failure;
+  } catch (const SolverError& e) {
+    std::cerr << "thermnet simulate: error: " << e.what() << "\n";
+    return exit_failure;
+  } catch (const OutputError& e) {
+    std::cerr << "thermnet simulate: error: " << e.what() << "\n";
+    return exit_usage;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "thermnet simulate: error: " << e.what() << "\n";
+    return exit_usage;
+  }
+  return exit_ok;
+}
+
+} // namespace
+
+void add_simulate_command(CLI::App& app, int& status) {
+  auto o = std::make_shared<SimulateOptions>();
+  CLI::App* cmd = app.add_subcommand("simulate", "Simulate a case: temperatures over time as CSV");
+  cmd->add_option("MODEL", o->model, "model file (.tnet)")->required();
+  cmd->add_option("--case", o->case_name, "case to run (default: the only case, or 'default')");
+  cmd->add_flag("--steady", o->steady,
+                "solve the steady state (inputs at t = 0), one row at time 0");
+  cmd->add_option("--duration", o->duration,
+                  "simulated time, e.g. 2500, 3h, 45min (overrides the case)");
+  cmd->add_option("--output", o->output_interval,
+                  "output interval, e.g. 10, 1min (default: duration/1000)");
+  cmd->add_option("-o,--out", o->out, "CSV output file (default: standard output)");
+  cmd->add_option("--plot", o->plot, "SVG plot of node temperatures against time");
+  cmd->add_option("--nodes", o->nodes, "nodes to plot (comma-separated; default: all)")
+      ->delimiter(',');
+  cmd->add_flag("--stats", o->stats, "print solver statistics to standard error");
+  cmd->add_option("--rtol", o->rtol, "relative tolerance")->check(CLI::Range(1e-12, 1e-1));
+  cmd->add_option("--atol", o->atol, "absolute tolerance, K")->check(CLI::Range(1e-12, 10.0));
+  cmd->add_option("--linear-solver", o->linear_solver, "linear solver")
+      ->check(CLI::IsMember({"auto", "dense", "klu", "krylov"}));
+  cmd->callback([o, &status] { status = run_simulate(*o); });
+}
+
+} // namespace thermnet::cli

@@ -1,0 +1,208 @@
+// integrate(): the transient driver over CVODE/IDA steppers — segments between breakpoints,
+// events by root-finding, dense output at the requested times, guards against runaway runs.
+
+#include "kernel/integrator.hpp"
+
+#include "kernel/linear_solver_choice.hpp"
+#include "kernel/system_evaluator.hpp"
+#include "kernel/transient_stepper.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace thermnet {
+
+namespace {
+
+/// Most events applied without time advancing (beyond the time resolution) before giving up.
+constexpr int kMaxEventsAtOneTime = 100;
+/// Most consecutive steps that met a non-finite heat balance before giving up.
+constexpr int kMaxNonFiniteSteps = 25;
+
+/// Two times closer than this are treated as equal (segments shorter are skipped).
+double time_resolution(double a, double b) {
+  return 64.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(a), std::abs(b));
+}
+
+/// Two event times closer than this count as "the same time" for the re-firing guard.
+double event_resolution(double t) { return 1e-12 * std::max(1.0, std::abs(t)); }
+
+/// The ends of the integration segments: breakpoints strictly inside (t0, t1), then t1.
+std::vector<double> segment_ends(const ThermalSystem& sys, double t0, double t1) {
+  std::vector<double> stops;
+  for (double b : sys.breakpoints(t0, t1))
+    if (std::isfinite(b) && b > t0 && b < t1) stops.push_back(b);
+  std::sort(stops.begin(), stops.end());
+  stops.erase(std::unique(stops.begin(), stops.end()), stops.end());
+  stops.push_back(t1);
+  return stops;
+}
+
+void validate(const ThermalSystem& sys, const std::vector<double>& T, double t0, double t1,
+              const std::vector<double>& output_times, const SolverOptions& opt) {
+  if (!std::isfinite(t0) || !std::isfinite(t1) || t1 < t0)
+    throw std::invalid_argument(
+        fmt::format("integrate: the time span [{}, {}] s is not a finite forward interval", t0, t1));
+  if (T.size() != static_cast<std::size_t>(sys.size()))
+    throw std::invalid_argument(fmt::format(
+        "integrate: {} initial temperatures for {} unknowns", T.size(), sys.size()));
+  if (!std::is_sorted(output_times.begin(), output_times.end()))
+    throw std::invalid_argument("integrate: output times must be sorted");
+  if (!(opt.rtol >= 0.0) || !(opt.atol > 0.0) || opt.max_steps <= 0)
+    throw std::invalid_argument("integrate: tolerances and max_steps must be positive");
+}
+
+} // namespace
+
+SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, double t1,
+                      const std::vector<double>& output_times, const OutputCallback& out,
+                      const SolverOptions& opt) {
+  validate(sys, T, t0, t1, output_times, opt);
+  detail::SystemEvaluator ev(sys);
+  const int n = ev.size();
+  const LinearSolverKind kind = detail::resolve_linear_solver(opt.linear_solver, n, opt.dense_threshold);
+
+  SolverStats stats;
+  stats.integrator = ev.has_algebraic() ? "ida" : "cvode-bdf";
+  stats.linear_solver = detail::linear_solver_name(kind);
+
+  const int nev = sys.event_count();
+  if (nev > 0) sys.init_events(t0, T.data());
+
+  const std::vector<double> stops = segment_ends(sys, t0, t1);
+  std::size_t seg = 0;
+  while (seg + 1 < stops.size() && stops[seg] - t0 <= time_resolution(t0, stops[seg])) ++seg;
+
+  auto next_out = static_cast<std::size_t>(
+      std::lower_bound(output_times.begin(), output_times.end(), t0) - output_times.begin());
+  std::vector<double> buf(static_cast<std::size_t>(n));
+  const auto emit_state = [&](double t, const double* y) {
+    std::copy(y, y + n, buf.begin());
+    if (out) out(t, buf);
+  };
+  const auto emit_remaining = [&](const double* y) {
+    for (; next_out < output_times.size() && output_times[next_out] <= t1; ++next_out)
+      emit_state(output_times[next_out], y);
+  };
+
+  // Nothing to integrate: an empty system, or an interval within the time resolution.
+  if (n == 0 || stops[seg] - t0 <= time_resolution(t0, stops[seg])) {
+    if (n > 0 && ev.has_algebraic()) { // still make the arithmetic nodes consistent
+      auto stepper = detail::make_ida_stepper(ev, kind, opt, t0, T.data(),
+                                              t0 + std::max(1.0, std::abs(t0)));
+      std::copy(stepper->state(), stepper->state() + n, T.begin());
+      stepper->collect(stats);
+    }
+    emit_remaining(T.data());
+    return stats;
+  }
+
+  std::unique_ptr<detail::TransientStepper> stepper =
+      ev.has_algebraic() ? detail::make_ida_stepper(ev, kind, opt, t0, T.data(), stops[seg])
+                         : detail::make_cvode_stepper(ev, kind, opt, t0, T.data(), stops[seg]);
+  double* y = stepper->state();
+  sundials::Checker& chk = stepper->checker();
+  const char* step_call = ev.has_algebraic() ? "IDASolve" : "CVode";
+
+  try {
+    for (; next_out < output_times.size() && output_times[next_out] <= t0; ++next_out)
+      emit_state(output_times[next_out], y);
+
+    // Restarts at t towards the next segment end far enough away; false when t1 is reached.
+    const auto restart_at = [&](double t) {
+      while (stops[seg] - t <= time_resolution(t, stops[seg])) {
+        if (seg + 1 == stops.size()) return false;
+        ++seg;
+      }
+      stepper->restart(t, stops[seg]);
+      ++stats.restarts;
+      return true;
+    };
+
+    std::vector<int> fired(static_cast<std::size_t>(nev), 0);
+    double t = t0;
+    double same_time = std::numeric_limits<double>::quiet_NaN();
+    int events_at_same_time = 0;
+    int nonfinite_steps = 0;
+    for (;;) {
+      if (stepper->steps() >= opt.max_steps)
+        chk.fail(step_call, stepper->too_much_work_flag(),
+                 stepper->flag_name(stepper->too_much_work_flag()),
+                 fmt::format("the maximum of {} internal steps (max_steps) was reached before "
+                             "t = {:.10g} s",
+                             opt.max_steps, t1));
+      ev.clear_nonfinite();
+      const double end = stops[seg];
+      const detail::StepResult r = stepper->step(end, t);
+      if (r == detail::StepResult::stop_reached) t = end;
+
+      // A step that only succeeded after non-finite evaluations is creeping towards a time
+      // where the heat balance breaks down; stop rather than creep forever.
+      nonfinite_steps = ev.nonfinite().seen ? nonfinite_steps + 1 : 0;
+      if (nonfinite_steps >= kMaxNonFiniteSteps)
+        chk.fail(step_call, stepper->repeated_rhs_flag(),
+                 stepper->flag_name(stepper->repeated_rhs_flag()),
+                 fmt::format("the heat balance kept returning non-finite values ({} steps in a "
+                             "row could only advance by shrinking)",
+                             kMaxNonFiniteSteps));
+
+      // Dense output for every requested time passed by this step.
+      for (; next_out < output_times.size() && output_times[next_out] <= t; ++next_out) {
+        const double to = output_times[next_out];
+        if (to == t) {
+          emit_state(to, y);
+        } else {
+          stepper->interpolate(to, buf.data());
+          if (out) out(to, buf);
+        }
+      }
+
+      if (r == detail::StepResult::root_found) {
+        const int* roots = stepper->roots();
+        std::copy(roots, roots + nev, fired.begin());
+        if (!sys.apply_events(t, y, fired)) continue;
+        const long count = std::count_if(fired.begin(), fired.end(), [](int f) { return f != 0; });
+        stats.events += count;
+        if (std::abs(t - same_time) <= event_resolution(t)) {
+          ++events_at_same_time;
+        } else {
+          same_time = t;
+          events_at_same_time = 1;
+        }
+        if (events_at_same_time > kMaxEventsAtOneTime) {
+          std::vector<std::string> which;
+          for (int k = 0; k < nev; ++k)
+            if (fired[static_cast<std::size_t>(k)] != 0) which.push_back(fmt::format("#{}", k));
+          chk.fail("apply_events", 0, "event loop",
+                   fmt::format("events keep firing without time advancing ({} events at this "
+                               "time, last: event function {}); the thermostat or switch "
+                               "probably has no hysteresis",
+                               events_at_same_time - 1, fmt::join(which, ", ")));
+        }
+        if (stats.events > opt.max_steps)
+          chk.fail("apply_events", 0, "event limit",
+                   fmt::format("more than {} events (max_steps) were applied", opt.max_steps));
+        if (!restart_at(t)) break;
+        continue;
+      }
+      if (r == detail::StepResult::stop_reached) {
+        if (seg + 1 == stops.size()) break;
+        ++seg;
+        if (!restart_at(t)) break;
+      }
+    }
+    emit_remaining(y);
+  } catch (...) {
+    std::copy(y, y + n, T.begin()); // the last state reached
+    throw;
+  }
+  std::copy(y, y + n, T.begin());
+  stepper->collect(stats);
+  return stats;
+}
+
+} // namespace thermnet

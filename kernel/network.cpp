@@ -1,0 +1,196 @@
+#include "kernel/network.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+namespace thermnet {
+namespace {
+
+/// First pass: records which (row, col) node pairs elements touch.
+class RecordingLayout final : public JacobianLayout {
+public:
+  explicit RecordingLayout(std::set<std::pair<int, int>>& pairs) : pairs_(pairs) {}
+  int slot(int row, int col) override {
+    pairs_.emplace(row, col);
+    return 0;
+  }
+
+private:
+  std::set<std::pair<int, int>>& pairs_;
+};
+
+/// Second pass: hands out CSR positions; pairs touching a boundary get the scratch slot.
+class SlotLayout final : public JacobianLayout {
+public:
+  SlotLayout(const SparsityPattern& p, const std::vector<int>& unknown_of)
+      : p_(p), unknown_of_(unknown_of) {}
+  int slot(int row, int col) override {
+    int r = unknown_of_[static_cast<std::size_t>(row)];
+    int c = unknown_of_[static_cast<std::size_t>(col)];
+    if (r < 0 || c < 0) return p_.nnz(); // scratch: boundaries are not unknowns
+    auto begin = p_.col_idx.begin() + p_.row_ptr[static_cast<std::size_t>(r)];
+    auto end = p_.col_idx.begin() + p_.row_ptr[static_cast<std::size_t>(r) + 1];
+    return static_cast<int>(std::lower_bound(begin, end, c) - p_.col_idx.begin());
+  }
+
+private:
+  const SparsityPattern& p_;
+  const std::vector<int>& unknown_of_;
+};
+
+std::unique_ptr<Element> build(const lang::ElementSpec& e, const ElementRegistry& registry) {
+  if (e.composite == lang::Composite::series) {
+    double R = 0.0;
+    for (const auto& part : e.parts)
+      R += 1.0 / part.schema->conductance(part.key_values());
+    return std::make_unique<LinearLink>(e.nodes.at(0), e.nodes.at(1), 1.0 / R);
+  }
+  const ElementPlugin* plugin = registry.plugin(e.kind);
+  if (!plugin) throw NetworkError(fmt::format("no plugin provides element kind '{}'", e.kind));
+  return plugin->create(e);
+}
+
+} // namespace
+
+Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec_(std::move(spec)) {
+  const std::size_t n = spec_.nodes.size();
+  unknown_of_.assign(n, -1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (spec_.nodes[i].boundary) continue;
+    unknown_of_[i] = static_cast<int>(unknown_nodes_.size());
+    unknown_nodes_.push_back(static_cast<int>(i));
+    capacities_.push_back(spec_.nodes[i].C);
+  }
+  for (const auto& e : spec_.elements) {
+    if (e.composite == lang::Composite::parallel)
+      for (const auto& part : e.parts)
+        elements_.push_back(build(part, registry));
+    else
+      elements_.push_back(build(e, registry));
+  }
+  // Fix the pattern: every unknown's diagonal plus what the elements declare.
+  std::set<std::pair<int, int>> pairs;
+  RecordingLayout recorder(pairs);
+  for (auto& e : elements_)
+    e->declare(recorder);
+  std::vector<std::set<int>> rows(unknown_nodes_.size());
+  for (std::size_t u = 0; u < rows.size(); ++u)
+    rows[u].insert(static_cast<int>(u));
+  for (const auto& [r, c] : pairs) {
+    int ur = unknown_of_[static_cast<std::size_t>(r)],
+        uc = unknown_of_[static_cast<std::size_t>(c)];
+    if (ur >= 0 && uc >= 0) rows[static_cast<std::size_t>(ur)].insert(uc);
+  }
+  pattern_.n = size();
+  pattern_.row_ptr.assign(1, 0);
+  for (const auto& row : rows) {
+    pattern_.col_idx.insert(pattern_.col_idx.end(), row.begin(), row.end());
+    pattern_.row_ptr.push_back(static_cast<int>(pattern_.col_idx.size()));
+  }
+  SlotLayout slots(pattern_, unknown_of_);
+  for (auto& e : elements_) {
+    e->declare(slots);
+    event_offset_.push_back(event_count_);
+    event_count_ += e->event_count();
+  }
+  T_all_.assign(n, 0.0);
+  F_all_.assign(n, 0.0);
+  J_all_.assign(static_cast<std::size_t>(pattern_.nnz()) + 1, 0.0);
+}
+
+void Network::expand(double t, const double* T, double* all) const {
+  for (std::size_t i = 0; i < spec_.nodes.size(); ++i) {
+    int u = unknown_of_[i];
+    all[i] = u >= 0 ? T[u] : spec_.nodes[i].T.at(t);
+  }
+}
+
+void Network::stamp_all(double t, const double* T) {
+  expand(t, T, T_all_.data());
+  std::fill(F_all_.begin(), F_all_.end(), 0.0);
+  std::fill(J_all_.begin(), J_all_.end(), 0.0);
+  for (const auto& e : elements_)
+    e->stamp(t, T_all_.data(), F_all_.data(), J_all_.data());
+}
+
+void Network::heat_balance(double t, const double* T, double* F) {
+  stamp_all(t, T);
+  for (std::size_t u = 0; u < unknown_nodes_.size(); ++u)
+    F[u] = F_all_[static_cast<std::size_t>(unknown_nodes_[u])];
+}
+
+void Network::jacobian(double t, const double* T, double* values) {
+  stamp_all(t, T);
+  std::copy(J_all_.begin(), J_all_.end() - 1, values);
+}
+
+void Network::events(double t, const double* T, double* g) {
+  expand(t, T, T_all_.data());
+  for (std::size_t k = 0; k < elements_.size(); ++k)
+    if (elements_[k]->event_count() > 0)
+      elements_[k]->events(t, T_all_.data(), g + event_offset_[k]);
+}
+
+bool Network::apply_events(double t, const double* T, const std::vector<int>& fired) {
+  expand(t, T, T_all_.data());
+  bool changed = false;
+  for (std::size_t k = 0; k < elements_.size(); ++k)
+    for (int j = 0; j < elements_[k]->event_count(); ++j)
+      if (fired[static_cast<std::size_t>(event_offset_[k] + j)])
+        changed |= elements_[k]->apply_event(j, t, T_all_.data());
+  return changed;
+}
+
+void Network::init_events(double t, const double* T) {
+  expand(t, T, T_all_.data());
+  for (auto& e : elements_)
+    e->init_events(t, T_all_.data());
+}
+
+std::vector<double> Network::breakpoints(double t0, double t1) const {
+  std::vector<double> all;
+  for (const auto& e : elements_)
+    e->breakpoints(all);
+  for (const auto& node : spec_.nodes)
+    if (node.boundary) all.insert(all.end(), node.T.corners().begin(), node.T.corners().end());
+  std::vector<double> out;
+  for (double b : all)
+    if (b > t0 && b <= t1) out.push_back(b);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::string Network::unknown_name(int i) const {
+  return spec_.nodes.at(static_cast<std::size_t>(unknown_nodes_.at(static_cast<std::size_t>(i))))
+      .name;
+}
+
+std::vector<double> Network::initial_state() const {
+  std::vector<double> T0;
+  T0.reserve(unknown_nodes_.size());
+  for (int i : unknown_nodes_)
+    T0.push_back(spec_.nodes[static_cast<std::size_t>(i)].T0.value_or(spec_.default_initial()));
+  return T0;
+}
+
+double Network::source_power(double t, const double* T) {
+  expand(t, T, T_all_.data());
+  double P = 0.0;
+  for (const auto& e : elements_)
+    P += e->power_in(t, T_all_.data());
+  return P;
+}
+
+double Network::boundary_loss(double t, const double* T) {
+  stamp_all(t, T);
+  double loss = 0.0;
+  for (std::size_t i = 0; i < spec_.nodes.size(); ++i)
+    if (unknown_of_[i] < 0) loss += F_all_[i];
+  return loss;
+}
+
+} // namespace thermnet
