@@ -2,6 +2,7 @@
 // rendered; no input ends in a crash.
 
 #include "cli/exit_status.hpp"
+#include "cli/kinds_command.hpp"
 #include "cli/lint_command.hpp"
 #include "cli/simulate_command.hpp"
 
@@ -19,6 +20,7 @@ int main(int argc, char** argv) {
   int status = exit_ok;
   add_lint_command(app, status);
   add_simulate_command(app, status);
+  add_kinds_command(app, status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
