@@ -1,5 +1,6 @@
 // CVODE BDF stepper for systems whose every node has a heat capacity: dT/dt = F(t, T) / C.
 
+#include "kernel/fast_kernels.hpp"
 #include "kernel/linear_solver_choice.hpp"
 #include "kernel/transient_stepper.hpp"
 
@@ -17,7 +18,9 @@ namespace {
 
 using sundials::Api;
 
-SystemEvaluator& evaluator(void* user_data) { return *static_cast<SystemEvaluator*>(user_data); }
+SystemEvaluator& evaluator(void* user_data) {
+  return *static_cast<SystemEvaluator*>(user_data);
+}
 
 /// dT/dt = F / C.
 int cv_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
@@ -26,13 +29,14 @@ int cv_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
   if (const int r = ev.heat_balance(t, NV_DATA_S(y), f); r != 0) return r;
   const double* inv_c = ev.inverse_capacities().data();
   const int n = ev.size();
-  for (int i = 0; i < n; ++i) f[i] *= inv_c[i];
+  for (int i = 0; i < n; ++i)
+    f[i] *= inv_c[i];
   return 0;
 }
 
 /// Updates dF/dT unless CVODE says the saved one is still good.
-int update_jacobian(SystemEvaluator& ev, sunrealtype t, N_Vector y, booleantype jok,
-                    booleantype* jcur) {
+int update_jacobian(SystemEvaluator& ev, sunrealtype t, N_Vector y, sunbooleantype jok,
+                    sunbooleantype* jcur) {
   if (jok) {
     *jcur = SUNFALSE;
     return 0;
@@ -42,8 +46,8 @@ int update_jacobian(SystemEvaluator& ev, sunrealtype t, N_Vector y, booleantype 
 }
 
 /// The Newton matrix I - gamma diag(1/C) dF/dT, filled straight into A (dense or sparse CSR).
-int cv_linsys(sunrealtype t, N_Vector y, N_Vector /*fy*/, SUNMatrix A, booleantype jok,
-              booleantype* jcur, sunrealtype gamma, void* user_data, N_Vector, N_Vector,
+int cv_linsys(sunrealtype t, N_Vector y, N_Vector /*fy*/, SUNMatrix A, sunbooleantype jok,
+              sunbooleantype* jcur, sunrealtype gamma, void* user_data, N_Vector, N_Vector,
               N_Vector) {
   SystemEvaluator& ev = evaluator(user_data);
   if (const int r = update_jacobian(ev, t, y, jok, jcur); r != 0) return r;
@@ -65,7 +69,7 @@ int cv_jtimes(N_Vector v, N_Vector Jv, sunrealtype /*t*/, N_Vector /*y*/, N_Vect
 }
 
 /// ILU(0) of I - gamma diag(1/C) dF/dT.
-int cv_psetup(sunrealtype t, N_Vector y, N_Vector /*fy*/, booleantype jok, booleantype* jcur,
+int cv_psetup(sunrealtype t, N_Vector y, N_Vector /*fy*/, sunbooleantype jok, sunbooleantype* jcur,
               sunrealtype gamma, void* user_data) {
   SystemEvaluator& ev = evaluator(user_data);
   if (const int r = update_jacobian(ev, t, y, jok, jcur); r != 0) return r;
@@ -87,12 +91,14 @@ class CvodeStepper final : public TransientStepper {
 public:
   CvodeStepper(SystemEvaluator& ev, LinearSolverKind kind, const SolverOptions& opt, double t0,
                const double* T0, double stop)
-      : ev_(ev), kind_(kind), n_(ev.size()) {
+      : ev_(ev), kind_(kind), n_(ev.size()), t_restart_(t0) {
     chk_.pending = &ev_.pending;
     chk_.diagnose = [this] { return diagnose(); };
     const SUNContext ctx = ctx_.get();
     y_.reset(chk_.created(N_VNew_Serial(n_, ctx), "N_VNew_Serial"));
     out_.reset(chk_.created(N_VNewEmpty_Serial(n_, ctx), "N_VNewEmpty_Serial"));
+    accelerate_vector(y_.get()); // before CVodeInit and the solvers clone it
+    accelerate_vector(out_.get());
     std::copy(T0, T0 + n_, NV_DATA_S(y_.get()));
 
     mem_.reset(chk_.created(CVodeCreate(CV_BDF, ctx), "CVodeCreate"));
@@ -129,6 +135,7 @@ public:
 
   void restart(double t, double stop) override {
     accumulate();
+    t_restart_ = t;
     ev_.set_window(t, stop);
     chk_.call(Api::cvode, "CVodeReInit", CVodeReInit, mem_.get(), t, y_.get());
     chk_.call(Api::cvode, "CVodeSetStopTime", CVodeSetStopTime, mem_.get(), stop);
@@ -136,8 +143,8 @@ public:
 
   StepResult step(double stop, double& t) override {
     started_ = true;
-    const int flag = chk_.check(Api::cvode, CVode(mem_.get(), stop, y_.get(), &t, CV_ONE_STEP),
-                                "CVode");
+    const int flag =
+        chk_.check(Api::cvode, CVode(mem_.get(), stop, y_.get(), &t, CV_ONE_STEP), "CVode");
     if (flag == CV_ROOT_RETURN) {
       chk_.call(Api::cvode, "CVodeGetRootInfo", CVodeGetRootInfo, mem_.get(), roots_.data());
       return StepResult::root_found;
@@ -149,6 +156,12 @@ public:
   void interpolate(double t, double* out) override {
     N_VSetArrayPointer(out, out_.get());
     chk_.call(Api::cvode, "CVodeGetDky", CVodeGetDky, mem_.get(), t, 0, out_.get());
+  }
+
+  void derivative(double* out) override {
+    N_VSetArrayPointer(out, out_.get());
+    if (cv_rhs(t_restart_, y_.get(), out_.get(), &ev_) != 0) std::fill(out, out + n_, 0.0);
+    ev_.pending = nullptr;
   }
 
   double* state() override { return NV_DATA_S(y_.get()); }
@@ -208,7 +221,8 @@ private:
       sundials::NVector ev_vec(N_VMake_Serial(n_, e.data(), ctx_.get()));
       if (wv && ev_vec && CVodeGetErrWeights(mem, wv.get()) == CV_SUCCESS &&
           CVodeGetEstLocalErrors(mem, ev_vec.get()) == CV_SUCCESS) {
-        for (std::size_t i = 0; i < w.size(); ++i) e[i] *= w[i];
+        for (std::size_t i = 0; i < w.size(); ++i)
+          e[i] *= w[i];
         for (std::string& name : ev_.worst_unknowns(e.data()))
           if (d.worst.empty() || d.worst.front() != name) d.worst.push_back(std::move(name));
       }
@@ -229,6 +243,7 @@ private:
   std::vector<int> roots_;
   SolverStats acc_;
   bool started_ = false;
+  double t_restart_ = 0.0;
 };
 
 } // namespace

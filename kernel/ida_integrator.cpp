@@ -1,5 +1,6 @@
 // IDA stepper for systems with algebraic (zero-capacity) nodes: residual C T' - F(t, T) = 0.
 
+#include "kernel/fast_kernels.hpp"
 #include "kernel/linear_solver_choice.hpp"
 #include "kernel/transient_stepper.hpp"
 
@@ -7,6 +8,8 @@
 #include <ida/ida_ls.h>
 #include <nvector/nvector_serial.h>
 #include <sunmatrix/sunmatrix_dense.h>
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <vector>
@@ -17,7 +20,9 @@ namespace {
 
 using sundials::Api;
 
-SystemEvaluator& evaluator(void* user_data) { return *static_cast<SystemEvaluator*>(user_data); }
+SystemEvaluator& evaluator(void* user_data) {
+  return *static_cast<SystemEvaluator*>(user_data);
+}
 
 /// The Newton matrix of IDA: -dF/dT + cj diag(C).
 Combination newton_matrix(SystemEvaluator& ev, double cj) {
@@ -32,7 +37,8 @@ int ida_residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r, void* user_
   const double* c = ev.capacities().data();
   const double* tp = NV_DATA_S(yp);
   const int n = ev.size();
-  for (int i = 0; i < n; ++i) res[i] = c[i] * tp[i] - res[i];
+  for (int i = 0; i < n; ++i)
+    res[i] = c[i] * tp[i] - res[i];
   return 0;
 }
 
@@ -87,17 +93,21 @@ public:
     yp_.reset(chk_.created(N_VNew_Serial(n_, ctx), "N_VNew_Serial"));
     id_.reset(chk_.created(N_VNew_Serial(n_, ctx), "N_VNew_Serial"));
     out_.reset(chk_.created(N_VNewEmpty_Serial(n_, ctx), "N_VNewEmpty_Serial"));
+    for (N_Vector v : {y_.get(), yp_.get(), id_.get(), out_.get()})
+      accelerate_vector(v);
     std::copy(T0, T0 + n_, NV_DATA_S(y_.get()));
     const std::vector<double>& c = ev_.capacities();
     double* id = NV_DATA_S(id_.get());
-    for (int i = 0; i < n_; ++i) id[i] = c[static_cast<std::size_t>(i)] > 0.0 ? 1.0 : 0.0;
+    for (int i = 0; i < n_; ++i)
+      id[i] = c[static_cast<std::size_t>(i)] > 0.0 ? 1.0 : 0.0;
 
     // Initial guess of T': F/C on capacitive nodes (IDACalcIC corrects it), 0 on algebraic ones.
     ev_.set_window(t0, stop);
     double* tp = NV_DATA_S(yp_.get());
     if (ev_.heat_balance(t0, T0, tp) == 0) {
       const std::vector<double>& inv_c = ev_.inverse_capacities();
-      for (int i = 0; i < n_; ++i) tp[i] *= inv_c[static_cast<std::size_t>(i)];
+      for (int i = 0; i < n_; ++i)
+        tp[i] *= inv_c[static_cast<std::size_t>(i)];
     } else {
       std::fill(tp, tp + n_, 0.0);
       ev_.pending = nullptr; // IDACalcIC will meet the same failure and report it
@@ -105,14 +115,13 @@ public:
 
     mem_.reset(chk_.created(IDACreate(ctx), "IDACreate"));
     void* mem = mem_.get();
-    chk_.call(Api::ida, "IDASetErrHandlerFn", IDASetErrHandlerFn, mem,
-              &sundials::Checker::handler, static_cast<void*>(&chk_));
+    chk_.call(Api::ida, "IDASetErrHandlerFn", IDASetErrHandlerFn, mem, &sundials::Checker::handler,
+              static_cast<void*>(&chk_));
     chk_.call(Api::ida, "IDAInit", IDAInit, mem, ida_residual, t0, y_.get(), yp_.get());
     chk_.call(Api::ida, "IDASStolerances", IDASStolerances, mem, opt.rtol, opt.atol);
     chk_.call(Api::ida, "IDASetUserData", IDASetUserData, mem, static_cast<void*>(&ev_));
     chk_.call(Api::ida, "IDASetMaxNumSteps", IDASetMaxNumSteps, mem, opt.max_steps);
-    if (opt.max_step > 0.0)
-      chk_.call(Api::ida, "IDASetMaxStep", IDASetMaxStep, mem, opt.max_step);
+    if (opt.max_step > 0.0) chk_.call(Api::ida, "IDASetMaxStep", IDASetMaxStep, mem, opt.max_step);
     chk_.call(Api::ida, "IDASetId", IDASetId, mem, id_.get());
 
     ls_ = make_linear_system(kind_, ev_.jacobian_storage(), y_.get(), ctx, chk_);
@@ -159,6 +168,11 @@ public:
   void interpolate(double t, double* out) override {
     N_VSetArrayPointer(out, out_.get());
     chk_.call(Api::ida, "IDAGetDky", IDAGetDky, mem_.get(), t, 0, out_.get());
+  }
+
+  void derivative(double* out) override {
+    const double* tp = NV_DATA_S(yp_.get());
+    std::copy(tp, tp + n_, out);
   }
 
   double* state() override { return NV_DATA_S(y_.get()); }
@@ -218,16 +232,26 @@ private:
     IDAGetCurrentTime(mem, &d.time);
     d.note = ev_.describe_nonfinite();
     if (ev_.nonfinite().seen) d.worst.push_back(ev_.name(ev_.nonfinite().index));
-    if (started_) {
-      std::vector<double> w(static_cast<std::size_t>(n_)), e(static_cast<std::size_t>(n_));
-      sundials::NVector wv(N_VMake_Serial(n_, w.data(), ctx_.get()));
-      sundials::NVector ev_vec(N_VMake_Serial(n_, e.data(), ctx_.get()));
-      if (wv && ev_vec && IDAGetErrWeights(mem, wv.get()) == IDA_SUCCESS &&
-          IDAGetEstLocalErrors(mem, ev_vec.get()) == IDA_SUCCESS) {
-        for (std::size_t i = 0; i < w.size(); ++i) e[i] *= w[i];
-        for (std::string& name : ev_.worst_unknowns(e.data()))
-          if (d.worst.empty() || d.worst.front() != name) d.worst.push_back(std::move(name));
+    if (!started_) { // consistent initial conditions failed: name suspects of a singular system
+      const std::vector<std::string> loose = ev_.zero_diagonal_unknowns(true);
+      if (!loose.empty()) {
+        if (!d.note.empty()) d.note += "; ";
+        d.note += fmt::format("{} {} {} no conductance to anything",
+                              loose.size() == 1 ? "arithmetic node" : "arithmetic nodes",
+                              fmt::join(loose, ", "), loose.size() == 1 ? "has" : "have");
+        d.worst = loose;
       }
+      return d; // the note names them; worst carries them for the caller
+    }
+    std::vector<double> w(static_cast<std::size_t>(n_)), e(static_cast<std::size_t>(n_));
+    sundials::NVector wv(N_VMake_Serial(n_, w.data(), ctx_.get()));
+    sundials::NVector ev_vec(N_VMake_Serial(n_, e.data(), ctx_.get()));
+    if (wv && ev_vec && IDAGetErrWeights(mem, wv.get()) == IDA_SUCCESS &&
+        IDAGetEstLocalErrors(mem, ev_vec.get()) == IDA_SUCCESS) {
+      for (std::size_t i = 0; i < w.size(); ++i)
+        e[i] *= w[i];
+      for (std::string& name : ev_.worst_unknowns(e.data()))
+        if (d.worst.empty() || d.worst.front() != name) d.worst.push_back(std::move(name));
     }
     d.worst_label = "largest local errors at nodes";
     return d;

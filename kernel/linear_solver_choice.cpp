@@ -1,5 +1,7 @@
 #include "kernel/linear_solver_choice.hpp"
 
+#include "kernel/fast_kernels.hpp"
+
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunlinsol/sunlinsol_spgmr.h>
@@ -35,10 +37,14 @@ LinearSolverKind resolve_linear_solver(LinearSolverKind requested, int size, int
 
 const char* linear_solver_name(LinearSolverKind kind) {
   switch (kind) {
-  case LinearSolverKind::dense: return "dense";
-  case LinearSolverKind::klu: return "klu";
-  case LinearSolverKind::krylov: return "spgmr";
-  case LinearSolverKind::automatic: break;
+  case LinearSolverKind::dense:
+    return "dense";
+  case LinearSolverKind::klu:
+    return "klu";
+  case LinearSolverKind::krylov:
+    return "spgmr";
+  case LinearSolverKind::automatic:
+    break;
   }
   return "automatic";
 }
@@ -51,11 +57,12 @@ LinearSystem make_linear_system(LinearSolverKind kind, const SparseJacobian& jac
   case LinearSolverKind::dense:
     ls.matrix.reset(chk.created(SUNDenseMatrix(n, n, ctx), "SUNDenseMatrix"));
     ls.solver.reset(chk.created(SUNLinSol_Dense(tmpl, ls.matrix.get(), ctx), "SUNLinSol_Dense"));
+    accelerate_dense_solver(ls.solver.get());
     break;
   case LinearSolverKind::klu:
-    ls.matrix.reset(chk.created(
-        SUNSparseMatrix(n, n, static_cast<sunindextype>(jac.nnz()), CSR_MAT, ctx),
-        "SUNSparseMatrix"));
+    ls.matrix.reset(
+        chk.created(SUNSparseMatrix(n, n, static_cast<sunindextype>(jac.nnz()), CSR_MAT, ctx),
+                    "SUNSparseMatrix"));
     jac.copy_pattern(ls.matrix.get());
     ls.solver.reset(chk.created(SUNLinSol_KLU(tmpl, ls.matrix.get(), ctx), "SUNLinSol_KLU"));
     chk.call(sundials::Api::sunlinsol, "SUNLinSol_KLUSetOrdering", SUNLinSol_KLUSetOrdering,

@@ -2,6 +2,7 @@
 
 #include "kernel/integrator.hpp"
 
+#include "kernel/fast_kernels.hpp"
 #include "kernel/linear_solver_choice.hpp"
 #include "kernel/sundials_check.hpp"
 #include "kernel/system_evaluator.hpp"
@@ -82,6 +83,8 @@ SolverStats solve_steady(ThermalSystem& sys, std::vector<double>& T, double t,
   sundials::NVector uscale(chk.created(N_VNew_Serial(n, sc), "N_VNew_Serial"));
   sundials::NVector fscale(chk.created(N_VNew_Serial(n, sc), "N_VNew_Serial"));
   sundials::NVector constraints(chk.created(N_VNew_Serial(n, sc), "N_VNew_Serial"));
+  for (N_Vector v : {u.get(), uscale.get(), fscale.get(), constraints.get()})
+    detail::accelerate_vector(v);
   double* uu = NV_DATA_S(u.get());
   std::copy(T.begin(), T.end(), uu);
   N_VConst(1.0, uscale.get());
@@ -112,10 +115,21 @@ SolverStats solve_steady(ThermalSystem& sys, std::vector<double>& T, double t,
     d.note = ev.describe_nonfinite();
     std::vector<double> f(static_cast<std::size_t>(n));
     if (ev.heat_balance(t, uu, f.data()) >= 0) {
-      for (int i = 0; i < n; ++i) f[static_cast<std::size_t>(i)] *= fs[i];
+      for (int i = 0; i < n; ++i)
+        f[static_cast<std::size_t>(i)] *= fs[i];
       d.worst = ev.worst_unknowns(f.data());
     }
     ev.pending = nullptr;
+    const std::vector<std::string> loose = ev.zero_diagonal_unknowns(false);
+    if (!loose.empty()) {
+      if (!d.note.empty()) d.note += "; ";
+      d.note +=
+          fmt::format("{} {} {} no conductance to anything", loose.size() == 1 ? "node" : "nodes",
+                      fmt::join(loose, ", "), loose.size() == 1 ? "has" : "have");
+      for (auto it = loose.rbegin(); it != loose.rend(); ++it)
+        if (std::find(d.worst.begin(), d.worst.end(), *it) == d.worst.end())
+          d.worst.insert(d.worst.begin(), *it);
+    }
     d.worst_label = "largest residuals at nodes";
     return d;
   };
@@ -124,7 +138,8 @@ SolverStats solve_steady(ThermalSystem& sys, std::vector<double>& T, double t,
            static_cast<void*>(&chk));
   chk.call(Api::kinsol, "KINInit", KINInit, mem, kin_func, u.get());
   chk.call(Api::kinsol, "KINSetUserData", KINSetUserData, mem, static_cast<void*>(&data));
-  detail::LinearSystem ls = detail::make_linear_system(kind, ev.jacobian_storage(), u.get(), sc, chk);
+  detail::LinearSystem ls =
+      detail::make_linear_system(kind, ev.jacobian_storage(), u.get(), sc, chk);
   chk.call(Api::kinsol_ls, "KINSetLinearSolver", KINSetLinearSolver, mem, ls.solver.get(),
            ls.matrix.get());
   chk.call(Api::kinsol_ls, "KINSetJacFn", KINSetJacFn, mem, kin_jac);
@@ -140,15 +155,15 @@ SolverStats solve_steady(ThermalSystem& sys, std::vector<double>& T, double t,
     chk.call(Api::kinsol, "KINSetConstraints", KINSetConstraints, mem, constraints.get());
 
   ev.clear_nonfinite();
-  const int flag = chk.check(Api::kinsol,
-                             KINSol(mem, u.get(), KIN_LINESEARCH, uscale.get(), fscale.get()),
-                             "KINSol");
+  const int flag = chk.check(
+      Api::kinsol, KINSol(mem, u.get(), KIN_LINESEARCH, uscale.get(), fscale.get()), "KINSol");
   if (flag == KIN_STEP_LT_STPTOL) {
     // Steps became negligible: accept only if the residual is small as well.
     std::vector<double> f(static_cast<std::size_t>(n));
     double worst = 0.0;
     if (ev.heat_balance(t, uu, f.data()) == 0)
-      for (int i = 0; i < n; ++i) worst = std::max(worst, std::abs(f[static_cast<std::size_t>(i)]) * fs[i]);
+      for (int i = 0; i < n; ++i)
+        worst = std::max(worst, std::abs(f[static_cast<std::size_t>(i)]) * fs[i]);
     else
       worst = HUGE_VAL;
     if (!(worst <= opt.atol))

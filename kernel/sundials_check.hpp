@@ -99,7 +99,7 @@ std::string flag_description(Api api, int flag);
 struct Diagnosis {
   double time = 0.0;              ///< simulation time reached, s
   std::vector<std::string> worst; ///< worst unknowns, worst first
-  std::string worst_label;        ///< e.g. "largest local errors at nodes"
+  std::string worst_label;        ///< e.g. "largest local errors at nodes" (empty: not printed)
   std::string note;               ///< extra sentence fragment, e.g. a non-finite heat balance
 };
 

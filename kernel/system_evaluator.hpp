@@ -61,6 +61,9 @@ public:
   std::string name(int i) const;
   /// A sentence fragment describing the last non-finite value, or "" if none.
   std::string describe_nonfinite() const;
+  /// Names of up to `count` unknowns whose row of the last evaluated dF/dT has a zero diagonal
+  /// (a node coupled to nothing makes the Newton matrix singular); only algebraic nodes if asked.
+  std::vector<std::string> zero_diagonal_unknowns(bool algebraic_only, std::size_t count = 3) const;
   /// Names of up to `count` unknowns with the largest `score` (NaN counts as largest; zeros
   /// skipped).
   std::vector<std::string> worst_unknowns(const double* score, std::size_t count = 3) const;

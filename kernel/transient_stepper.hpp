@@ -26,6 +26,8 @@ public:
   virtual StepResult step(double stop, double& t) = 0;
   /// Writes the dense-output state at time t (within the last step) into out.
   virtual void interpolate(double t, double* out) = 0;
+  /// dT/dt at the state set up by the last restart() (F/C, or IDA's consistent T').
+  virtual void derivative(double* out) = 0;
   /// The state at the time last returned by step() (or set up by restart()), one per unknown.
   virtual double* state() = 0;
   /// Event flags after root_found: +1 rising, -1 falling, 0 not fired (one per event function).
