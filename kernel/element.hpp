@@ -26,7 +26,8 @@ public:
   virtual ~Element() = default;
   /// Requests the Jacobian entries it stamps (called when the network is built; keep the slots).
   virtual void declare(JacobianLayout& layout) = 0;
-  /// Adds heat flows into F (W, into each node) and their derivatives into J (W/K) at time t.
+  /// Adds heat flows into F (W, into each node) and, unless J is null (only flows wanted),
+  /// their derivatives into J (W/K) at time t.
   virtual void stamp(double t, const double* T, double* F, double* J) const = 0;
   /// Appends the times where its inputs jump or bend.
   virtual void breakpoints(std::vector<double>& /*out*/) const {}
@@ -61,11 +62,12 @@ private:
   int aa_ = 0, ab_ = 0, ba_ = 0, bb_ = 0;
 };
 
-/// Stamps a two-terminal heat flow Q(Ta, Tb) from a to b with partial derivatives.
+/// Stamps a two-terminal heat flow Q(Ta, Tb) from a to b with partial derivatives (J may be null).
 inline void stamp_link(double* F, double* J, int a, int b, double q, double dq_da, double dq_db,
                        const int slots[4]) {
   F[a] -= q;
   F[b] += q;
+  if (!J) return;
   J[slots[0]] -= dq_da;
   J[slots[1]] -= dq_db;
   J[slots[2]] += dq_da;

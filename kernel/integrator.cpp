@@ -72,7 +72,8 @@ SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, dou
   detail::SystemEvaluator ev(sys);
   const int n = ev.size();
   const LinearSolverKind kind =
-      detail::resolve_linear_solver(opt.linear_solver, n, opt.dense_threshold);
+      detail::resolve_linear_solver(opt.linear_solver, n, opt.dense_threshold,
+                                                       opt.krylov_threshold);
 
   SolverStats stats;
   stats.integrator = ev.has_algebraic() ? "ida" : "cvode-bdf";

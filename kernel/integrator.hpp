@@ -13,7 +13,8 @@ namespace thermnet {
 
 /// Which linear solver the Newton iterations use.
 enum class LinearSolverKind {
-  automatic, ///< dense below a size threshold, sparse direct (KLU) above it
+  automatic, ///< dense for small networks, KLU for medium ones, preconditioned Krylov for large
+             ///< ones
   dense,     ///< dense LU
   klu,       ///< sparse direct LU (SuiteSparse KLU) on the network's pattern
   krylov ///< preconditioned GMRES (SPGMR) with Jacobian-vector products from the analytic Jacobian
@@ -25,8 +26,10 @@ struct SolverOptions {
   double atol = 1e-6;                                           ///< absolute tolerance in K
   LinearSolverKind linear_solver = LinearSolverKind::automatic; ///< linear solver
   int dense_threshold = 200; ///< automatic: dense at or below this many unknowns
-  double max_step = 0.0;     ///< largest step in s (0: unlimited)
-  long max_steps = 1000000;  ///< most internal steps over the whole run
+  /// automatic: KLU up to this many unknowns, Krylov above (KLU fill-in grows fast on 2-D meshes).
+  int krylov_threshold = 2000;
+  double max_step = 0.0;    ///< largest step in s (0: unlimited)
+  long max_steps = 1000000; ///< most internal steps over the whole run
 };
 
 /// Counters of a solve (printed by --stats).

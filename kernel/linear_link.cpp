@@ -13,6 +13,7 @@ void LinearLink::stamp(double, const double* T, double* F, double* J) const {
   double q = G_ * (T[a_] - T[b_]);
   F[a_] -= q;
   F[b_] += q;
+  if (!J) return;
   J[aa_] -= G_;
   J[ab_] += G_;
   J[ba_] += G_;

@@ -8,9 +8,11 @@
 
 namespace thermnet::detail {
 
-/// Resolves `automatic` (dense at or below `dense_threshold` unknowns, else KLU); others pass
+/// Resolves `automatic` (dense up to `dense_threshold` unknowns, KLU up to `krylov_threshold`,
+/// Krylov above); others pass
 /// through.
-LinearSolverKind resolve_linear_solver(LinearSolverKind requested, int size, int dense_threshold);
+LinearSolverKind resolve_linear_solver(LinearSolverKind requested, int size, int dense_threshold,
+                                       int krylov_threshold);
 
 /// The name reported in SolverStats::linear_solver: "dense", "klu" or "spgmr".
 const char* linear_solver_name(LinearSolverKind kind);

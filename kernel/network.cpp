@@ -108,22 +108,27 @@ void Network::expand(double t, const double* T, double* all) const {
   }
 }
 
-void Network::stamp_all(double t, const double* T) {
+void Network::stamp_all(double t, const double* T, bool with_jacobian) {
   expand(t, T, T_all_.data());
   std::fill(F_all_.begin(), F_all_.end(), 0.0);
-  std::fill(J_all_.begin(), J_all_.end(), 0.0);
+  // Right-hand sides outnumber Jacobians by ~50 to 1: skip the derivatives when not asked for.
+  double* J = nullptr;
+  if (with_jacobian) {
+    std::fill(J_all_.begin(), J_all_.end(), 0.0);
+    J = J_all_.data();
+  }
   for (const auto& e : elements_)
-    e->stamp(t, T_all_.data(), F_all_.data(), J_all_.data());
+    e->stamp(t, T_all_.data(), F_all_.data(), J);
 }
 
 void Network::heat_balance(double t, const double* T, double* F) {
-  stamp_all(t, T);
+  stamp_all(t, T, false);
   for (std::size_t u = 0; u < unknown_nodes_.size(); ++u)
     F[u] = F_all_[static_cast<std::size_t>(unknown_nodes_[u])];
 }
 
 void Network::jacobian(double t, const double* T, double* values) {
-  stamp_all(t, T);
+  stamp_all(t, T, true);
   std::copy(J_all_.begin(), J_all_.end() - 1, values);
 }
 
@@ -186,7 +191,7 @@ double Network::source_power(double t, const double* T) {
 }
 
 double Network::boundary_loss(double t, const double* T) {
-  stamp_all(t, T);
+  stamp_all(t, T, false);
   double loss = 0.0;
   for (std::size_t i = 0; i < spec_.nodes.size(); ++i)
     if (unknown_of_[i] < 0) loss += F_all_[i];

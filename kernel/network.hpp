@@ -51,7 +51,7 @@ public:
   double boundary_loss(double t, const double* T);
 
 private:
-  void stamp_all(double t, const double* T);
+  void stamp_all(double t, const double* T, bool with_jacobian);
 
   lang::NetworkSpec spec_;
   std::vector<std::unique_ptr<Element>> elements_;

@@ -66,7 +66,8 @@ SolverStats solve_steady(ThermalSystem& sys, std::vector<double>& T, double t,
     throw std::invalid_argument(
         fmt::format("solve_steady: {} initial temperatures for {} unknowns", T.size(), n));
   if (!(opt.atol > 0.0)) throw std::invalid_argument("solve_steady: atol must be positive");
-  LinearSolverKind kind = detail::resolve_linear_solver(opt.linear_solver, n, opt.dense_threshold);
+  LinearSolverKind kind = detail::resolve_linear_solver(opt.linear_solver, n, opt.dense_threshold,
+                                                       opt.krylov_threshold);
   if (kind == LinearSolverKind::krylov) kind = LinearSolverKind::klu; // direct Newton is cheaper
 
   SolverStats stats;

@@ -604,13 +604,16 @@ TEST_CASE("integrate: a 20,000-node chain gives the same answer with KLU and SPG
     CHECK(std::abs(probes[0][i] - probes[1][i]) < 1e-3);
 }
 
-TEST_CASE("integrate: automatic picks dense for small and KLU for large systems") {
+TEST_CASE("integrate: automatic picks dense for small, KLU for medium and Krylov for large systems") {
   TestNetwork small = make_chain(10);
   std::vector<double> T(10, 300.0);
   CHECK(thermnet::integrate(small, T, 0.0, 10.0, {}, nullptr).linear_solver == "dense");
-  TestNetwork large = make_chain(300);
+  TestNetwork medium = make_chain(300);
   std::vector<double> T2(300, 300.0);
-  CHECK(thermnet::integrate(large, T2, 0.0, 10.0, {}, nullptr).linear_solver == "klu");
+  CHECK(thermnet::integrate(medium, T2, 0.0, 10.0, {}, nullptr).linear_solver == "klu");
+  TestNetwork large = make_chain(3000);
+  std::vector<double> T3(3000, 300.0);
+  CHECK(thermnet::integrate(large, T3, 0.0, 10.0, {}, nullptr).linear_solver == "spgmr");
 }
 
 TEST_CASE("integrate: a heat balance turning NaN gives a SolverError with time and node") {
