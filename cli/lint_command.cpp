@@ -38,11 +38,10 @@ int run_lint(const LintOptions& o) {
     std::cout << lang::render_sarif(diags, THERMNET_VERSION);
   else {
     std::cout << lang::render_text(diags, use_color(STDOUT_FILENO));
-    std::size_t e = diags.error_count(), w = diags.warning_count();
+    std::size_t e = diags.error_count(), w = diags.warning_count(), n = o.models.size();
     if (e || w)
-      std::cerr << fmt::format("{} error{} and {} warning{} in {} file{}.\n", e, e == 1 ? "" : "s",
-                               w, w == 1 ? "" : "s", sources.size(),
-                               sources.size() == 1 ? "" : "s");
+      std::cerr << fmt::format("{} error{} and {} warning{} in {} model{}.\n", e, e == 1 ? "" : "s",
+                               w, w == 1 ? "" : "s", n, n == 1 ? "" : "s");
   }
   std::cout.flush();
   if (unreadable) return exit_usage;

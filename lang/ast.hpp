@@ -214,10 +214,19 @@ struct Statement : x3::variant<ModelStmt, IncludeStmt, PluginStmt, ConstStmt, Pa
   using base_type::operator=;
 };
 
+/// The first two words of a top-level statement that failed to parse (`node b C 1` -> node, b),
+/// so that later references to the name it meant to declare are not reported as unknown.
+struct Unparsed : Tagged {
+  Identifier head; ///< first word: a keyword or an element kind
+  Identifier name; ///< second word: the name being declared (may be empty)
+};
+
 /// The statements of one file, in order.
 struct File {
   std::uint32_t file_id = 0;         ///< SourceManager id
   std::vector<Statement> statements; ///< parsed statements (those with syntax errors are skipped)
+  std::vector<Unparsed> unparsed;    ///< statements skipped because of a syntax error
+  std::size_t syntax_errors = 0;     ///< number of syntax errors reported for this file
 };
 
 } // namespace thermnet::lang::ast

@@ -1,5 +1,7 @@
 #include "lang/csv.hpp"
 
+#include "lang/source.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -122,11 +124,9 @@ CsvTable parse_csv(const std::string& text, const std::string& path) {
 }
 
 CsvTable read_csv(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw CsvError(path, 0, 0, std::strerror(errno));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_csv(ss.str(), path);
+  std::string text;
+  if (auto error = read_text_file(path, text)) throw CsvError(path, 0, 0, *error);
+  return parse_csv(text, path);
 }
 
 } // namespace thermnet::lang

@@ -476,6 +476,11 @@ Diagnostic& DiagnosticEngine::add(Diagnostic d) {
   return diags_.back();
 }
 
+void DiagnosticEngine::stop_early() {
+  // Any error added at the limit is turned into the too_many_errors diagnostic by add().
+  if (errors_ == error_limit_) add(Diagnostic{});
+}
+
 void DiagnosticEngine::sort() {
   // Located diagnostics first (by file, then offset), then file-level ones in report order,
   // and too-many-errors last of all since it announces that the list was cut short.

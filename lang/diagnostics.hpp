@@ -89,6 +89,9 @@ public:
   std::size_t warning_count() const { return warnings_; }
   /// True once the error limit has been reached (callers should stop).
   bool saturated() const { return errors_ >= error_limit_; }
+  /// Called by a caller that stops early because the limit was reached: adds the final
+  /// too_many_errors diagnostic (once), so the output says that it was cut short.
+  void stop_early();
   /// Sorts diagnostics by file, then position (stable for equal positions).
   void sort();
   /// The sources diagnostics refer to.

@@ -76,10 +76,6 @@ void Elaborator::report(Diagnostic d) {
   report_(std::move(d));
 }
 
-void Elaborator::report_eval(const EvalError& e) {
-  if (!e.diag.code.empty()) report(e.diag); // an empty code means: already reported at its source
-}
-
 Evaluator Elaborator::evaluator(FileId f) {
   return Evaluator(f, [this](const ast::Identifier& id, FileId file) {
     used_.insert(id.name);
@@ -90,6 +86,7 @@ Evaluator Elaborator::evaluator(FileId f) {
 Quantity Elaborator::value_of(const std::string& name, Span use) {
   auto decl_it = value_decls_.find(name);
   if (decl_it == value_decls_.end()) {
+    if (m_.declared_by_unparsed(name)) throw EvalError(Diagnostic{}); // its syntax error is out
     Diagnostic d = DiagnosticEngine::make(DiagId::unknown_name, use, use, name);
     std::vector<std::string> names;
     for (const auto& v : m_.values())
@@ -127,7 +124,8 @@ Quantity Elaborator::value_of(const std::string& name, Span use) {
     report(std::move(d));
     throw EvalError(Diagnostic{});
   }
-  evaluating_.pop_back();
+  // The name stays on the evaluation stack while its range is evaluated, so that a range that
+  // refers to the param itself (`param p = 1 range 0 .. p`) is a cycle, not endless recursion.
   if (decl.is_param && decl.range) {
     try {
       Evaluator ev = evaluator(decl.file);
@@ -148,9 +146,16 @@ Quantity Elaborator::value_of(const std::string& name, Span use) {
                                       fmt::format("{:g}", hi.value)));
       ranges_[name] = {lo.value, hi.value};
     } catch (const EvalError& e) {
-      report_eval(e);
+      if (!e.diag.code.empty()) {
+        Diagnostic d = e.diag;
+        if (d.at && d.at->file == decl.file && d.at->begin >= decl.where.begin &&
+            d.at->begin <= decl.where.end)
+          d.at = at;
+        report(std::move(d));
+      }
     }
   }
+  evaluating_.pop_back();
   if (auto o = overrides_.find(name); o != overrides_.end()) q.value = o->second;
   values_[name] = q;
   return q;
@@ -263,6 +268,7 @@ std::optional<Signal> Elaborator::signal(const ast::Value& v, FileId f, const Pl
 
 std::optional<int> Elaborator::resolve_node(const ast::Identifier& id, FileId f, Span at) {
   if (auto it = node_index_.find(id.name); it != node_index_.end()) return it->second;
+  if (m_.declared_by_unparsed(id.name)) return std::nullopt; // its syntax error is reported
   Diagnostic d = DiagnosticEngine::make(DiagId::unknown_node, at, span_of(f, id), id.name);
   std::vector<std::string> names;
   for (const auto& n : m_.nodes())
@@ -281,7 +287,10 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
     const KeySchema* ks = schema.key(kv.key.name);
     if (!ks) {
       Diagnostic d = DiagnosticEngine::make(DiagId::unknown_key, at, span_of(f, kv.key),
-                                            schema.kind, kv.key.name);
+                                            schema.terminals == 0
+                                                ? fmt::format("{} '{}'", schema.kind, out.name)
+                                                : fmt::format("element kind '{}'", schema.kind),
+                                            kv.key.name);
       if (auto s = closest_match(kv.key.name, schema.key_names()))
         d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
       else
@@ -340,7 +349,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
       if (any) touched.push_back(&g);
     }
     if (touched.empty()) {
-      report(DiagnosticEngine::make(DiagId::missing_key, at, std::nullopt, kind_word, out.name,
+      report(DiagnosticEngine::make(DiagId::missing_keys, at, std::nullopt, kind_word, out.name,
                                     options));
       ok = false;
     } else if (touched.size() > 1) {
@@ -524,6 +533,7 @@ NetworkSpec Elaborator::run() {
       Span at{case_->file, a->begin, a->begin};
       Span mark = span_of(case_->file, a->target);
       auto it = value_decls_.find(name);
+      if (it == value_decls_.end() && m_.declared_by_unparsed(name)) continue;
       if (it == value_decls_.end()) {
         Diagnostic d = DiagnosticEngine::make(DiagId::unknown_element, at, mark, name);
         std::vector<std::string> names;
@@ -677,9 +687,14 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, File
     const ElementSchema& schema = node.boundary ? boundary_schema() : node_schema();
     const KeySchema* ks = schema.key(key);
     if (!ks) {
-      Diagnostic d = DiagnosticEngine::make(DiagId::unknown_key, at, key_span, schema.kind, key);
+      Diagnostic d = DiagnosticEngine::make(DiagId::unknown_key, at, key_span,
+                                            fmt::format("{} '{}'", schema.kind, obj), key);
       if (auto s = closest_match(key, schema.key_names()))
         d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
+      else
+        d.notes.push_back(DiagnosticEngine::note(
+            DiagId::note_text, std::nullopt,
+            fmt::format("'{}' takes: {}", schema.kind, list_names(schema.key_names()))));
       report(std::move(d));
       return;
     }
@@ -700,6 +715,7 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, File
     return;
   }
   auto decl = element_decls_.find(obj);
+  if (decl == element_decls_.end() && m_.declared_by_unparsed(obj)) return;
   if (decl == element_decls_.end()) {
     Diagnostic d =
         DiagnosticEngine::make(DiagId::unknown_element, at, span_of(f, a.target.object), obj);
@@ -726,9 +742,21 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, File
   ElementSpec& e = net.elements[static_cast<std::size_t>(idx->second)];
   const KeySchema* ks = e.schema->key(key);
   if (!ks || ks->type == KeyType::node) {
-    Diagnostic d = DiagnosticEngine::make(DiagId::unknown_key, at, key_span, e.kind, key);
-    if (auto s = closest_match(key, e.schema->key_names()))
+    std::vector<std::string> names;
+    for (const auto& k : e.schema->keys)
+      if (k.type != KeyType::node) names.push_back(k.name);
+    Diagnostic d = DiagnosticEngine::make(DiagId::unknown_key, at, key_span,
+                                          fmt::format("element kind '{}'", e.kind), key);
+    if (ks) // a node-valued key such as 'sense' is part of the wiring, not a value
+      d.notes.push_back(DiagnosticEngine::note(
+          DiagId::note_text, std::nullopt,
+          fmt::format("'{}' names a node and cannot be set by a case", key)));
+    else if (auto s = closest_match(key, names))
       d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
+    else
+      d.notes.push_back(
+          DiagnosticEngine::note(DiagId::note_text, std::nullopt,
+                                 fmt::format("'{}' takes: {}", e.kind, list_names(names))));
     report(std::move(d));
     return;
   }
@@ -744,7 +772,7 @@ void Elaborator::check_data(const NetworkSpec& net, const std::string& path, Spa
   try {
     CsvTable t = read_csv(path);
     for (std::size_t c = 1; c < t.columns.size(); ++c) {
-      if (net.node_index(t.columns[c]) >= 0) continue;
+      if (net.node_index(t.columns[c]) >= 0 || m_.declared_by_unparsed(t.columns[c])) continue;
       Diagnostic d = DiagnosticEngine::make(DiagId::data_unknown_column, at, mark, t.columns[c]);
       d.message += fmt::format(" (in {}, column {})", fs::path(path).filename().string(), c + 1);
       std::vector<std::string> names;

@@ -48,7 +48,6 @@ private:
   bool check_range(double v, const Place& p, Span at, Span mark);
   std::optional<int> resolve_node(const ast::Identifier& id, FileId f, Span at);
   void report(Diagnostic d);
-  void report_eval(const EvalError& e);
 
   void elaborate_node(const NodeDecl& d, NodeSpec& out);
   bool fill_keys(const ElementSchema& schema, const std::vector<ast::KeyValue>& keys, FileId f,

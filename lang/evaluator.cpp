@@ -67,6 +67,14 @@ Quantity Evaluator::term(const ast::Term& t) const {
 }
 
 Quantity Evaluator::signed_power(const ast::Signed& s) const {
+  // A signed number with a unit is one quantity: -10 [degC] is 263.15 K, not -(283.15 K).
+  if (s.power.tail.empty())
+    if (const auto* lit = boost::get<ast::Quantity>(&s.power.base); lit && lit->unit) {
+      ast::Quantity signed_lit = *lit;
+      for (char c : s.signs)
+        if (c == '-') signed_lit.value = -signed_lit.value;
+      return quantity(signed_lit);
+    }
   Quantity q = power(s.power);
   for (char c : s.signs)
     if (c == '-') q.value = -q.value;
@@ -129,18 +137,18 @@ Quantity Evaluator::quantity(const ast::Quantity& q) const {
     Unit u = parse_unit(q.unit->text);
     return Quantity{u.scale * q.value + u.offset, u.dim};
   } catch (const UnitError& e) {
-    // Point at the offending character inside the brackets (text starts after '[').
-    auto at = static_cast<std::uint32_t>(q.unit->begin + 1 + e.offset);
-    Span mark{file_, std::min(at, q.unit->end), std::min(at + 1, q.unit->end)};
-    Diagnostic d = DiagnosticEngine::make(DiagId::unknown_unit, span(q), mark, e.what());
-    // Suggest a known symbol for the word at the error position.
+    // The word at the error position (a unit symbol), to mark it whole and suggest a known one.
     std::string word;
     for (std::size_t i = e.offset; i < q.unit->text.size(); ++i) {
       char c = q.unit->text[i];
       if (!std::isalpha(static_cast<unsigned char>(c))) break;
       word += c;
     }
-    if (auto s = closest_match(word, known_unit_symbols()))
+    auto at = static_cast<std::uint32_t>(q.unit->begin + e.offset); // begin: after the [
+    auto len = static_cast<std::uint32_t>(std::max<std::size_t>(word.size(), 1));
+    Span mark{file_, std::min(at, q.unit->end), std::min(at + len, q.unit->end)};
+    Diagnostic d = DiagnosticEngine::make(DiagId::unknown_unit, span(q), mark, e.what());
+    if (auto s = closest_match(word, known_unit_symbols()); s && *s != word)
       d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
     fail(std::move(d));
   }

@@ -62,6 +62,13 @@ struct annotate {
 template <typename T> struct number_policies : x3::ureal_policies<T> {
   static bool const allow_leading_dot = true;
   static bool const allow_trailing_dot = false;
+  /// A '.' followed by another '.' is not a decimal point: `1..10` is a range.
+  template <typename It> static bool parse_dot(It& first, It const& last) {
+    if (first == last || *first != '.') return false;
+    if (first + 1 != last && first[1] == '.') return false;
+    ++first;
+    return true;
+  }
   template <typename It, typename Attr> static bool parse_nan(It&, It const&, Attr&) {
     return false;
   }
@@ -71,16 +78,24 @@ template <typename T> struct number_policies : x3::ureal_policies<T> {
 };
 inline const x3::real_parser<double, number_policies<double>> unsigned_real{};
 
+// Character classes as explicit byte sets: X3's x3::alpha, x3::alnum and x3::blank call the C
+// classification functions, which must not see the negative chars of UTF-8 bytes (an assertion
+// in debug builds, undefined behaviour otherwise). Identifiers are ASCII, so these are exact.
+inline const auto alpha = x3::char_("a-zA-Z");
+inline const auto alnum = x3::char_("a-zA-Z0-9");
+inline const auto digit = x3::char_("0-9");
+inline const auto blank = lit(' ') | lit('\t');
+
 /// Matches a keyword only as a whole word (`node` but not `node2`).
 inline auto kw(const char* word) {
-  return lexeme[lit(word) >> !(x3::alnum | lit('_'))];
+  return lexeme[lit(word) >> !(alnum | lit('_'))];
 }
 
 // --- skippers -------------------------------------------------------------------------------
 inline const auto comment = lexeme['#' >> *(x3::char_ - x3::eol)];
-inline const auto continuation = lexeme['\\' >> *x3::blank >> x3::eol];
+inline const auto continuation = lexeme['\\' >> *blank >> x3::eol];
 /// Skips blanks, comments and line continuations; newlines stay significant.
-inline const auto line_skipper = x3::blank | lit('\r') | comment | continuation;
+inline const auto line_skipper = blank | lit('\r') | comment | continuation;
 /// Separates the inner elements of a series/parallel block.
 inline const auto block_separator = lit(';') | x3::eol;
 
@@ -201,20 +216,26 @@ inline const auto set_identifier = [](auto& ctx) { x3::_val(ctx) = x3::_attr(ctx
 
 // --- lexical ----------------------------------------------------------------------------------
 inline const auto identifier_def =
-    x3::raw[lexeme[(x3::alpha | x3::char_('_')) >> *(x3::alnum | x3::char_('_'))]][set_name];
+    x3::raw[lexeme[(alpha | x3::char_('_')) >> *(alnum | x3::char_('_'))]][set_name];
 inline const auto escaped_char = lit('\\') >> x3::char_("\\\"");
 inline const x3::rule<class string_body_class, std::string> string_body = "string";
 inline const auto string_body_def = *(escaped_char | (x3::char_ - '"' - '\\' - x3::eol));
-inline const auto string_literal_def = x3::raw[lexeme['"' >> string_body > '"']][set_string];
+inline const auto string_literal_def = x3::raw[lexeme[('"' >> string_body) > '"']][set_string];
 inline const auto unit_def =
     (lit('[') > x3::raw[lexeme[*(x3::char_ - ']' - '[' - x3::eol)]] > lit(']'))[set_raw_text];
-inline const auto number = lexeme[unsigned_real >> !(x3::alnum | lit('_'))];
+/// A number not glued to letters or to a further '.' (so `3mm` and `1.2.3` are not numbers, while
+/// `1..10` still is a range).
+inline const auto number = lexeme[unsigned_real >> !(alnum | lit('_') | (lit('.') >> !lit('.')))];
 inline const auto quantity_def = number >> -unit;
 
 // --- expressions ------------------------------------------------------------------------------
 inline const auto signs = *x3::char_("+-");
-inline const auto paren_def = lit('(') >> expr > lit(')');
-inline const auto call_def = identifier >> lit('(') >> -(expr % ',') > lit(')');
+inline const auto paren_def = (lit('(') >> expr) > lit(')');
+// Lists are `x >> *(',' > x)` rather than `x % ','`, so that a ',' not followed by an item is
+// reported at the missing item; the list rules keep X3 from flattening them into their parent.
+inline const x3::rule<class arg_list_class, std::vector<ast::Expr>> arg_list = "argument";
+inline const auto arg_list_def = expr >> *(lit(',') > expr);
+inline const auto call_def = (identifier >> lit('(') >> -arg_list) > lit(')');
 inline const auto primary_def = quantity | call | identifier | paren;
 inline const auto power_tail_def = signs >> primary;
 inline const auto power_def = primary >> *(lit('^') > power_tail);
@@ -226,13 +247,16 @@ inline const auto expr_def = term >> *expr_op;
 
 // --- signals and values -----------------------------------------------------------------------
 inline const auto signal_kind_def =
-    x3::raw[lexeme[(lit("step") | lit("pwl")) >> !(x3::alnum | lit('_'))]][set_name];
+    x3::raw[lexeme[(lit("step") | lit("pwl")) >> !(alnum | lit('_'))]][set_name];
 inline const auto signal_point_def = expr > lit(':') > expr;
-inline const auto point_signal_def = signal_kind >> lit('(') >> (signal_point % ',') > lit(')');
-inline const auto table_signal_def = kw("table") >> lit('(') >> string_literal >
+inline const x3::rule<class point_list_class, std::vector<ast::SignalPoint>> point_list =
+    "'time: value' point";
+inline const auto point_list_def = signal_point >> *(lit(',') > signal_point);
+inline const auto point_signal_def = (signal_kind >> lit('(') >> point_list) > lit(')');
+inline const auto table_signal_def = (kw("table") >> lit('(') >> string_literal) >
                                      lit(',') > string_literal > lit(')');
 inline const auto value_def = point_signal | table_signal | expr;
-inline const auto key_value_def = identifier >> lit('=') > value;
+inline const auto key_value_def = identifier > lit('=') > value;
 
 // --- statements -------------------------------------------------------------------------------
 inline const auto model_stmt_def = (kw("model") > identifier)[set_model_name];
@@ -244,31 +268,36 @@ inline const auto param_stmt_def = kw("param") > identifier > lit('=') > expr >
                                    -(kw("range") > range) > -string_literal;
 inline const auto node_stmt_def = kw("node") > identifier > *key_value > -string_literal;
 inline const auto boundary_stmt_def = kw("boundary") > identifier > *key_value > -string_literal;
-inline const auto terminal = identifier >> !lit('=');
+/// A terminal node name: not a key (`k =`), and not a key whose '=' is missing (`G 2`).
+inline const auto terminal = identifier >> !lit('=') >> !(digit | x3::char_("(+-."));
 inline const auto element_stmt_def = identifier >>
                                      (identifier > *terminal > *key_value > -string_literal);
 inline const auto inner_element_def = identifier > *key_value;
 inline const auto composite_mode_def =
-    x3::raw[lexeme[(lit("series") | lit("parallel")) >> !(x3::alnum | lit('_'))]][set_name];
+    x3::raw[lexeme[(lit("series") | lit("parallel")) >> !(alnum | lit('_'))]][set_name];
 inline const auto composite_stmt_def = composite_mode > identifier > x3::repeat(2)[identifier] >
-                                       lit('{') > *block_separator >
+                                       *x3::eol > lit('{') > *block_separator >
                                        *(inner_element >> *block_separator) > lit('}');
 inline const auto statement_def = model_stmt | include_stmt | plugin_stmt | const_stmt |
                                   param_stmt | node_stmt | boundary_stmt | composite_stmt |
                                   element_stmt;
 
 // --- cases ------------------------------------------------------------------------------------
-inline const auto case_header_def = (kw("case") > identifier > lit('{'))[set_identifier];
+// Extension: the '{' of a case or series/parallel block may also start the next line.
+inline const auto case_header_def = (kw("case") > identifier > *x3::eol > lit('{'))[set_identifier];
 inline const auto target_def = identifier >> -(lit('.') > identifier);
-inline const auto case_assign_def = target >> lit('=') > value;
-inline const auto case_data_def = (kw("data") >> string_literal)[set_path];
+inline const auto case_assign_def = target > lit('=') > value;
+// `data` is a keyword only when not followed by '=' or '.' (a param or node may be called data).
+inline const auto case_data_def =
+    ((kw("data") >> !(lit('=') | lit('.'))) > string_literal)[set_path];
 inline const auto case_item_def = case_data | case_assign;
 
-BOOST_SPIRIT_DEFINE(identifier, string_body, string_literal, unit, quantity, primary, call, paren,
-                    power, power_tail, term_op, expr_op, signed_, term, expr, signal_kind,
-                    signal_point, point_signal, table_signal, value, key_value, model_stmt,
-                    include_stmt, plugin_stmt, const_stmt, range, param_stmt, node_stmt,
-                    boundary_stmt, element_stmt, inner_element, composite_mode, composite_stmt,
-                    statement, case_header, target, case_assign, case_data, case_item)
+BOOST_SPIRIT_DEFINE(identifier, string_body, string_literal, unit, quantity, primary, arg_list,
+                    call, paren, power, power_tail, term_op, expr_op, signed_, term, expr,
+                    signal_kind, signal_point, point_list, point_signal, table_signal, value,
+                    key_value, model_stmt, include_stmt, plugin_stmt, const_stmt, range, param_stmt,
+                    node_stmt, boundary_stmt, element_stmt, inner_element, composite_mode,
+                    composite_stmt, statement, case_header, target, case_assign, case_data,
+                    case_item)
 
 } // namespace thermnet::lang::grammar

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <set>
 #include <tuple>
+#include <unordered_map>
 
 namespace thermnet::lang {
 namespace {
@@ -29,38 +30,53 @@ Span start_of(const Span& s) {
 }
 
 /// Warnings about the network's shape: isolated nodes, and groups with no path to a boundary.
-void check_topology(const Model& m, const NetworkSpec& net, const Reporter& report) {
-  const std::size_t n = net.nodes.size();
-  if (n != m.nodes().size()) return;
-  Components comp(n);
-  std::vector<int> degree(n, 0);
-  for (const auto& e : net.elements) {
-    if (e.nodes.size() != 2) continue;
-    comp.join(e.nodes[0], e.nodes[1]);
-    ++degree[static_cast<std::size_t>(e.nodes[0])];
-    ++degree[static_cast<std::size_t>(e.nodes[1])];
+/// Links are taken from the declarations, not from the elaborated network, so an element with an
+/// error still links its nodes (its error is reported; a warning about its nodes would be noise).
+void check_topology(const Model& m, const Reporter& report) {
+  const auto& decls = m.nodes();
+  const std::size_t n = decls.size();
+  std::unordered_map<std::string, int> index;
+  for (std::size_t i = 0; i < n; ++i)
+    index.emplace(decls[i].name, static_cast<int>(i));
+  // Index n stands for every unknown name: it counts as a boundary, so no group is called
+  // floating because of a name that is already reported (or hidden by a syntax error).
+  const int unknown = static_cast<int>(n);
+  Components comp(n + 1);
+  std::vector<int> degree(n + 1, 0);
+  for (const auto& e : m.elements()) {
+    const auto& names = e.element ? e.element->nodes : e.composite->nodes;
+    if (names.size() < 2) continue; // a one-terminal source is not a link
+    std::vector<int> ids;
+    for (const auto& id : names) {
+      auto it = index.find(id.name);
+      ids.push_back(it == index.end() ? unknown : it->second);
+    }
+    for (int id : ids) {
+      comp.join(ids.front(), id);
+      ++degree[static_cast<std::size_t>(id)];
+    }
   }
   std::map<int, std::vector<std::size_t>> groups;
-  std::set<int> grounded;
+  std::set<int> grounded{comp.find(unknown)};
   for (std::size_t i = 0; i < n; ++i) {
     int root = comp.find(static_cast<int>(i));
-    if (net.nodes[i].boundary)
+    if (decls[i].boundary)
       grounded.insert(root);
     else
       groups[root].push_back(i);
   }
   for (std::size_t i = 0; i < n; ++i) {
-    if (net.nodes[i].boundary || degree[i] != 0) continue;
-    const NodeDecl& d = m.nodes()[i];
+    if (decls[i].boundary || degree[i] != 0) continue;
+    const NodeDecl& d = decls[i];
     report(DiagnosticEngine::make(DiagId::isolated_node, start_of(d.where), d.name_span, d.name));
   }
   for (const auto& [root, members] : groups) {
-    if (grounded.count(root) || members.size() < 2) continue;
+    if (grounded.count(comp.find(root)) || members.size() < 2) continue;
     std::string names;
     for (std::size_t k = 0; k < members.size() && k < 4; ++k)
-      names += (k ? ", '" : "'") + net.nodes[members[k]].name + "'";
+      names += (k ? ", '" : "'") + decls[members[k]].name + "'";
     if (members.size() > 4) names += fmt::format(" and {} more", members.size() - 4);
-    const NodeDecl& d = m.nodes()[members.front()];
+    const NodeDecl& d = decls[members.front()];
     report(DiagnosticEngine::make(DiagId::floating_group, start_of(d.where), d.name_span,
                                   "nodes " + names));
   }
@@ -76,23 +92,29 @@ void Model::lint(DiagnosticEngine& diags) const {
     if (seen.insert(key).second) diags.add(std::move(d));
   };
   Elaborator base(*this, collect, nullptr, {}, true);
-  NetworkSpec net = base.run();
+  base.run();
   for (const auto& v : values_) {
     try {
       base.value_of(v.name, v.name_span); // problems in unused declarations are problems too
     } catch (const EvalError&) {
     }
   }
-  check_topology(*this, net, collect);
+  // After a syntax error the model is incomplete: warnings about its shape and about unused
+  // values could be caused by the statements that were skipped, so only errors are reported.
+  const bool complete = syntax_errors_ == 0;
+  if (complete) check_topology(*this, collect);
   std::set<std::string> used = base.used_names();
   for (const auto& c : cases_) {
-    if (diags.saturated()) return;
+    if (diags.saturated()) {
+      diags.stop_early();
+      return;
+    }
     Elaborator ec(*this, collect, &c, {}, true);
     ec.run();
     used.insert(ec.used_names().begin(), ec.used_names().end());
   }
   for (const auto& v : values_)
-    if (!used.count(v.name))
+    if (complete && !used.count(v.name))
       collect(DiagnosticEngine::make(v.is_param ? DiagId::unused_param : DiagId::unused_const,
                                      start_of(v.where), v.name_span, v.name));
 }

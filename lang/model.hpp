@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -98,6 +99,12 @@ public:
                                      SourceManager& sources, DiagnosticEngine& diags,
                                      const LoadOptions& options = {});
 
+  /// Like load(), but with the root file's text given in memory under `path` (includes and data
+  /// files are still read relative to it); never returns nullptr.
+  static std::unique_ptr<Model> from_text(const std::string& path, std::string text,
+                                          const ElementCatalog& catalog, SourceManager& sources,
+                                          DiagnosticEngine& diags, const LoadOptions& options = {});
+
   /// Checks everything (every case, data files, topology) and reports all problems, warnings
   /// included.
   void lint(DiagnosticEngine& diags) const;
@@ -133,6 +140,13 @@ public:
   const std::vector<CaseDecl>& cases() const { return cases_; }
   /// Directory of the file a declaration lives in (for relative data paths).
   std::string directory_of(FileId file) const;
+  /// True when a statement that failed to parse meant to declare this name (references to it are
+  /// not reported again).
+  bool declared_by_unparsed(const std::string& name) const {
+    return unparsed_names_.count(name) != 0;
+  }
+  /// Number of syntax errors in the model's files (whole-model warnings are unreliable then).
+  std::size_t syntax_errors() const { return syntax_errors_; }
 
 private:
   friend class ModelBuilder;
@@ -145,6 +159,8 @@ private:
   std::vector<NodeDecl> nodes_;
   std::vector<ElementDecl> elements_;
   std::vector<CaseDecl> cases_;
+  std::set<std::string> unparsed_names_;
+  std::size_t syntax_errors_ = 0;
 };
 
 } // namespace thermnet::lang

@@ -35,21 +35,16 @@ public:
     return true;
   }
 
+  void load_root_text(const std::string& path, std::string text) {
+    load_text(path, std::move(text));
+  }
+
 private:
   static bool read_file(const std::string& path, std::string& text, std::string& error) {
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) {
-      error = "it is a directory";
+    if (auto e = read_text_file(path, text)) {
+      error = *e;
       return false;
     }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-      error = std::strerror(errno);
-      return false;
-    }
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    text = ss.str();
     return true;
   }
 
@@ -63,14 +58,25 @@ private:
     FileId id = sources_.add(path, std::move(text));
     loaded_.insert(canonical(path));
     stack_.push_back(canonical(path));
+    open_ids_.push_back(id);
     auto file = std::make_unique<ast::File>(parse_file(id, sources_, diags_));
     const ast::File& f = *file;
     m_.files_.push_back(std::move(file));
+    m_.syntax_errors_ += f.syntax_errors;
+    for (const auto& u : f.unparsed) {
+      const std::string& head = u.head.name;
+      if (!u.name.name.empty() && head != "model" && head != "include" && head != "plugin")
+        m_.unparsed_names_.insert(u.name.name);
+    }
     for (const auto& s : f.statements) {
-      if (diags_.saturated()) break;
+      if (diags_.saturated()) {
+        diags_.stop_early();
+        break;
+      }
       collect(s, id);
     }
     stack_.pop_back();
+    open_ids_.pop_back();
   }
 
   std::string relative_to(FileId file, const std::string& p) const {
@@ -159,9 +165,14 @@ private:
   void include(const ast::IncludeStmt& s, FileId f) {
     std::string path = relative_to(f, s.path.text);
     std::string key = canonical(path);
-    for (const auto& open : stack_)
-      if (open == key) {
-        diags_.report(DiagId::include_cycle, at(f, s), span(f, s.path), s.path.text);
+    for (std::size_t i = 0; i < stack_.size(); ++i)
+      if (stack_[i] == key) {
+        // Name the chain as the user wrote it: the files from the one included again to here.
+        std::string chain;
+        for (std::size_t k = i; k < stack_.size(); ++k)
+          chain += sources_.path(open_ids_[k]) + " -> ";
+        diags_.report(DiagId::include_cycle, at(f, s), span(f, s.path), s.path.text,
+                      chain + s.path.text);
         return;
       }
     if (loaded_.count(key)) return; // already included elsewhere: its declarations are in
@@ -183,6 +194,7 @@ private:
   DiagnosticEngine& diags_;
   const LoadOptions& opt_;
   std::vector<std::string> stack_;
+  std::vector<FileId> open_ids_;
   std::set<std::string> loaded_;
   std::unordered_map<std::string, Span> value_names_, node_names_, element_names_, case_names_;
   bool model_seen_ = false;
@@ -198,6 +210,19 @@ std::unique_ptr<Model> Model::load(const std::string& path, const ElementCatalog
   m->catalog_ = &catalog;
   ModelBuilder b(*m, sources, diags, options);
   if (!b.load_root(path)) return nullptr;
+  return m;
+}
+
+std::unique_ptr<Model> Model::from_text(const std::string& path, std::string text,
+                                        const ElementCatalog& catalog, SourceManager& sources,
+                                        DiagnosticEngine& diags, const LoadOptions& options) {
+  auto m = std::unique_ptr<Model>(new Model());
+  m->path_ = path;
+  m->name_ = fs::path(path).stem().string();
+  m->sources_ = &sources;
+  m->catalog_ = &catalog;
+  ModelBuilder b(*m, sources, diags, options);
+  b.load_root_text(path, std::move(text));
   return m;
 }
 

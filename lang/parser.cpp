@@ -2,6 +2,10 @@
 
 #include "lang/grammar_def.hpp"
 
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,8 +47,13 @@ public:
   ast::File run() {
     ast::File file;
     file.file_id = id_;
-    if (!prescan()) return file;
+    const std::size_t errors_before = diags_.error_count();
+    if (!prescan()) {
+      file.syntax_errors = diags_.error_count() - errors_before;
+      return file;
+    }
     It p = base_;
+    if (end_ - base_ >= 3 && std::equal(base_, base_ + 3, "\xEF\xBB\xBF")) p += 3; // a UTF-8 BOM
     for (;;) {
       p = skip_separators(p);
       if (p == end_ || diags_.saturated()) break;
@@ -58,8 +67,14 @@ public:
         continue;
       }
       ast::Statement s;
-      if (parse_one(p, grammar::statement, s, false)) file.statements.push_back(std::move(s));
+      It start = p;
+      if (parse_one(p, grammar::statement, s, false))
+        file.statements.push_back(std::move(s));
+      else
+        file.unparsed.push_back(salvage(start));
     }
+    if (p != end_ && diags_.saturated()) diags_.stop_early();
+    file.syntax_errors = diags_.error_count() - errors_before;
     return file;
   }
 
@@ -73,13 +88,11 @@ private:
            (p + n == end_ || !is_ident_char(p[n]));
   }
 
-  /// Rejects input that is not text or nests too deeply, reports unclosed blocks, and blanks
-  /// newlines and comments inside ( ) and [ ] (where a newline does not end a statement).
-  bool prescan() {
-    std::vector<It> braces;
-    std::vector<char> open; // the kinds of the open brackets
-    int depth = 0;
-    bool in_comment = false, in_string = false;
+  /// Calls f(p, n, state) for each code point of the text with its lexical state (0: code,
+  /// 1: inside a string, 2: inside a comment); stops and returns false on a NUL byte or invalid
+  /// UTF-8 (reported).
+  template <typename F> bool scan(F&& f) {
+    bool in_comment = false, in_string = false, escaped = false;
     for (It p = base_; p < end_;) {
       char c = *p;
       if (c == '\0') {
@@ -91,36 +104,111 @@ private:
         diags_.report(DiagId::not_utf8, span(p, p + 1), std::nullopt);
         return false;
       }
-      bool in_parens = !open.empty() && open.back() != '{';
-      if (in_parens && (c == '\n' || in_comment)) blank(p, n);
+      int state = in_comment ? 2 : in_string ? 1 : 0;
       if (c == '\n')
-        in_comment = in_string = false;
+        in_comment = in_string = escaped = false;
       else if (in_comment) {
       } else if (in_string) {
-        if (c == '\\' && p + 1 < end_ && p[1] != '\n')
-          n = 2;
+        if (escaped)
+          escaped = false;
+        else if (c == '\\')
+          escaped = true;
         else if (c == '"')
           in_string = false;
-      } else if (c == '#')
+      } else if (c == '#') {
         in_comment = true;
-      else if (c == '"')
+        state = 2;
+      } else if (c == '"')
         in_string = true;
-      else if (c == '(' || c == '[' || c == '{') {
-        if (++depth > max_nesting) {
+      if (!f(p, n, state)) return false;
+      p += n;
+    }
+    return true;
+  }
+
+  /// Rejects input that is not text or nests too deeply, reports unclosed blocks, and blanks
+  /// newlines and comments inside matched ( ) and [ ] (where a newline does not end a
+  /// statement). A bracket that is never closed blanks nothing, so the error stays on its line.
+  bool prescan() {
+    // Pass 1: match brackets by kind; a closer pops its nearest opener of the same kind.
+    std::vector<std::pair<It, char>> stack;
+    std::vector<std::pair<It, It>> spans; // matched ( ) and [ ]
+    std::vector<It> unclosed;             // unmatched '{'
+    auto closer_of = [](char c) { return c == '(' ? ')' : c == '[' ? ']' : '}'; };
+    bool ok = scan([&](It p, std::size_t, int state) {
+      if (state != 0) return true;
+      char c = *p;
+      if (c == '(' || c == '[' || c == '{') {
+        if (static_cast<int>(stack.size()) >= max_nesting) {
           diags_.report(DiagId::too_deep, span(p, p + 1), std::nullopt, max_nesting);
           return false;
         }
-        if (c == '{') braces.push_back(p);
+        stack.emplace_back(p, c);
       } else if (c == ')' || c == ']' || c == '}') {
-        if (depth > 0) --depth;
-        if (c == '}' && !braces.empty()) braces.pop_back();
+        for (std::size_t i = stack.size(); i-- > 0;)
+          if (closer_of(stack[i].second) == c) {
+            for (std::size_t k = i + 1; k < stack.size(); ++k)
+              if (stack[k].second == '{') unclosed.push_back(stack[k].first);
+            if (c != '}') spans.emplace_back(stack[i].first, p);
+            stack.resize(i);
+            break;
+          }
       }
-      p += n;
-    }
-    for (It b : braces)
-      diags_.report(DiagId::unterminated_block, span(b, b + 1), std::nullopt, "block");
-    unclosed_braces_ = !braces.empty();
-    return true;
+      return true;
+    });
+    if (!ok) return false;
+    for (const auto& [p, c] : stack)
+      if (c == '{') unclosed.push_back(p);
+    std::sort(unclosed.begin(), unclosed.end());
+    for (It b : unclosed)
+      diags_.report(DiagId::unterminated_block, span(b, b + 1), std::nullopt, block_kind(b));
+    unclosed_braces_ = !unclosed.empty();
+    if (spans.empty()) return true;
+    // Pass 2: blank newlines and comments inside the outermost matched brackets.
+    std::sort(spans.begin(), spans.end());
+    std::vector<std::pair<It, It>> outer;
+    for (const auto& sp : spans)
+      if (outer.empty() || sp.first > outer.back().second) outer.push_back(sp);
+    std::size_t k = 0;
+    return scan([&](It p, std::size_t n, int state) {
+      while (k < outer.size() && outer[k].second < p)
+        ++k;
+      if (k < outer.size() && p > outer[k].first && (*p == '\n' || state == 2)) blank(p, n);
+      return true;
+    });
+  }
+
+  /// The first two words of a statement that failed to parse.
+  ast::Unparsed salvage(It start) const {
+    ast::Unparsed u;
+    u.begin = off(start);
+    u.end = off(start);
+    auto word = [&](It& p, ast::Identifier& id) {
+      p = skip_line_space(p);
+      if (p == end_ || !is_ident_start(*p)) return false;
+      It q = p;
+      while (q < end_ && is_ident_char(*q))
+        ++q;
+      id.name.assign(p, q);
+      id.begin = off(p);
+      id.end = off(q);
+      p = q;
+      return true;
+    };
+    It p = start;
+    if (word(p, u.head)) word(p, u.name);
+    return u;
+  }
+
+  /// What a '{' opens, for messages: "case", "series" or "parallel", else "block".
+  std::string block_kind(It brace) const {
+    It line = brace;
+    while (line > base_ && line[-1] != '\n')
+      --line;
+    line = skip_line_space(line);
+    for (const char* w : {"case", "series", "parallel"})
+      if (at_keyword(line, w)) return w;
+    return "block";
   }
 
   /// Skips blanks, comments and continuations, but not newlines.
@@ -209,9 +297,60 @@ private:
     return end_;
   }
 
+  /// Reports "expected WHAT, found TOKEN" at the first token at or after `where`.
   void report_expected(It where, const std::string& what) {
-    std::string msg = what + ", found " + describe_token(where);
-    diags_.report(DiagId::syntax_expected, span(where, where), span(where, token_end(where)), msg);
+    where = skip_line_space(where);
+    It tok_end = token_end(where);
+    Diagnostic& d = diags_.report(DiagId::syntax_expected, span(where, where), span(where, tok_end),
+                                  what + ", found " + describe_token(where));
+    add_token_hint(d, where);
+  }
+
+  /// A hint for a token that starts like a number but is not one ("3mm", "1.2.3"), if it is one.
+  std::optional<std::string> number_hint(It b, It e) const {
+    if (b == e || !(std::isdigit(static_cast<unsigned char>(*b)) ||
+                    (*b == '.' && e - b > 1 && std::isdigit(static_cast<unsigned char>(b[1])))))
+      return std::nullopt;
+    std::string tok(b, e);
+    if (tok.size() > 40) return std::nullopt;
+    char* stop = nullptr;
+    std::strtod(tok.c_str(), &stop);
+    std::string rest(stop);
+    if (rest.empty()) return std::nullopt;
+    std::string number = tok.substr(0, tok.size() - rest.size());
+    if (std::isalpha(static_cast<unsigned char>(rest[0])) && !number.empty())
+      return fmt::format("a unit goes in square brackets after the number: '{} [{}]'", number,
+                         rest);
+    return fmt::format("'{}' is not a number", tok);
+  }
+
+  /// Reports an expectation failure of the grammar; `which` names what the rule expected.
+  void report_failure(It where, const std::string& which) {
+    if (which == "'\"'" && (where == end_ || *where == '\n' || *where == '\r')) {
+      // The closing quote of a string is missing: point at the opening one.
+      It line = where;
+      while (line > base_ && line[-1] != '\n')
+        --line;
+      It open = nullptr;
+      bool in_string = false;
+      for (It q = line; q < where; ++q) {
+        if (in_string && *q == '\\')
+          ++q;
+        else if (*q == '"') {
+          in_string = !in_string;
+          if (in_string) open = q;
+        } else if (!in_string && *q == '#')
+          break;
+      }
+      if (open) {
+        It stop = where;
+        while (stop > open + 1 && (stop[-1] == '\r' || stop[-1] == ' '))
+          --stop;
+        diags_.report(DiagId::unterminated_string, span(open, open), span(open, stop));
+        return;
+      }
+    }
+    report_expected(where, which);
   }
 
   /// Parses one statement or case item with `rule`; on failure reports and skips the statement.
@@ -222,15 +361,15 @@ private:
       auto const parser = x3::with<grammar::buffer_tag>(base_)[rule];
       if (!x3::phrase_parse(p, end_, parser, grammar::line_skipper, attr)) {
         report_expected(start, in_block
-                                   ? "expected a case setting ('duration = ...', 'NAME.key = ...' "
-                                     "or 'data \"file.csv\"')"
-                                   : "expected a statement (model, include, const, param, node, "
-                                     "boundary, case, series, parallel or an element)");
+                                   ? "a case setting ('duration = ...', 'NAME.key = ...' or "
+                                     "'data \"file.csv\"')"
+                                   : "a statement (model, include, const, param, node, boundary, "
+                                     "case, series, parallel or an element)");
         p = recover(start, in_block);
         return false;
       }
     } catch (x3::expectation_failure<It> const& e) {
-      report_expected(e.where(), "expected " + e.which());
+      report_failure(e.where(), e.which());
       p = recover(start, in_block);
       return false;
     }
@@ -240,10 +379,25 @@ private:
       p = q;
       return true;
     }
-    diags_.report(DiagId::syntax_unexpected, span(q, q), span(q, token_end(q)),
-                  describe_token(q) + "; expected the end of the statement (a newline or ';')");
+    Diagnostic& d =
+        diags_.report(DiagId::syntax_unexpected, span(q, q), span(q, token_end(q)),
+                      describe_token(q) + "; expected the end of the statement (a newline or ';')");
+    add_token_hint(d, q);
+    // Like any statement with a syntax error, it is skipped: checking the part that parsed
+    // would only add errors that the syntax error explains.
     p = recover(q, in_block);
-    return true;
+    return false;
+  }
+
+  /// Explains a token that no rule can start: a non-ASCII character or a number glued to letters.
+  void add_token_hint(Diagnostic& d, It q) const {
+    if (q < end_ && static_cast<unsigned char>(*q) >= 0x80)
+      d.notes.push_back(DiagnosticEngine::note(
+          DiagId::note_text, std::nullopt,
+          "names may use only ASCII letters, digits and '_'; other text belongs in a "
+          "\"description\" or a # comment"));
+    else if (auto hint = number_hint(q, token_end(q)))
+      d.notes.push_back(DiagnosticEngine::note(DiagId::note_text, std::nullopt, *hint));
   }
 
   /// Gives a whole statement the byte range the driver parsed it from.
@@ -259,7 +413,10 @@ private:
   void parse_case(It& p, ast::File& file) {
     It start = p;
     ast::CaseStmt cs;
-    if (!parse_header(p, cs.name)) return;
+    if (!parse_header(p, cs.name)) {
+      file.unparsed.push_back(salvage(start));
+      return;
+    }
     for (;;) {
       p = skip_separators(p);
       if (p == end_) {
@@ -286,9 +443,9 @@ private:
     try {
       auto const parser = x3::with<grammar::buffer_tag>(base_)[grammar::case_header];
       if (x3::phrase_parse(p, end_, parser, grammar::line_skipper, name)) return true;
-      report_expected(start, "expected 'case NAME {'");
+      report_expected(start, "'case NAME {'");
     } catch (x3::expectation_failure<It> const& e) {
-      report_expected(e.where(), "expected " + e.which());
+      report_failure(e.where(), e.which());
     }
     p = recover(start, false);
     return false;

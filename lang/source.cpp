@@ -3,7 +3,9 @@
 #include "lang/source.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <limits>
 
 namespace thermnet::lang {
@@ -80,6 +82,30 @@ std::size_t content_end(const std::string& text, std::size_t start, std::size_t 
 }
 
 } // namespace
+
+std::optional<std::string> read_text_file(const std::string& path, std::string& text) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::is_directory(st)) return "it is a directory";
+  if (fs::is_character_file(st) || fs::is_block_file(st) || fs::is_socket(st))
+    return "it is a device, not a regular file";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::string(std::strerror(errno));
+  // Read in chunks so that a pipe or a file growing without end stops at the limit.
+  text.clear();
+  std::string chunk(std::size_t{1} << 20, '\0');
+  while (in) {
+    in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+    text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > max_file_bytes) {
+      text.clear();
+      return "it is larger than 1 GiB";
+    }
+  }
+  if (in.bad()) return std::string(std::strerror(errno));
+  return std::nullopt;
+}
 
 FileId SourceManager::add(std::string path, std::string text) {
   File f;

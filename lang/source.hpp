@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -24,6 +25,13 @@ struct LineCol {
   std::uint32_t line = 1;   ///< 1-based line
   std::uint32_t column = 1; ///< 1-based column
 };
+
+/// Largest file read as a model, include or data file (offsets in a Span are 32-bit).
+inline constexpr std::size_t max_file_bytes = std::size_t{1} << 30;
+
+/// Reads a whole file into `text`; returns an error message instead for a directory, a device, a
+/// file larger than max_file_bytes or an unreadable file.
+std::optional<std::string> read_text_file(const std::string& path, std::string& text);
 
 /// Owns the text of every file read for a model and maps offsets to lines and columns.
 class SourceManager {
