@@ -1,9 +1,14 @@
 // thermnet: one executable, subcommands as in shared/spec/cli.md. Every error is caught here and
 // rendered; no input ends in a crash.
 
+#include "cli/calibrate_command.hpp"
+#include "cli/estimate_command.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/kinds_command.hpp"
 #include "cli/lint_command.hpp"
+#include "cli/lsp_command.hpp"
+#include "cli/model_loading.hpp"
+#include "cli/sensitivity_command.hpp"
 #include "cli/simulate_command.hpp"
 
 #include <CLI/CLI.hpp>
@@ -18,9 +23,14 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("thermnet ") + THERMNET_VERSION);
   app.require_subcommand(1);
   int status = exit_ok;
+  add_plugin_option(app);
   add_lint_command(app, status);
   add_simulate_command(app, status);
+  add_estimate_commands(app, status);
+  add_calibrate_command(app, status);
   add_kinds_command(app, status);
+  add_lsp_command(app, status);
+  add_sensitivity_command(app, status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

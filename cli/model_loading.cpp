@@ -2,22 +2,57 @@
 
 #include "cli/exit_status.hpp"
 #include "kernel/element_registry.hpp"
+#include "kernel/plugin_loader.hpp"
 #include "lang/units.hpp"
 
+#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <stdexcept>
 #include <unistd.h>
 
 namespace thermnet::cli {
 
+std::optional<std::string> load_plugin(const std::string& path) {
+  std::error_code ec;
+  std::filesystem::path absolute = std::filesystem::absolute(path, ec);
+  return PluginLoader::global().load(ec ? path : absolute.string());
+}
+
+lang::LoadOptions load_options() {
+  lang::LoadOptions options;
+  options.load_plugin = [](const std::string& path) { return load_plugin(path); };
+  return options;
+}
+
+void add_plugin_option(CLI::App& app) {
+  app.add_option_function<std::vector<std::string>>(
+         "--plugin",
+         [](const std::vector<std::string>& paths) {
+           for (const auto& path : paths)
+             if (auto err = load_plugin(path))
+               throw std::runtime_error(fmt::format("cannot load plugin '{}': {}", path, *err));
+         },
+         "load element/optimizer/estimator kinds from a plugin library (repeatable)")
+      ->type_name("PATH")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  // Subcommands hand options they do not know to the top level, so `thermnet simulate --plugin
+  // lib.so model.tnet` works too; subcommands added later inherit this.
+  app.fallthrough();
+  for (CLI::App* sub : app.get_subcommands({}))
+    sub->fallthrough();
+}
+
 std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceManager& sources,
                                         lang::DiagnosticEngine& diags) {
-  return lang::Model::load(path, ElementRegistry::global(), sources, diags);
+  return lang::Model::load(path, ElementRegistry::global(), sources, diags, load_options());
 }
 
 std::unique_ptr<lang::Model> load_checked_model(const std::string& path,

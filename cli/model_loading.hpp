@@ -5,9 +5,26 @@
 #include "lang/model.hpp"
 
 #include <memory>
+#include <optional>
 #include <string>
 
+namespace CLI {
+class App;
+} // namespace CLI
+
 namespace thermnet::cli {
+
+/// Loads a plugin library (path absolute or relative to the working directory) into the global
+/// registries; returns what went wrong, or nothing (also when it was loaded before).
+std::optional<std::string> load_plugin(const std::string& path);
+
+/// The options every command loads models with: `plugin "lib.so"` statements go to load_plugin().
+lang::LoadOptions load_options();
+
+/// Adds the global, repeatable `--plugin PATH` option (also accepted after the subcommand): each
+/// library is loaded while the command line is parsed, before any subcommand runs; a library that
+/// cannot be loaded ends the run with "thermnet: error: cannot load plugin ...".
+void add_plugin_option(CLI::App& app);
 
 /// Loads a model against the global element registry; problems go to diags.
 std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceManager& sources,

@@ -4,6 +4,7 @@
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/result_output.hpp"
+#include "cli/uncertainty.hpp"
 #include "kernel/simulation.hpp"
 
 #include <fmt/format.h>
@@ -29,7 +30,35 @@ struct SimulateOptions {
   double rtol = 1e-6;
   double atol = 1e-6;
   std::string linear_solver = "auto";
+  std::size_t samples = 0; // > 0: uncertainty bands (cli/uncertainty.hpp)
+  std::uint64_t seed = 1;
+  std::vector<double> percentiles{5, 50, 95};
+  int threads = 0;
 };
+
+/// `--samples N`: bands over N draws of the ranged params instead of one run.
+void run_samples(const lang::Model& model, const SimulateOptions& o, const SimulationOptions& sim) {
+  UncertaintyOptions u;
+  u.samples = o.samples;
+  u.seed = o.seed;
+  u.percentiles = o.percentiles;
+  u.threads = o.threads;
+  u.simulation = sim;
+  UncertaintyBands b = run_uncertainty(model, o.case_name, u);
+  std::cerr << fmt::format("thermnet simulate: {} samples of {} ranged params, {} failed\n",
+                           b.samples, b.params.size(), b.failed);
+  std::string svg;
+  if (!o.plot.empty())
+    svg = plot_bands_svg(b, o.nodes,
+                         fmt::format("{} — case {}, {} samples", model.name(),
+                                     model.resolve_case(o.case_name), b.samples));
+  std::string csv = format_bands_csv(b);
+  if (o.out.empty())
+    std::cout << csv;
+  else
+    write_file_atomically(o.out, csv);
+  if (!svg.empty()) write_file_atomically(o.plot, svg);
+}
 
 LinearSolverKind solver_kind(const std::string& s) {
   if (s == "dense") return LinearSolverKind::dense;
@@ -65,6 +94,10 @@ int run_simulate(const SimulateOptions& o) {
   sim.solver.atol = o.atol;
   sim.solver.linear_solver = solver_kind(o.linear_solver);
   try {
+    if (o.samples > 0) {
+      run_samples(*model, o, sim);
+      return exit_ok;
+    }
     Network net(model->instantiate(o.case_name));
     auto start = std::chrono::steady_clock::now();
     SimulationResult r = simulate(net, sim);
@@ -118,6 +151,14 @@ void add_simulate_command(CLI::App& app, int& status) {
   cmd->add_option("--atol", o->atol, "absolute tolerance, K")->check(CLI::Range(1e-12, 10.0));
   cmd->add_option("--linear-solver", o->linear_solver, "linear solver")
       ->check(CLI::IsMember({"auto", "dense", "klu", "krylov"}));
+  cmd->add_option("--samples", o->samples,
+                  "uncertainty bands: draw the ranged params uniformly N times; the CSV gets "
+                  "NODE_min, NODE_pQ..., NODE_max columns");
+  cmd->add_option("--seed", o->seed, "random seed of --samples (same seed, same bands)");
+  cmd->add_option("--percentiles", o->percentiles, "percentiles of --samples (default 5,50,95)")
+      ->delimiter(',');
+  cmd->add_option("--threads", o->threads, "worker threads of --samples (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
   cmd->callback([o, &status] { status = run_simulate(*o); });
 }
 

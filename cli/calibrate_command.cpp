@@ -1,0 +1,257 @@
+// `thermnet calibrate MODEL [--method NAME] [--samples N] [--tolerance T] [--seed S] [--threads N]
+//  [-o CALIBRATED.tnet] [--json REPORT.json] [--plot OUT.svg] [--case NAME ...]`
+//
+// Ctrl-C sets a flag the optimizer polls: it stops drawing samples, returns the best so far, and
+// the command still writes its outputs, then exits 1 with "interrupted; best result so far
+// written". A second Ctrl-C kills the process (the handler is one-shot).
+
+#include "cli/calibrate_command.hpp"
+
+#include "cli/atomic_file.hpp"
+#include "cli/calibration_report.hpp"
+#include "cli/exit_status.hpp"
+#include "cli/model_loading.hpp"
+#include "cli/model_rewrite.hpp"
+#include "cli/progress_bar.hpp"
+#include "kernel/optimizer.hpp"
+#include "lang/csv.hpp"
+
+#include <fmt/format.h>
+
+#include <atomic>
+#include <charconv>
+#include <cmath>
+#include <csignal>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+namespace thermnet::cli {
+namespace {
+
+struct CalibrateOptions {
+  std::string model;
+  std::string method;
+  std::size_t samples = 0;
+  double tolerance = 5.0;
+  std::uint64_t seed = 1;
+  int threads = 0;
+  std::string out;
+  std::string json;
+  std::string plot;
+  std::vector<std::string> cases;
+};
+
+std::atomic<bool> g_interrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the SIGINT flag must be lock-free");
+
+extern "C" void on_sigint(int) {
+  g_interrupted.store(true);
+}
+
+/// Installs the one-shot SIGINT handler for its lifetime and restores the previous one after.
+class SigintGuard {
+public:
+  SigintGuard() {
+    g_interrupted = false;
+    struct sigaction sa {};
+    sa.sa_handler = on_sigint;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND; // a second Ctrl-C terminates as usual
+    installed_ = sigaction(SIGINT, &sa, &old_) == 0;
+  }
+  ~SigintGuard() {
+    if (installed_) sigaction(SIGINT, &old_, nullptr);
+  }
+  SigintGuard(const SigintGuard&) = delete;
+  SigintGuard& operator=(const SigintGuard&) = delete;
+
+private:
+  struct sigaction old_ {};
+  bool installed_ = false;
+};
+
+std::string default_method() {
+  return OptimizerRegistry::global().find("auto") ? "auto" : "mc";
+}
+
+std::string methods_help() {
+  std::string s = "calibration method (default: " + default_method() + "):";
+  for (const auto& name : OptimizerRegistry::global().names())
+    s += fmt::format("\n  {}: {}", name, OptimizerRegistry::global().find(name)->doc);
+  return s;
+}
+
+CLI::Validator method_validator() {
+  return CLI::Validator(
+      [](std::string& name) -> std::string {
+        const auto& reg = OptimizerRegistry::global();
+        if (reg.find(name)) return {};
+        std::string msg = fmt::format("unknown method '{}'", name);
+        if (auto s = lang::closest_match(name, reg.names()))
+          msg += fmt::format("; did you mean '{}'?", *s);
+        return msg + fmt::format(" (methods: {})", fmt::join(reg.names(), ", "));
+      },
+      "METHOD");
+}
+
+/// A validator for numbers: whole (integers) or real, positive or at least zero.
+CLI::Validator number_validator(bool whole, bool allow_zero) {
+  const std::string what = fmt::format("{} {}number", allow_zero ? "a non-negative" : "a positive",
+                                       whole ? "whole " : "");
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double v = 0;
+        const char* b = text.data();
+        const char* e = text.data() + text.size();
+        auto [p, ec] = std::from_chars(b, e, v);
+        const bool ok = ec == std::errc() && p == e && std::isfinite(v) &&
+                        (allow_zero ? v >= 0 : v > 0) && (!whole || v == std::floor(v));
+        return ok ? std::string() : fmt::format("'{}' is not {}", text, what);
+      },
+      whole ? "INT" : "NUMBER");
+}
+
+void write_outputs(const CalibrateOptions& o, const lang::Model& model,
+                   const CalibrationProblem& problem, const OptimizerResult& r) {
+  if (!o.json.empty()) {
+    ReportContext ctx{o.seed, o.tolerance, o.model};
+    write_file_atomically(o.json, result_json(r, problem, ctx).dump(2) + "\n");
+  }
+  if (!r.found) return;
+  if (!o.out.empty()) {
+    std::vector<ParamUpdate> updates;
+    for (std::size_t j = 0; j < problem.dimension(); ++j)
+      updates.push_back({problem.params()[j], r.best[j]});
+    const long root = model.sources().find(model.path());
+    if (root < 0) throw OutputError("the model's own text is no longer available");
+    RewriteResult rw = rewrite_params(model.sources(), static_cast<lang::FileId>(root), updates);
+    if (!rw.skipped.empty())
+      std::cerr << fmt::format("thermnet calibrate: warning: {} declared in included files {} not "
+                               "rewritten in {}: {}\n",
+                               rw.skipped.size() == 1 ? "this param" : "these params",
+                               rw.skipped.size() == 1 ? "is" : "are", o.out,
+                               fmt::join(rw.skipped, ", "));
+    write_file_atomically(o.out, rw.text);
+  }
+  if (!o.plot.empty()) {
+    auto cmp = problem.compare(r.best);
+    std::string title =
+        fmt::format("{} — calibrated by {} (RMSE {:.3g} K)", model.name(), r.method, r.rmse);
+    write_file_atomically(o.plot, plot::render_svg(comparison_figure(cmp, title)));
+  }
+}
+
+int run_calibrate(const CalibrateOptions& o) {
+  const char* me = "thermnet calibrate";
+  lang::SourceManager sources;
+  int status = exit_ok;
+  auto model = load_checked_model(o.model, sources, status);
+  if (!model) return status;
+  const std::string method = o.method.empty() ? default_method() : o.method;
+  const OptimizerPlugin* plugin = OptimizerRegistry::global().find(method);
+  if (!plugin) {
+    std::cerr << fmt::format("{}: error: unknown method '{}'\n", me, method);
+    return exit_usage;
+  }
+  try {
+    CalibrationProblem problem(*model, o.cases);
+    if (problem.dimension() == 0) {
+      std::cerr << fmt::format("{}: error: no param in {} has a range; nothing to calibrate "
+                               "(declare one as e.g. `param h = 5 [W/(m^2*K)] range 2 .. 10`)\n",
+                               me, o.model);
+      return exit_failure;
+    }
+    if (problem.cases().empty()) {
+      std::cerr << fmt::format("{}: error: no case in {} has measured data; nothing to compare "
+                               "(add `data \"file.csv\"` to a case)\n",
+                               me, o.model);
+      return exit_failure;
+    }
+    OptimizerSettings settings;
+    settings.samples = o.samples;
+    settings.tolerance = o.tolerance;
+    settings.seed = o.seed;
+    settings.threads = o.threads;
+    const unsigned threads = o.threads > 0 ? static_cast<unsigned>(o.threads)
+                                           : std::max(1u, std::thread::hardware_concurrency());
+    std::cerr << fmt::format(
+        "{}: {} param{} over {} case{} ({} measured points), method {}, {} thread{}\n", me,
+        problem.dimension(), problem.dimension() == 1 ? "" : "s", problem.cases().size(),
+        problem.cases().size() == 1 ? "" : "s", problem.points(), method, threads,
+        threads == 1 ? "" : "s");
+
+    OptimizerResult r;
+    {
+      ProgressBar bar(progress_wanted());
+      settings.on_progress = [&bar](const Progress& p) { bar.update(p); };
+      SigintGuard guard;
+      settings.cancel = &g_interrupted;
+      r = plugin->create()->run(problem, settings);
+      bar.finish();
+      settings.on_progress = nullptr; // the bar goes out of scope
+      if (g_interrupted) r.cancelled = true;
+    }
+
+    std::cout << format_result_table(r, problem);
+    std::cout << "(param values in SI units)\n";
+    std::cout.flush();
+    for (const auto& note : r.notes)
+      std::cerr << fmt::format("{}: note: {}\n", me, note);
+    write_outputs(o, *model, problem, r);
+    if (r.cancelled) {
+      std::cerr << fmt::format("{}: interrupted; {}\n", me,
+                               r.found ? "best result so far written" : "no result to write");
+      return exit_failure;
+    }
+    if (!r.found) {
+      std::cerr << fmt::format("{}: error: no acceptable parameter set was found\n", me);
+      return exit_failure;
+    }
+  } catch (const lang::ModelError& e) {
+    print_diagnostic(e.diag, sources);
+    return exit_failure;
+  } catch (const lang::CsvError& e) {
+    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
+    return exit_failure;
+  } catch (const OutputError& e) {
+    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
+    return exit_usage;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
+    return exit_failure;
+  } catch (const SolverError& e) {
+    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
+    return exit_failure;
+  }
+  return exit_ok;
+}
+
+} // namespace
+
+void add_calibrate_command(CLI::App& app, int& status) {
+  auto o = std::make_shared<CalibrateOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "calibrate", "Fit the ranged params to the measured data of the cases (Monte Carlo, ...)");
+  cmd->add_option("MODEL", o->model, "model file (.tnet)")->required();
+  cmd->add_option("--method", o->method, methods_help())->check(method_validator());
+  cmd->add_option("--samples", o->samples, "number of samples (default: 3000 for mc and lhs)")
+      ->check(number_validator(true, false));
+  cmd->add_option("--tolerance", o->tolerance,
+                  "acceptance limit |T_sim - T_meas| in degC (K), default 5")
+      ->check(number_validator(false, false));
+  cmd->add_option("--seed", o->seed, "random seed (same seed, same result), default 1")
+      ->check(number_validator(true, true));
+  cmd->add_option("--threads", o->threads, "worker threads (default 0: all cores)")
+      ->check(number_validator(true, true));
+  cmd->add_option("-o,--out", o->out, "write the model with the calibrated param values");
+  cmd->add_option("--json", o->json, "write the result as JSON");
+  cmd->add_option("--plot", o->plot, "SVG plot of measured vs simulated for the best fit");
+  cmd->add_option("--case", o->cases,
+                  "cases to compare (repeat --case or separate by commas; default: all with data)")
+      ->allow_extra_args(false)
+      ->delimiter(',');
+  cmd->callback([o, &status] { status = run_calibrate(*o); });
+}
+
+} // namespace thermnet::cli

@@ -1,0 +1,384 @@
+#include "cli/estimate_command.hpp"
+
+#include "cli/atomic_file.hpp"
+#include "cli/exit_status.hpp"
+#include "cli/model_loading.hpp"
+#include "cli/svg_plot.hpp"
+#include "kernel/estimator.hpp"
+#include "kernel/integrator.hpp"
+#include "kernel/network.hpp"
+#include "lang/csv.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace thermnet::cli {
+namespace {
+
+struct EstimateOptions {
+  std::string command; // "invert" or "estimate"
+  std::string method;  // plugin name
+  std::string model;   // estimate only
+  std::string case_name;
+  std::string data;
+  std::string out, plot, json;
+  bool stream = false;
+  std::vector<std::string> sets; // key=value passed to the plugin
+  EstimatorSettings settings;
+};
+
+std::string cell(double v) {
+  return std::isnan(v) ? std::string() : fmt::format("{:.9g}", v);
+}
+
+std::string csv_header(const std::vector<std::string>& columns) {
+  std::string s = "time";
+  for (const auto& c : columns)
+    s += "," + c;
+  return s + "\n";
+}
+
+std::string csv_row(const EstimateRow& r) {
+  std::string s = fmt::format("{:.10g}", r.time);
+  for (double v : r.values)
+    s += "," + cell(v);
+  return s + "\n";
+}
+
+// Re-anchors a CsvError from parsing "header\nline" to the line's real number in the stream.
+lang::CsvError at_line(const lang::CsvError& e, std::size_t line) {
+  std::string what = e.what();
+  std::string prefix = e.column == 0 ? fmt::format("<stdin>:{}: ", e.row)
+                                     : fmt::format("<stdin>:{}:{}: ", e.row, e.column);
+  std::string msg = what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what;
+  return lang::CsvError("<stdin>", line, e.column, msg);
+}
+
+std::string plot_svg(const std::string& title, const std::vector<std::string>& out_columns,
+                     const std::vector<EstimateRow>& rows, const lang::CsvTable* data) {
+  plot::Panel panel;
+  panel.title = title;
+  panel.y_label = "temperature [degC]";
+  panel.x_is_time_s = true;
+  for (std::size_t c = 0; c < out_columns.size(); ++c) {
+    const std::string& name = out_columns[c];
+    if (name.rfind("sd_", 0) == 0 || name.rfind("q_", 0) == 0 || name == "tau_hat" ||
+        name == "xi_hat" || (name.size() > 4 && name.substr(name.size() - 4) == "_err"))
+      continue;
+    plot::Series s;
+    s.label = name + " (estimate)";
+    if (name.size() > 5 && name.substr(name.size() - 5) == "_true") {
+      s.label = name;
+      s.style = plot::LineStyle::dashed;
+    }
+    for (const auto& r : rows) {
+      s.x.push_back(r.time);
+      s.y.push_back(r.values[c]);
+    }
+    panel.series.push_back(std::move(s));
+  }
+  if (data) { // measured columns as markers (thinned to about 400 points)
+    std::size_t stride = std::max<std::size_t>(1, data->rows() / 400);
+    for (std::size_t c = 1; c < data->columns.size(); ++c) {
+      plot::Series s;
+      s.label = data->columns[c] + " (data)";
+      s.style = plot::LineStyle::markers;
+      for (std::size_t k = 0; k < data->rows(); k += stride) {
+        s.x.push_back(data->time()[k]);
+        s.y.push_back(data->cells[c][k]);
+      }
+      panel.series.push_back(std::move(s));
+    }
+  }
+  plot::Figure fig;
+  fig.panels.push_back(std::move(panel));
+  return plot::render_svg(fig);
+}
+
+void report(const EstimateOptions& o, const Estimator& est) {
+  auto metrics = est.metrics();
+  for (const auto& m : metrics)
+    std::cerr << fmt::format("thermnet {}: {} = {:.6g}{}{}\n", o.command, m.name, m.value,
+                             m.unit.empty() ? "" : " ", m.unit);
+  if (o.json.empty()) return;
+  nlohmann::json j;
+  j["method"] = o.method;
+  j["options"] = o.settings.values();
+  nlohmann::json mj = nlohmann::json::object(), units = nlohmann::json::object();
+  for (const auto& m : metrics) {
+    mj[m.name] = m.value;
+    units[m.name] = m.unit;
+  }
+  j["metrics"] = mj;
+  j["units"] = units;
+  write_file_atomically(o.json, j.dump(2) + "\n");
+}
+
+int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin& plugin) {
+  std::string header;
+  std::size_t line_no = 0;
+  while (std::getline(std::cin, header)) {
+    ++line_no;
+    if (header.find_first_not_of(" \t\r") != std::string::npos) break;
+  }
+  lang::CsvTable head;
+  try {
+    head = lang::parse_csv(header, "<stdin>");
+  } catch (const lang::CsvError& e) {
+    throw at_line(e, line_no);
+  }
+  ctx.columns = head.columns;
+  auto est = plugin.create(ctx);
+  std::cout << csv_header(est->output_columns()) << std::flush;
+  std::string line;
+  double last_time = -std::numeric_limits<double>::infinity();
+  while (std::getline(std::cin, line)) {
+    ++line_no;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    lang::CsvTable t;
+    try {
+      t = lang::parse_csv(header + "\n" + line, "<stdin>");
+    } catch (const lang::CsvError& e) {
+      throw at_line(e, line_no);
+    }
+    std::vector<double> row(t.columns.size());
+    for (std::size_t c = 0; c < row.size(); ++c)
+      row[c] = t.cells[c][0];
+    if (!(row[0] > last_time))
+      throw lang::CsvError(
+          "<stdin>", line_no, 1,
+          fmt::format("time {:g} does not increase (previous row: {:g})", row[0], last_time));
+    last_time = row[0];
+    for (const auto& r : est->push(row))
+      std::cout << csv_row(r);
+    std::cout << std::flush;
+  }
+  for (const auto& r : est->finish())
+    std::cout << csv_row(r);
+  std::cout << std::flush;
+  report(o, *est);
+  return exit_ok;
+}
+
+int run_batch(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin& plugin,
+              const std::string& title) {
+  lang::CsvTable table = lang::read_csv(o.data);
+  if (table.rows() == 0) throw lang::CsvError(o.data, 2, 0, "the file has no data rows");
+  ctx.columns = table.columns;
+  auto est = plugin.create(ctx);
+  std::vector<EstimateRow> rows;
+  std::vector<double> row(table.columns.size());
+  for (std::size_t k = 0; k < table.rows(); ++k) {
+    for (std::size_t c = 0; c < row.size(); ++c)
+      row[c] = table.cells[c][k];
+    for (auto& r : est->push(row))
+      rows.push_back(std::move(r));
+  }
+  for (auto& r : est->finish())
+    rows.push_back(std::move(r));
+  auto columns = est->output_columns();
+  std::string csv = csv_header(columns);
+  for (const auto& r : rows)
+    csv += csv_row(r);
+  std::string svg;
+  if (!o.plot.empty()) svg = plot_svg(title, columns, rows, &table);
+  if (o.out.empty())
+    std::cout << csv;
+  else
+    write_file_atomically(o.out, csv);
+  if (!svg.empty()) write_file_atomically(o.plot, svg);
+  report(o, *est);
+  return exit_ok;
+}
+
+int run(EstimateOptions& o) {
+  const std::string who = "thermnet " + o.command;
+  for (const auto& kv : o.sets) {
+    auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      std::cerr << who << ": error: --set expects KEY=VALUE, got '" << kv << "'\n";
+      return exit_usage;
+    }
+    o.settings.set(kv.substr(0, eq), kv.substr(eq + 1));
+  }
+  const EstimatorPlugin* plugin = EstimatorRegistry::global().find(o.method);
+  bool wants_model = o.command == "estimate";
+  if (!plugin || plugin->needs_model != wants_model) {
+    std::string names;
+    for (const auto& n : EstimatorRegistry::global().names()) {
+      const auto* p = EstimatorRegistry::global().find(n);
+      if (p->needs_model == wants_model) names += (names.empty() ? "" : ", ") + n;
+    }
+    std::cerr << fmt::format("{}: error: unknown method '{}' (available: {})\n", who, o.method,
+                             names);
+    return exit_usage;
+  }
+  if (o.stream && !o.out.empty()) {
+    std::cerr << who << ": error: --stream writes to standard output; drop -o\n";
+    return exit_usage;
+  }
+  if (o.stream && !o.plot.empty()) {
+    std::cerr << who << ": error: --plot needs the whole record; not with --stream\n";
+    return exit_usage;
+  }
+  if (o.stream && !o.data.empty() && o.data != "-") {
+    std::cerr << who << ": error: --stream reads standard input; give DATA as '-' or omit it\n";
+    return exit_usage;
+  }
+  lang::SourceManager sources;
+  std::unique_ptr<lang::Model> model;
+  std::optional<lang::NetworkSpec> spec;
+  EstimatorContext ctx;
+  ctx.settings = o.settings;
+  std::string title = fmt::format("{} ({})", o.method, o.data.empty() ? "stdin" : o.data);
+  try {
+    if (wants_model) {
+      int status = exit_ok;
+      model = load_checked_model(o.model, sources, status);
+      if (!model) return status;
+      spec = model->instantiate(o.case_name);
+      ctx.network = &*spec;
+      if (o.data.empty() && !o.stream) o.data = spec->settings.data_path;
+      if (o.data.empty() && !o.stream) {
+        std::cerr << who << ": error: no DATA file given and the case has no 'data'\n";
+        return exit_usage;
+      }
+      title = fmt::format("{} — {} — case {}", o.method, model->name(), spec->settings.name);
+    } else if (o.data.empty() && !o.stream) {
+      std::cerr << who << ": error: give a DATA file, or --stream to read standard input\n";
+      return exit_usage;
+    }
+    return o.stream ? run_stream(o, ctx, *plugin) : run_batch(o, ctx, *plugin, title);
+  } catch (const lang::CsvError& e) {
+    std::cerr << who << ": error: " << e.what() << "\n";
+    return e.row == 0 ? exit_usage : exit_failure;
+  } catch (const lang::ModelError& e) {
+    print_diagnostic(e.diag, sources);
+    return exit_failure;
+  } catch (const EstimatorError& e) {
+    std::cerr << who << ": error: " << e.what() << "\n";
+    return exit_failure;
+  } catch (const SolverError& e) {
+    std::cerr << who << ": error: " << e.what() << "\n";
+    return exit_failure;
+  } catch (const NetworkError& e) {
+    std::cerr << who << ": error: " << e.what() << "\n";
+    return exit_failure;
+  } catch (const OutputError& e) {
+    std::cerr << who << ": error: " << e.what() << "\n";
+    return exit_usage;
+  }
+}
+
+// An option that stores its text in the plugin settings under `key`.
+CLI::Option* setting(CLI::App* cmd, const std::shared_ptr<EstimateOptions>& o,
+                     const std::string& flag, const std::string& key, const std::string& doc) {
+  return cmd->add_option_function<std::string>(
+      flag, [o, key](const std::string& v) { o->settings.set(key, v); }, doc);
+}
+
+std::string methods_doc(bool model) {
+  std::string s;
+  for (const auto& n : EstimatorRegistry::global().names()) {
+    const auto* p = EstimatorRegistry::global().find(n);
+    if (p->needs_model != model) continue;
+    s += fmt::format("\n  {}: {}", n, p->doc);
+    for (const auto& opt : p->options)
+      s += fmt::format("\n      {}{}: {}", opt.name,
+                       opt.default_value.empty() ? "" : " (" + opt.default_value + ")", opt.doc);
+  }
+  return s;
+}
+
+void add_common(CLI::App* cmd, const std::shared_ptr<EstimateOptions>& o) {
+  cmd->add_option("-o,--out", o->out, "CSV of estimates (default: standard output)");
+  cmd->add_option("--plot", o->plot, "SVG plot of estimates and data against time");
+  cmd->add_option("--json", o->json, "JSON report: method, options, metrics");
+  cmd->add_flag("--stream", o->stream,
+                "read rows from standard input, write the estimate of each row as it arrives");
+  cmd->add_option("--set", o->sets, "any method option as KEY=VALUE (repeatable)");
+}
+
+} // namespace
+
+void add_estimate_commands(CLI::App& app, int& status) {
+  {
+    auto o = std::make_shared<EstimateOptions>();
+    o->command = "invert";
+    o->method = "tim-ab";
+    CLI::App* cmd = app.add_subcommand(
+        "invert", "Inverse estimation from sensor data alone (TIM-AB surface temperature)");
+    cmd->footer("Methods and their options (--set KEY=VALUE):" + methods_doc(false) +
+                "\nSee docs/inverse.md.");
+    cmd->add_option("DATA", o->data, "CSV: time, sensor columns ('-' or omitted with --stream)");
+    cmd->add_option("--method", o->method, "inverse method (default: tim-ab)");
+    setting(cmd, o, "--sensors", "sensors", "sensor columns B,C,D, nearest the surface first");
+    setting(cmd, o, "--true", "true", "column with the true value at A (adds errors)");
+    setting(cmd, o, "--target", "target", "name of the estimated point (default: A)");
+    setting(cmd, o, "--mode", "mode", "realtime (sliding window) or full (one fit)")
+        ->check(CLI::IsMember({"realtime", "full"}));
+    setting(cmd, o, "--tau", "tau", "thermal hysteresis time tau, s")->check(CLI::PositiveNumber);
+    setting(cmd, o, "--eta", "eta", "window length t_w = eta tau (default 4)")
+        ->check(CLI::PositiveNumber);
+    setting(cmd, o, "--window", "window", "window length in s (instead of --eta/--tau)")
+        ->check(CLI::PositiveNumber);
+    setting(cmd, o, "--slide", "slide", "slide step n_s, samples (default 10)")
+        ->check(CLI::Range(1, 1000000000));
+    setting(cmd, o, "--filter", "filter", "noise filter: none, savgol, gaussian, moving-average")
+        ->check(CLI::IsMember({"none", "savgol", "gaussian", "moving-average"}));
+    setting(cmd, o, "--gamma", "gamma", "filter window / inversion window (default 0.5)")
+        ->check(CLI::Range(1e-6, 1.0));
+    setting(cmd, o, "--order", "order", "Savitzky-Golay order (default 3)")
+        ->check(CLI::Range(0, 12));
+    add_common(cmd, o);
+    cmd->callback([o, &status] { status = run(*o); });
+  }
+  {
+    auto o = std::make_shared<EstimateOptions>();
+    o->command = "estimate";
+    o->method = "ekf";
+    CLI::App* cmd = app.add_subcommand(
+        "estimate",
+        "State estimation over a model (digital twin): hidden nodes and an unknown heat input");
+    cmd->footer("Methods and their options (--set KEY=VALUE):" + methods_doc(true) +
+                "\nSee docs/inverse.md.");
+    cmd->add_option("MODEL", o->model, "model file (.tnet)")->required();
+    cmd->add_option("DATA", o->data,
+                    "CSV of measurements (default: the case's data; '-' with --stream)");
+    cmd->add_option("--case", o->case_name, "case whose inputs drive the model");
+    cmd->add_option("--method", o->method, "estimator (default: ekf)");
+    setting(cmd, o, "--measured", "measured", "measured columns (default: every node column)");
+    setting(cmd, o, "--estimate-input", "input", "node with an unknown heat input to estimate");
+    cmd->add_flag_function(
+        "--smooth", [o](std::int64_t) { o->settings.set("smooth", "yes"); },
+        "Rauch-Tung-Striebel smoother over the whole record (not with --stream)");
+    setting(cmd, o, "--sigma-meas", "sigma-meas", "sensor standard deviation, K (default 0.1)")
+        ->check(CLI::PositiveNumber);
+    setting(cmd, o, "--process-noise", "process", "process noise, K/sqrt(s) (default 0.01)")
+        ->check(CLI::NonNegativeNumber);
+    setting(cmd, o, "--input-noise", "input-noise",
+            "random-walk rate of the unknown input, W/sqrt(s) (default 0.05)")
+        ->check(CLI::NonNegativeNumber);
+    setting(cmd, o, "--sigma0", "sigma0", "initial standard deviation, K (default 2)")
+        ->check(CLI::PositiveNumber);
+    add_common(cmd, o);
+    cmd->callback([o, &status] {
+      if (o->stream && o->settings.flag("smooth")) {
+        std::cerr << "thermnet estimate: error: --smooth needs the whole record; not with "
+                     "--stream\n";
+        status = exit_usage;
+        return;
+      }
+      status = run(*o);
+    });
+  }
+}
+
+} // namespace thermnet::cli

@@ -1,0 +1,152 @@
+#include "cli/lsp/completion.hpp"
+
+#include "cli/lsp/schema_text.hpp"
+#include "cli/lsp/text_context.hpp"
+#include "kernel/element_registry.hpp"
+
+#include <algorithm>
+#include <set>
+
+namespace thermnet::cli::lsp {
+namespace {
+
+// CompletionItemKind values of the protocol.
+constexpr int item_variable = 6;
+constexpr int item_class = 7;
+constexpr int item_property = 10;
+constexpr int item_keyword = 14;
+constexpr int item_constant = 21;
+
+/// Collects items, once per label, keeping those that start with the typed prefix.
+class Items {
+public:
+  explicit Items(std::string prefix) : prefix_(std::move(prefix)) {}
+  void add(const std::string& label, int kind, const std::string& detail,
+           const std::string& doc = {}) {
+    if (label.compare(0, prefix_.size(), prefix_) != 0 || !seen_.insert(label).second) return;
+    nlohmann::json item = {{"label", label}, {"kind", kind}, {"detail", detail}};
+    if (!doc.empty()) item["documentation"] = {{"kind", "markdown"}, {"value", doc}};
+    list_.push_back(std::move(item));
+  }
+  nlohmann::json take() { return std::move(list_); }
+
+private:
+  std::string prefix_;
+  std::set<std::string> seen_;
+  nlohmann::json list_ = nlohmann::json::array();
+};
+
+void add_kinds(Items& items, bool linear_only) {
+  const auto& registry = ElementRegistry::global();
+  for (const auto& kind : registry.kinds()) {
+    const lang::ElementSchema* s = registry.find(kind);
+    if (linear_only && !s->conductance) continue;
+    items.add(kind, item_class, s->doc, kind_markdown(*s));
+  }
+}
+
+void add_nodes(Items& items, const lang::Model& m) {
+  for (const auto& n : m.nodes())
+    items.add(n.name, item_variable, n.boundary ? "boundary" : "node", n.doc);
+}
+
+void add_values(Items& items, const lang::Model& m) {
+  for (const auto& v : m.values())
+    items.add(v.name, item_constant, v.is_param ? "param" : "const", v.doc);
+}
+
+/// Keys of a kind not given yet in the statement.
+void add_keys(Items& items, const std::string& kind, const std::vector<std::string>& given) {
+  auto fresh = [&](const std::string& k) {
+    return std::find(given.begin(), given.end(), k) == given.end();
+  };
+  if (const lang::ElementSchema* s = ElementRegistry::global().find(kind)) {
+    for (const auto& k : s->keys)
+      if (fresh(k.name)) items.add(k.name, item_property, key_unit(k), key_markdown(*s, k));
+    return;
+  }
+  for (const auto& [name, doc] : builtin_keys(kind))
+    if (fresh(name)) items.add(name, item_property, doc);
+}
+
+/// Completions inside a value: node names for node keys, else params and consts.
+void add_value_items(Items& items, const lang::Model& m, const std::string& kind,
+                     const std::string& key) {
+  if (const lang::ElementSchema* s = ElementRegistry::global().find(kind))
+    if (const lang::KeySchema* k = s->key(key); k && k->type == lang::KeyType::node) {
+      add_nodes(items, m);
+      return;
+    }
+  if (key == "initial") items.add("steady", item_keyword, "start from the steady state");
+  add_values(items, m);
+}
+
+/// Completions inside a case block.
+void case_items(Items& items, const lang::Model& m, const StatementContext& ctx) {
+  if (ctx.value_position()) {
+    add_value_items(items, m, "case", ctx.current_key());
+    return;
+  }
+  if (!ctx.tokens.empty()) return;
+  add_keys(items, "case", {});
+  for (const auto& e : m.elements())
+    items.add(e.name, item_variable, "element " + element_kind(m, e.name));
+  add_nodes(items, m);
+  for (const auto& v : m.values())
+    if (v.is_param) items.add(v.name, item_constant, "param", v.doc);
+}
+
+} // namespace
+
+nlohmann::json completion(const Document& doc, std::size_t at) {
+  const lang::Model& m = doc.model();
+  StatementContext ctx = context_at(doc.text(), at);
+  Items items(ctx.partial);
+  if (ctx.in_comment || ctx.in_string) return items.take();
+
+  if (!ctx.object.empty()) { // `film.` in a case: the object's keys
+    if (const lang::NodeDecl* n = find_node(m, ctx.object))
+      add_keys(items, n->boundary ? "boundary" : "node", {});
+    else
+      add_keys(items, element_kind(m, ctx.object), {});
+    return items.take();
+  }
+  if (ctx.block == "case") {
+    case_items(items, m, ctx);
+    return items.take();
+  }
+  if (ctx.tokens.empty()) { // a statement's first word
+    if (ctx.inner) {
+      add_kinds(items, ctx.block == "series");
+    } else {
+      for (const char* k : {"node", "boundary", "param", "const", "series", "parallel", "case",
+                            "model", "include", "plugin"})
+        items.add(k, item_keyword, "statement");
+      add_kinds(items, false);
+    }
+    return items.take();
+  }
+
+  const std::string& first = ctx.tokens.front();
+  if (ctx.value_position()) {
+    add_value_items(items, m, first, ctx.current_key());
+    return items.take();
+  }
+  const std::size_t positional = ctx.positional_count();
+  const bool keys_started = positional < ctx.tokens.size();
+  if (const lang::ElementSchema* s = ElementRegistry::global().find(first)) {
+    // KIND NAME NODE... key = value ...; inside a block: KIND key = value ...
+    const std::size_t terminals_end = ctx.inner ? 1 : 2 + static_cast<std::size_t>(s->terminals);
+    if (!keys_started && !ctx.inner && positional >= 2 && positional < terminals_end)
+      add_nodes(items, m);
+    else if (keys_started || positional >= terminals_end)
+      add_keys(items, first, ctx.given_keys());
+  } else if (first == "series" || first == "parallel") {
+    if (positional == 2 || positional == 3) add_nodes(items, m);
+  } else if (first == "node" || first == "boundary") {
+    if (positional >= 2 || keys_started) add_keys(items, first, ctx.given_keys());
+  }
+  return items.take();
+}
+
+} // namespace thermnet::cli::lsp

@@ -1,0 +1,43 @@
+#include "cli/lsp/document.hpp"
+
+#include "cli/lsp/uri.hpp"
+#include "cli/model_loading.hpp"
+#include "kernel/element_registry.hpp"
+
+#include <exception>
+
+namespace thermnet::cli::lsp {
+
+Document::Document(std::string uri, std::string text, long version)
+    : uri_(std::move(uri)), path_(uri_to_path(uri_)), text_(std::move(text)), version_(version) {
+  analyse();
+}
+
+void Document::update(std::string text, long version) {
+  text_ = std::move(text);
+  version_ = version;
+  analyse();
+}
+
+void Document::analyse() {
+  // The model points into the sources: drop it first, then rebuild all three together.
+  model_.reset();
+  diags_.reset();
+  sources_ = std::make_unique<lang::SourceManager>();
+  diags_ = std::make_unique<lang::DiagnosticEngine>(*sources_);
+  model_ = lang::Model::from_text(path_, text_, ElementRegistry::global(), *sources_, *diags_,
+                                  load_options());
+  try {
+    model_->lint(*diags_);
+  } catch (const std::exception& e) {
+    lang::Diagnostic d;
+    d.code = "internal-error";
+    d.message = std::string("the linter stopped: ") + e.what();
+    diags_->add(d);
+  }
+  diags_->sort();
+  long id = sources_->find(path_);
+  root_ = id < 0 ? 0 : static_cast<lang::FileId>(id);
+}
+
+} // namespace thermnet::cli::lsp

@@ -1,0 +1,79 @@
+#include "cli/lsp/hover.hpp"
+
+#include "cli/lsp/position.hpp"
+#include "cli/lsp/schema_text.hpp"
+#include "cli/lsp/text_context.hpp"
+#include "kernel/element_registry.hpp"
+
+#include <fmt/format.h>
+
+#include <optional>
+
+namespace thermnet::cli::lsp {
+namespace {
+
+/// The markdown of a key named by `w`, owned by the statement or object around it.
+std::optional<std::string> key_hover(const Document& doc, const Word& w) {
+  const auto& registry = ElementRegistry::global();
+  const std::string& text = doc.text();
+  StatementContext ctx = context_at(text, w.begin);
+  std::string owner_kind;
+  if (w.begin > 0 && text[w.begin - 1] == '.') { // `film.P`, `plate1.T0` in a case
+    if (const lang::NodeDecl* n = find_node(doc.model(), ctx.object))
+      owner_kind = n->boundary ? "boundary" : "node";
+    else
+      owner_kind = element_kind(doc.model(), ctx.object);
+  } else if (!ctx.tokens.empty()) {
+    owner_kind = ctx.tokens.front();
+  } else if (ctx.block == "case") {
+    owner_kind = "case";
+  }
+  if (const lang::ElementSchema* s = registry.find(owner_kind))
+    if (const lang::KeySchema* k = s->key(w.text)) return key_markdown(*s, *k);
+  for (const auto& [name, keydoc] : builtin_keys(owner_kind))
+    if (name == w.text) return fmt::format("**{}** — key of `{}`\n\n{}", name, owner_kind, keydoc);
+  return std::nullopt;
+}
+
+/// The markdown of a declared name.
+std::optional<std::string> declaration_hover(const Document& doc, const std::string& name) {
+  const lang::Model& m = doc.model();
+  auto with_doc = [](std::string head, const std::string& d) {
+    return d.empty() ? head : head + "\n\n" + d;
+  };
+  if (const lang::NodeDecl* n = find_node(m, name))
+    return with_doc(fmt::format("**{}** — {}", name, n->boundary ? "boundary" : "node"), n->doc);
+  for (const auto& v : m.values())
+    if (v.name == name)
+      return with_doc(fmt::format("**{}** — {}", name, v.is_param ? "param" : "const"), v.doc);
+  for (const auto& e : m.elements())
+    if (e.name == name) {
+      std::string kind = element_kind(m, name);
+      std::string d = e.element && e.element->doc ? e.element->doc->text : "";
+      return with_doc(fmt::format("**{}** — element of kind `{}`", name, kind), d);
+    }
+  for (const auto& c : m.cases())
+    if (c.name == name) return fmt::format("**{}** — case", name);
+  return std::nullopt;
+}
+
+} // namespace
+
+nlohmann::json hover(const Document& doc, std::size_t at) {
+  const std::string& text = doc.text();
+  std::optional<Word> w = word_at(text, at);
+  if (!w) return nullptr;
+  StatementContext ctx = context_at(text, w->begin);
+  if (ctx.in_comment || ctx.in_string) return nullptr;
+  std::optional<std::string> md;
+  const lang::ElementSchema* kind = ElementRegistry::global().find(w->text);
+  if (followed_by_assignment(text, *w)) md = key_hover(doc, *w);
+  if (!md && kind && ctx.tokens.empty() && ctx.object.empty()) md = kind_markdown(*kind);
+  if (!md) md = declaration_hover(doc, w->text);
+  if (!md && kind) md = kind_markdown(*kind);
+  if (!md) return nullptr;
+  return {{"contents", {{"kind", "markdown"}, {"value", *md}}},
+          {"range", range_json(text, w->begin, w->end)}};
+}
+
+} // namespace thermnet::cli::lsp

@@ -1,0 +1,100 @@
+#include "cli/lsp/navigation.hpp"
+
+#include "cli/lsp/position.hpp"
+#include "cli/lsp/text_context.hpp"
+#include "cli/lsp/uri.hpp"
+
+#include <algorithm>
+#include <optional>
+
+namespace thermnet::cli::lsp {
+namespace {
+
+// SymbolKind values of the protocol.
+constexpr int symbol_namespace = 3;
+constexpr int symbol_property = 7;
+constexpr int symbol_variable = 13;
+constexpr int symbol_constant = 14;
+constexpr int symbol_object = 19;
+
+/// A declaration: its file, statement and name spans, and how to show it.
+struct Decl {
+  lang::FileId file;
+  lang::Span where;
+  lang::Span name_span;
+  std::string name;
+  std::string detail;
+  int kind;
+};
+
+std::vector<Decl> declarations(const lang::Model& m) {
+  std::vector<Decl> out;
+  for (const auto& v : m.values())
+    out.push_back({v.file, v.where, v.name_span, v.name, v.is_param ? "param" : "const",
+                   v.is_param ? symbol_property : symbol_constant});
+  for (const auto& n : m.nodes())
+    out.push_back({n.file, n.where, n.name_span, n.name, n.boundary ? "boundary" : "node",
+                   n.boundary ? symbol_constant : symbol_variable});
+  for (const auto& e : m.elements()) {
+    std::string kind = e.element ? e.element->kind.name : e.composite ? e.composite->mode.name : "";
+    out.push_back({e.file, e.where, e.name_span, e.name, kind, symbol_object});
+  }
+  for (const auto& c : m.cases())
+    out.push_back({c.file, c.where, c.name_span, c.name, "case", symbol_namespace});
+  return out;
+}
+
+} // namespace
+
+nlohmann::json definition(const Document& doc, std::size_t at) {
+  const std::string& text = doc.text();
+  std::optional<Word> w = word_at(text, at);
+  if (!w) return nullptr;
+  StatementContext ctx = context_at(text, w->begin);
+  if (ctx.in_comment || ctx.in_string) return nullptr;
+  if (w->begin > 0 && text[w->begin - 1] == '.') return nullptr; // a key after `object.`
+  // Values first (keys are not declarations), then nodes, elements, cases.
+  std::vector<Decl> decls = declarations(doc.model());
+  std::stable_sort(decls.begin(), decls.end(), [](const Decl& a, const Decl& b) {
+    auto rank = [](const Decl& d) {
+      return d.detail == "param" || d.detail == "const"     ? 0
+             : d.detail == "node" || d.detail == "boundary" ? 1
+             : d.kind == symbol_object                      ? 2
+                                                            : 3;
+    };
+    return rank(a) < rank(b);
+  });
+  const bool declares_value =
+      !ctx.tokens.empty() && (ctx.tokens.front() == "param" || ctx.tokens.front() == "const");
+  if (followed_by_assignment(text, *w) && !ctx.tokens.empty() && !declares_value)
+    return nullptr; // `key = ...` of an element, node or boundary
+  for (const auto& d : decls) {
+    if (d.name != w->text) continue;
+    const auto& sources = doc.sources();
+    std::string uri = d.file == doc.root() ? doc.uri() : path_to_uri(sources.path(d.file));
+    return {{"uri", uri},
+            {"range", range_json(sources.text(d.file), d.name_span.begin, d.name_span.end)}};
+  }
+  return nullptr;
+}
+
+nlohmann::json document_symbols(const Document& doc) {
+  std::vector<Decl> decls = declarations(doc.model());
+  std::erase_if(decls, [&](const Decl& d) { return d.file != doc.root(); });
+  std::stable_sort(decls.begin(), decls.end(),
+                   [](const Decl& a, const Decl& b) { return a.where.begin < b.where.begin; });
+  nlohmann::json out = nlohmann::json::array();
+  const std::string& text = doc.text();
+  for (const auto& d : decls) {
+    std::uint32_t begin = std::min(d.where.begin, d.name_span.begin);
+    std::uint32_t end = std::max(d.where.end, d.name_span.end);
+    out.push_back({{"name", d.name},
+                   {"detail", d.detail},
+                   {"kind", d.kind},
+                   {"range", range_json(text, begin, end)},
+                   {"selectionRange", range_json(text, d.name_span.begin, d.name_span.end)}});
+  }
+  return out;
+}
+
+} // namespace thermnet::cli::lsp

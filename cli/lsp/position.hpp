@@ -1,0 +1,29 @@
+#pragma once
+/// LSP positions (0-based line, UTF-16 code units) versus byte offsets into UTF-8 text.
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <string_view>
+
+namespace thermnet::cli::lsp {
+
+/// A position as the protocol counts it.
+struct Position {
+  int line = 0;      ///< 0-based line
+  int character = 0; ///< UTF-16 code units from the line start
+};
+
+/// The position of a byte offset (clamped to the text's end).
+Position position_at(std::string_view text, std::size_t offset);
+
+/// The byte offset of a position (a character past the line's end clamps to it).
+std::size_t offset_at(std::string_view text, Position p);
+
+/// `{"start": ..., "end": ...}` of the byte range [begin, end).
+nlohmann::json range_json(std::string_view text, std::size_t begin, std::size_t end);
+
+/// Reads `{"line": L, "character": C}`; throws nlohmann::json::exception when malformed.
+Position position_from_json(const nlohmann::json& j);
+
+} // namespace thermnet::cli::lsp

@@ -1,0 +1,82 @@
+#include "cli/lsp/schema_text.hpp"
+
+#include <fmt/format.h>
+
+namespace thermnet::cli::lsp {
+namespace {
+
+std::string default_text(const lang::KeySchema& k) {
+  if (k.default_value) return fmt::format("{:g}", *k.default_value);
+  if (k.required) return "required";
+  return "optional";
+}
+
+} // namespace
+
+std::string key_unit(const lang::KeySchema& k) {
+  if (k.type == lang::KeyType::node) return "node";
+  if (k.absolute_temperature) return "degC";
+  return lang::describe(k.dim);
+}
+
+std::string kind_markdown(const lang::ElementSchema& s) {
+  std::string out = fmt::format("**{}** — element kind, {} terminal{}\n\n{}\n\n", s.kind,
+                                s.terminals, s.terminals == 1 ? "" : "s", s.doc);
+  out += "| key | unit | default | valid | description |\n|---|---|---|---|---|\n";
+  for (const auto& k : s.keys)
+    out += fmt::format("| `{}` | {} | {} | {} | {} |\n", k.name, key_unit(k), default_text(k),
+                       k.range_text(), k.doc);
+  if (!s.alternatives.empty()) {
+    std::string groups;
+    for (const auto& g : s.alternatives) {
+      std::string names;
+      for (const auto& n : g)
+        names += (names.empty() ? "" : " + ") + n;
+      groups += (groups.empty() ? "" : ", or ") + names;
+    }
+    out += fmt::format("\nGive exactly one of: {}.\n", groups);
+  }
+  return out;
+}
+
+std::string key_markdown(const lang::ElementSchema& s, const lang::KeySchema& k) {
+  std::string out = fmt::format("**{}** — key of `{}`\n\n{}\n\nunit: `{}`; {}", k.name, s.kind,
+                                k.doc, key_unit(k), default_text(k));
+  if (!k.range_text().empty()) out += fmt::format("; valid {}", k.range_text());
+  if (k.type == lang::KeyType::signal) out += "; accepts a signal (step, pwl, table)";
+  return out;
+}
+
+const std::vector<std::pair<std::string, std::string>>& builtin_keys(std::string_view statement) {
+  static const std::vector<std::pair<std::string, std::string>> node = {
+      {"C", "heat capacity [J/K]"}, {"T0", "initial temperature [degC]"}};
+  static const std::vector<std::pair<std::string, std::string>> boundary = {
+      {"T", "prescribed temperature [degC], a constant or a signal"}};
+  static const std::vector<std::pair<std::string, std::string>> case_keys = {
+      {"duration", "simulated time [s]"},
+      {"initial", "initial state: `steady` starts from the steady state"},
+      {"output", "output sampling interval [s]"},
+      {"data", "measured data file (CSV) of the case"}};
+  static const std::vector<std::pair<std::string, std::string>> none;
+  if (statement == "node") return node;
+  if (statement == "boundary") return boundary;
+  if (statement == "case") return case_keys;
+  return none;
+}
+
+std::string element_kind(const lang::Model& m, std::string_view name) {
+  for (const auto& e : m.elements())
+    if (e.name == name) {
+      if (e.element) return e.element->kind.name;
+      if (e.composite) return e.composite->mode.name;
+    }
+  return {};
+}
+
+const lang::NodeDecl* find_node(const lang::Model& m, std::string_view name) {
+  for (const auto& n : m.nodes())
+    if (n.name == name) return &n;
+  return nullptr;
+}
+
+} // namespace thermnet::cli::lsp

@@ -1,0 +1,144 @@
+#include "cli/sensitivity_command.hpp"
+
+#include "cli/atomic_file.hpp"
+#include "cli/exit_status.hpp"
+#include "cli/model_loading.hpp"
+#include "kernel/sensitivity.hpp"
+#include "kernel/simulation.hpp"
+#include "lang/csv.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <memory>
+
+namespace thermnet::cli {
+namespace {
+
+struct SensitivityCommandOptions {
+  std::string model;
+  std::string json;
+  bool elements = false;
+  std::vector<std::string> cases;
+  int threads = 0;
+};
+
+std::string format_value(const SensitivityFactor& f) {
+  if (f.lo && f.hi) return fmt::format("{:.4g} .. {:.4g}", *f.lo, *f.hi);
+  if (std::isnan(f.value)) return "signal";
+  return fmt::format("{:.4g}", f.value);
+}
+
+/// The table: one row per factor by rank, one column per output node, then the total.
+std::string format_table(const SensitivityReport& r) {
+  std::size_t name_w = 6, value_w = 11;
+  for (const auto& f : r.factors) {
+    name_w = std::max(name_w, f.name.size());
+    value_w = std::max(value_w, format_value(f).size());
+  }
+  std::string out = fmt::format(
+      "normalised sensitivity, K: RMS over time of dT/dp x (hi - lo) for ranged params, "
+      "x |p| otherwise; cases: {}\n",
+      fmt::join(r.cases, ", "));
+  out += fmt::format("{:>4}  {:<{}}  {:<{}}", "rank", "factor", name_w, "range/value", value_w);
+  std::vector<std::size_t> widths;
+  for (const auto& o : r.outputs) {
+    widths.push_back(std::max<std::size_t>(9, o.size()));
+    out += fmt::format("  {:>{}}", o, widths.back());
+  }
+  out += fmt::format("  {:>9}\n", "total");
+  for (std::size_t k = 0; k < r.ranking.size(); ++k) {
+    const std::size_t j = r.ranking[k];
+    const SensitivityFactor& f = r.factors[j];
+    out += fmt::format("{:>4}  {:<{}}  {:<{}}", k + 1, f.name, name_w, format_value(f), value_w);
+    for (std::size_t i = 0; i < r.outputs.size(); ++i)
+      out += fmt::format("  {:>{}.4g}", r.matrix[j][i], widths[i]);
+    out += fmt::format("  {:>9.4g}\n", r.total[j]);
+  }
+  return out;
+}
+
+nlohmann::json to_json(const lang::Model& model, const SensitivityReport& r) {
+  nlohmann::json factors = nlohmann::json::array();
+  for (std::size_t j = 0; j < r.factors.size(); ++j) {
+    const SensitivityFactor& f = r.factors[j];
+    nlohmann::json s = nlohmann::json::object();
+    for (std::size_t i = 0; i < r.outputs.size(); ++i)
+      s[r.outputs[i]] = r.matrix[j][i];
+    nlohmann::json e = {{"name", f.name},
+                        {"kind", f.kind},
+                        {"scale", f.scale},
+                        {"total", r.total[j]},
+                        {"sensitivities", s}};
+    e["value"] = std::isnan(f.value) ? nlohmann::json(nullptr) : nlohmann::json(f.value);
+    if (f.lo) e["lo"] = *f.lo;
+    if (f.hi) e["hi"] = *f.hi;
+    factors.push_back(e);
+  }
+  nlohmann::json ranking = nlohmann::json::array();
+  for (std::size_t j : r.ranking)
+    ranking.push_back(r.factors[j].name);
+  return {{"model", model.name()},
+          {"definition", "S = RMS over time of dT/dp * (hi - lo) for ranged params, * |p| "
+                         "otherwise (central differences, 1 % steps), K"},
+          {"cases", r.cases},
+          {"outputs", r.outputs},
+          {"factors", factors},
+          {"matrix", r.matrix},
+          {"ranking", ranking},
+          {"simulations", r.simulations},
+          {"notes", r.notes}};
+}
+
+int run_sensitivity(const SensitivityCommandOptions& o) {
+  lang::SourceManager sources;
+  int status = exit_ok;
+  auto model = load_checked_model(o.model, sources, status);
+  if (!model) return status;
+  SensitivityOptions opt;
+  opt.elements = o.elements;
+  opt.cases = o.cases;
+  opt.threads = o.threads;
+  try {
+    SensitivityReport r = compute_sensitivities(*model, opt);
+    std::cout << format_table(r);
+    for (const auto& n : r.notes)
+      std::cerr << "thermnet sensitivity: note: " << n << "\n";
+    std::cerr << fmt::format("thermnet sensitivity: {} simulations\n", r.simulations);
+    if (!o.json.empty()) write_file_atomically(o.json, to_json(*model, r).dump(2) + "\n");
+  } catch (const lang::ModelError& e) {
+    print_diagnostic(e.diag, sources);
+    return exit_failure;
+  } catch (const lang::CsvError& e) {
+    std::cerr << "thermnet sensitivity: error: " << e.what() << "\n";
+    return exit_failure;
+  } catch (const SolverError& e) {
+    std::cerr << "thermnet sensitivity: error: " << e.what() << "\n";
+    return exit_failure;
+  } catch (const OutputError& e) {
+    std::cerr << "thermnet sensitivity: error: " << e.what() << "\n";
+    return exit_usage;
+  }
+  return exit_ok;
+}
+
+} // namespace
+
+void add_sensitivity_command(CLI::App& app, int& status) {
+  auto o = std::make_shared<SensitivityCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "sensitivity", "Rank params (and element values) by their effect on node temperatures");
+  cmd->add_option("MODEL", o->model, "model file (.tnet)")->required();
+  cmd->add_option("--json", o->json, "write the matrix and the ranking as JSON");
+  cmd->add_flag("--elements", o->elements,
+                "also every numeric element key and node capacity (relative 1 % steps)");
+  cmd->add_option("--case", o->cases, "case(s) to use (default: every case with data)");
+  cmd->add_option("--threads", o->threads, "worker threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->callback([o, &status] { status = run_sensitivity(*o); });
+}
+
+} // namespace thermnet::cli

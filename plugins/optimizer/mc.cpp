@@ -1,0 +1,32 @@
+// Optimizer plugin 'mc': the aerial-camera study's Monte Carlo parameter correction — uniform
+// samples in the ranges, kept only within the tolerance everywhere, lowest RMSE wins.
+
+#include "kernel/optimizer.hpp"
+#include "kernel/sample_search.hpp"
+
+namespace thermnet {
+namespace {
+
+/// Uniform random sampling; sample i depends only on (seed, i).
+class MonteCarlo final : public Optimizer {
+public:
+  OptimizerResult run(const CalibrationProblem& problem,
+                      const OptimizerSettings& settings) override {
+    const std::size_t n = settings.samples > 0 ? settings.samples : default_sample_count;
+    const std::vector<double> lo = problem.lower(), hi = problem.upper();
+    return sample_search(problem, settings, "mc", n,
+                         [&](std::size_t i) { return uniform_point(lo, hi, settings.seed, i); });
+  }
+};
+
+OptimizerPlugin make_mc() {
+  return {"mc",
+          "Monte Carlo (the study's method): uniform samples, kept within --tolerance, best RMSE",
+          [] { return std::make_unique<MonteCarlo>(); }};
+}
+
+} // namespace
+
+THERMNET_REGISTER_OPTIMIZER(make_mc);
+
+} // namespace thermnet

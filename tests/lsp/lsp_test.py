@@ -1,0 +1,280 @@
+#!/usr/bin/env python3
+"""The language server `thermnet lsp`: pipes framed JSON-RPC messages into the process and checks
+the replies (capabilities, diagnostics, hover, completion, definition, symbols, robustness, exit).
+Usage: lsp_test.py PATH/TO/thermnet"""
+import json
+import os
+import queue
+import subprocess
+import sys
+import tempfile
+import threading
+
+TN = sys.argv[1]
+passed = failed = 0
+
+
+def check(what, cond, detail=""):
+    global passed, failed
+    if cond:
+        passed += 1
+        print("ok   - " + what)
+    else:
+        failed += 1
+        print("FAIL - " + what)
+        if detail:
+            print("       " + str(detail)[:800])
+
+
+class Server:
+    """A `thermnet lsp` process with a reader thread collecting framed replies."""
+
+    def __init__(self):
+        self.proc = subprocess.Popen([TN, "lsp", "--stdio"], stdin=subprocess.PIPE,
+                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        self.replies = queue.Queue()
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self):
+        out = self.proc.stdout
+        while True:
+            length = None
+            while True:
+                line = out.readline()
+                if not line:
+                    return
+                line = line.strip()
+                if not line:
+                    break
+                name, _, value = line.partition(b":")
+                if name.lower() == b"content-length":
+                    length = int(value)
+            self.replies.put(json.loads(out.read(length)))
+
+    def raw(self, data):
+        self.proc.stdin.write(data)
+        self.proc.stdin.flush()
+
+    def send(self, msg):
+        body = json.dumps(msg).encode()
+        self.raw(b"Content-Length: %d\r\n\r\n" % len(body) + body)
+
+    def notify(self, method, params):
+        self.send({"jsonrpc": "2.0", "method": method, "params": params})
+
+    def next(self, pred, timeout=30):
+        """The next reply satisfying pred (others are dropped)."""
+        while True:
+            msg = self.replies.get(timeout=timeout)
+            if pred(msg):
+                return msg
+
+    def request(self, rid, method, params):
+        self.send({"jsonrpc": "2.0", "id": rid, "method": method, "params": params})
+        return self.next(lambda m: m.get("id") == rid)
+
+    def diagnostics(self, version):
+        return self.next(lambda m: m.get("method") == "textDocument/publishDiagnostics"
+                         and m["params"].get("version") == version)["params"]["diagnostics"]
+
+
+def pos(text, needle, occurrence=0, offset=0):
+    """0-based line and UTF-16 column of the occurrence-th needle (plus offset code points)."""
+    i = -1
+    for _ in range(occurrence + 1):
+        i = text.index(needle, i + 1)
+    i += offset
+    line = text.count("\n", 0, i)
+    col_text = text[text.rfind("\n", 0, i) + 1:i]
+    return {"line": line, "character": len(col_text.encode("utf-16-le")) // 2}
+
+
+def span(text, needle, occurrence=0):
+    start = pos(text, needle, occurrence)
+    end = dict(start)
+    end["character"] += len(needle.encode("utf-16-le")) // 2
+    return {"start": start, "end": end}
+
+
+FIXED = """model demo
+param h_gap = 4 [W/(m^2*K)] range 1 .. 10 "gas gap convection"
+boundary ambient T = 20
+node plate1 C = 450 [J/K]
+node plate2 C = 300 [J/K] T0 = 20 "second plate"
+convection gap plate1 plate2 h = h_gap A = 0.02
+radiation rad plate1 plate2 A = 0.02 eps1 = 0.85 eps2 = 0.1
+thermostat th plate1 P = 5 on = 18 [°C] off = 20 [°C] sense = plate2
+conductance mount plate2 ambient G = 0.5
+case warm {
+  duration = 1 [h]
+}
+"""
+# The unknown node comes after two "°" (2 UTF-8 bytes, 1 UTF-16 unit each) on its line.
+BROKEN = FIXED.replace("sense = plate2", "sense = plat9")
+
+work = tempfile.mkdtemp(prefix="thermnet_lsp.")
+path = os.path.join(work, "demo.tnet")
+uri = "file://" + path
+doc = {"uri": uri}
+
+s = Server()
+# ----------------------------------------------------------------------------- robustness first
+s.raw(b"Garbage-Header: nonsense\r\n\r\n")
+r = s.next(lambda m: "error" in m)
+check("a header block without Content-Length gets a parse error (id null), no crash",
+      r["id"] is None and r["error"]["code"] == -32700, r)
+s.raw(b"Content-Length: 9\r\n\r\n{not json")
+r = s.next(lambda m: "error" in m)
+check("invalid JSON gets a -32700 error response", r["id"] is None and r["error"]["code"] == -32700, r)
+r = s.request(1, "textDocument/hover", {"textDocument": doc, "position": {"line": 0, "character": 0}})
+check("a request before initialize is refused with -32002", r.get("error", {}).get("code") == -32002, r)
+
+# ----------------------------------------------------------------------------- initialize
+r = s.request(2, "initialize", {"processId": None, "rootUri": None, "capabilities": {}})
+caps = r.get("result", {}).get("capabilities", {})
+sync = caps.get("textDocumentSync")
+check("initialize: full document sync", sync == 1 or (isinstance(sync, dict) and sync.get("change") == 1
+                                                       and sync.get("openClose")), caps)
+check("initialize: hover, completion, definition, documentSymbol providers",
+      caps.get("hoverProvider") and "completionProvider" in caps and caps.get("definitionProvider")
+      and caps.get("documentSymbolProvider"), caps)
+s.notify("initialized", {})
+
+# ----------------------------------------------------------------------------- diagnostics
+s.notify("textDocument/didOpen",
+         {"textDocument": {"uri": uri, "languageId": "tnet", "version": 1, "text": BROKEN}})
+diags = s.diagnostics(1)
+unknown = [d for d in diags if d.get("code") == "unknown-node"]
+check("didOpen publishes the unknown node", len(unknown) == 1 and "plat9" in unknown[0]["message"], diags)
+if unknown:
+    check("the diagnostic's range is the name, 0-based, in UTF-16 units after the '°' units",
+          unknown[0]["range"] == span(BROKEN, "plat9"), (unknown[0]["range"], span(BROKEN, "plat9")))
+    check("the diagnostic is an error from thermnet",
+          unknown[0]["severity"] == 1 and unknown[0]["source"] == "thermnet", unknown[0])
+s.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 2},
+                                    "contentChanges": [{"text": FIXED}]})
+diags = s.diagnostics(2)
+check("didChange with the fix clears the diagnostics", diags == [], diags)
+
+# ----------------------------------------------------------------------------- hover
+def hover(rid, needle, occurrence=0, offset=1):
+    r = s.request(rid, "textDocument/hover",
+                  {"textDocument": doc, "position": pos(FIXED, needle, occurrence, offset)})
+    res = r.get("result") or {}
+    return (res.get("contents") or {}).get("value", ""), res
+
+
+text, res = hover(10, "radiation")
+check("hover on the kind 'radiation' shows its doc and key table",
+      "**radiation**" in text and "eps1" in text and "emissivity" in text, res)
+check("hover range is the word", res.get("range") == span(FIXED, "radiation"), res)
+text, res = hover(11, "eps1")
+check("hover on the key 'eps1' shows its doc, kind and unit",
+      "key of `radiation`" in text and "emissivity of surface A" in text and "unit:" in text, res)
+text, res = hover(12, "on = 18", offset=0)
+check("hover on thermostat key 'on' is the degC key", "switch-on temperature" in text and "degC" in text, res)
+text, res = hover(13, "plate2 C", offset=2)
+check("hover on a node name shows its declaration and doc", "node" in text and "second plate" in text, res)
+r = s.request(14, "textDocument/hover", {"textDocument": doc, "position": pos(FIXED, "450", 0, 1)})
+check("hover on a number is null", r.get("result") is None, r)
+
+# ----------------------------------------------------------------------------- definition
+def definition(rid, needle, occurrence):
+    r = s.request(rid, "textDocument/definition",
+                  {"textDocument": doc, "position": pos(FIXED, needle, occurrence, 2)})
+    return r.get("result")
+
+
+res = definition(20, "plate1", 1)  # in the convection line
+check("definition of a node reference is its declaration",
+      res == {"uri": uri, "range": span(FIXED, "plate1", 0)}, res)
+res = definition(21, "h_gap", 1)  # `h = h_gap`
+check("definition of a param reference is its declaration",
+      res == {"uri": uri, "range": span(FIXED, "h_gap", 0)}, res)
+res = definition(22, "ambient", 1)  # in the conductance line
+check("definition of a boundary reference", res == {"uri": uri, "range": span(FIXED, "ambient", 0)}, res)
+res = definition(23, "eps1", 0)
+check("definition of a key is null", res is None, res)
+
+# ----------------------------------------------------------------------------- documentSymbol
+r = s.request(30, "textDocument/documentSymbol", {"textDocument": doc})
+syms = r.get("result") or []
+names = [(x["name"], x["detail"]) for x in syms]
+expected = [("h_gap", "param"), ("ambient", "boundary"), ("plate1", "node"), ("plate2", "node"),
+            ("gap", "convection"), ("rad", "radiation"), ("th", "thermostat"),
+            ("mount", "conductance"), ("warm", "case")]
+check("documentSymbol lists every declaration in order", names == expected, names)
+if syms:
+    check("a symbol's selectionRange is its name", syms[2]["selectionRange"] == span(FIXED, "plate1"), syms[2])
+
+# ----------------------------------------------------------------------------- completion
+EDITING = FIXED + "conv\nradiation r2 plate1 plate2 A = 0.01 \nconvection c2 plate1 \nheater hh p\n" \
+    "conduction k2 plate1 plate2 L = 1 A = \n"
+s.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 3},
+                                    "contentChanges": [{"text": EDITING}]})
+s.diagnostics(3)
+
+
+def complete(rid, position):
+    r = s.request(rid, "textDocument/completion", {"textDocument": doc, "position": position})
+    res = r.get("result")
+    items = res.get("items", []) if isinstance(res, dict) else (res or [])
+    return [i["label"] for i in items]
+
+
+labels = complete(40, pos(EDITING, "radiation rad", 0, 0))
+check("completion at a line start offers element kinds and statement keywords",
+      {"radiation", "conduction", "heater", "thermostat", "node", "boundary", "param", "case"} <= set(labels),
+      labels)
+labels = complete(41, pos(EDITING, "conv\n", 0, 4))
+check("completion of a partial kind filters by prefix",
+      "convection" in labels and "radiation" not in labels, labels)
+labels = complete(42, pos(EDITING, "A = 0.01 \n", 0, 9))
+check("completion after a kind's terminals offers its keys not yet given",
+      {"GR", "F", "eps1", "eps2"} <= set(labels) and "A" not in labels and "plate1" not in labels, labels)
+labels = complete(43, pos(EDITING, "convection c2 plate1 ", 0, 21))
+check("completion in a terminal position offers node and boundary names",
+      {"plate1", "plate2", "ambient"} <= set(labels) and "h" not in labels, labels)
+labels = complete(44, pos(EDITING, "heater hh p", 0, 11))
+check("completion of a partial node name", set(labels) == {"plate1", "plate2"}, labels)
+labels = complete(45, pos(EDITING, "L = 1 A = \n", 0, 10))
+check("completion in a value offers params", "h_gap" in labels and "plate1" not in labels, labels)
+labels = complete(46, pos(EDITING, "  duration", 0, 2))
+check("completion in a case offers the case keys and element names",
+      {"duration", "output", "gap"} <= set(labels), labels)
+
+# ----------------------------------------------------------------------------- errors, shutdown
+r = s.request(50, "textDocument/frobnicate", {})
+check("an unknown method gets -32601", r.get("error", {}).get("code") == -32601, r)
+r = s.request(51, "textDocument/hover", {"textDocument": doc})
+check("malformed params get -32602", r.get("error", {}).get("code") == -32602, r)
+s.send({"jsonrpc": "2.0", "id": 52})
+r = s.next(lambda m: m.get("id") == 52)
+check("a message without a method gets -32600", r.get("error", {}).get("code") == -32600, r)
+r = s.request(53, "textDocument/hover", {"textDocument": doc, "position": pos(FIXED, "radiation", 0, 1)})
+check("the server still answers after the bad messages", "radiation" in json.dumps(r.get("result")), r)
+s.notify("textDocument/didClose", {"textDocument": doc})
+d = s.next(lambda m: m.get("method") == "textDocument/publishDiagnostics")
+check("didClose clears the document's diagnostics", d["params"]["diagnostics"] == [], d)
+r = s.request(54, "shutdown", None)
+check("shutdown answers null", "result" in r and r["result"] is None, r)
+s.notify("exit", None)
+try:
+    code = s.proc.wait(timeout=30)
+except subprocess.TimeoutExpired:
+    s.proc.kill()
+    code = None
+check("exit after shutdown ends the process with status 0", code == 0, code)
+
+s2 = Server()
+s2.request(1, "initialize", {"capabilities": {}})
+s2.notify("exit", None)
+try:
+    code = s2.proc.wait(timeout=30)
+except subprocess.TimeoutExpired:
+    s2.proc.kill()
+    code = None
+check("exit without shutdown ends the process with status 1", code == 1, code)
+
+print(f"{passed} passed, {failed} failed")
+sys.exit(1 if failed else 0)
