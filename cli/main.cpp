@@ -2,6 +2,7 @@
 // rendered; no input ends in a crash.
 
 #include "cli/calibrate_command.hpp"
+#include "cli/diagnose_command.hpp"
 #include "cli/estimate_command.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/kinds_command.hpp"
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
   add_simulate_command(app, status);
   add_estimate_commands(app, status);
   add_calibrate_command(app, status);
+  add_diagnose_command(app, status);
   add_kinds_command(app, status);
   add_lsp_command(app, status);
   add_sensitivity_command(app, status);

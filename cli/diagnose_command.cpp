@@ -1,0 +1,175 @@
+// `thermnet diagnose MODEL [--case NAME ...] [--json REPORT.json] [--write EXTENDED.tnet]
+//  [--plot OUT.svg] [--threads N] [--top K]`
+
+#include "cli/diagnose_command.hpp"
+
+#include "cli/atomic_file.hpp"
+#include "cli/exit_status.hpp"
+#include "cli/model_loading.hpp"
+#include "cli/model_rewrite.hpp"
+#include "cli/svg_plot.hpp"
+#include "kernel/diagnosis_report.hpp"
+#include "lang/csv.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <iostream>
+#include <memory>
+
+namespace thermnet::cli {
+namespace {
+
+constexpr double kZeroCelsius = 273.15;
+
+struct DiagnoseOptions {
+  std::string model;
+  std::vector<std::string> cases;
+  std::string json;
+  std::string write;
+  std::string plot;
+  int threads = 0;
+  std::size_t top = 5;
+};
+
+int run_diagnose(const DiagnoseOptions& o) {
+  const char* me = "thermnet diagnose";
+  lang::SourceManager sources;
+  int status = exit_ok;
+  auto model = load_checked_model(o.model, sources, status);
+  if (!model) return status;
+  try {
+    DiagnosisOptions opt;
+    opt.cases = o.cases;
+    opt.threads = o.threads;
+    opt.top = o.top;
+    const DiagnosisReport rep = diagnose(*model, opt);
+    std::cout << diagnosis_text(rep);
+    std::cout.flush();
+    if (!o.json.empty()) write_file_atomically(o.json, diagnosis_json(rep).dump(2) + "\n");
+    if (!o.write.empty()) {
+      if (rep.findings.empty())
+        std::cerr << fmt::format("{}: note: no finding; {} not written\n", me, o.write);
+      else
+        write_file_atomically(o.write, extended_model_text(*model, rep.findings.front()));
+    }
+    if (!o.plot.empty()) write_file_atomically(o.plot, diagnosis_svg(rep));
+  } catch (const DiagnosisError& e) {
+    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
+    return exit_failure;
+  } catch (const lang::ModelError& e) {
+    print_diagnostic(e.diag, model->sources());
+    return exit_failure;
+  } catch (const lang::CsvError& e) {
+    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
+    return exit_failure;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
+    return exit_failure;
+  } catch (const OutputError& e) {
+    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
+    return exit_usage;
+  }
+  return exit_ok;
+}
+
+} // namespace
+
+std::string extended_model_text(const lang::Model& model, const Finding& f) {
+  const long root = model.sources().find(model.path());
+  if (root < 0) throw OutputError("the model's own text is no longer available");
+  const auto file = static_cast<lang::FileId>(root);
+  std::string text = model.sources().text(file);
+  std::string why = fmt::format(
+      "# thermnet diagnose: {} [{}]{} -- {}\n# RMSE {:.4g} -> {:.4g} K (held-back {:.4g} -> "
+      "{:.4g} K)\n",
+      f.candidate.kind, fmt::join(f.candidate.nodes, ", "),
+      f.candidate.mechanism.empty() ? "" : " (" + f.candidate.mechanism + ")", f.evidence,
+      f.rmse_before, f.rmse_after, f.validation_rmse_before, f.validation_rmse_after);
+  if (f.candidate.kind == "parameter") {
+    std::vector<ParamUpdate> updates;
+    for (const auto& p : model.params())
+      for (std::size_t j = 0; j < f.candidate.names.size(); ++j)
+        if (p.name == f.candidate.names[j]) updates.push_back({p, f.values[j]});
+    text = rewrite_params(model.sources(), file, updates).text;
+    if (!text.empty() && text.back() != '\n') text += '\n';
+    return text + "\n" + why +
+           "# (the declared values of the ranged params above were rewritten)\n";
+  }
+  if (f.candidate.kind == "capacity_error") {
+    // A capacity override belongs in every case block of the root file.
+    std::vector<std::uint32_t> ends;
+    for (const auto& c : model.cases())
+      if (c.file == file && c.where.end > 0 && text[c.where.end - 1] == '}')
+        ends.push_back(c.where.end - 1);
+    std::sort(ends.rbegin(), ends.rend());
+    for (std::uint32_t e : ends)
+      text.insert(e, "\n  " + f.statement + " # thermnet diagnose: capacity_error\n");
+    if (!text.empty() && text.back() != '\n') text += '\n';
+    return text + "\n" + why +
+           (ends.empty() ? "# no case block to hold: " + f.statement + "\n"
+                         : "# (applied as a capacity override in every case block above)\n");
+  }
+  if (!text.empty() && text.back() != '\n') text += '\n';
+  return text + "\n" + why + f.statement + "\n";
+}
+
+std::string diagnosis_svg(const DiagnosisReport& r, std::size_t worst) {
+  std::vector<std::pair<std::string, double>> nodes;
+  for (const auto& [name, m] : r.baseline.nodes)
+    nodes.emplace_back(name, m.rmse);
+  std::stable_sort(nodes.begin(), nodes.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
+  if (nodes.size() > worst) nodes.resize(worst);
+  plot::Figure fig;
+  fig.title = r.findings.empty() ? fmt::format("{} — no finding", r.model)
+                                 : fmt::format("{} — before and after {}", r.model,
+                                               r.findings.front().candidate.kind);
+  for (const auto& cv : r.curves) {
+    plot::Panel panel;
+    panel.title = "case " + cv.case_name + " (worst nodes)";
+    panel.x_label = "time";
+    panel.y_label = "temperature [°C]";
+    panel.x_is_time_s = true;
+    int color = 0;
+    for (const auto& [name, rmse] : nodes) {
+      auto add = [&](const std::map<std::string, std::vector<double>>& m, const std::string& label,
+                     plot::LineStyle style) {
+        auto it = m.find(name);
+        if (it == m.end() || it->second.empty()) return;
+        plot::Series s;
+        s.label = name + " " + label;
+        s.style = style;
+        s.color = color;
+        s.x = cv.times;
+        for (double v : it->second)
+          s.y.push_back(v - kZeroCelsius);
+        panel.series.push_back(std::move(s));
+      };
+      add(cv.measured, "measured", plot::LineStyle::markers);
+      add(cv.before, "before", plot::LineStyle::solid);
+      add(cv.after, "after", plot::LineStyle::dashed);
+      ++color;
+    }
+    fig.panels.push_back(std::move(panel));
+  }
+  return plot::render_svg(fig);
+}
+
+void add_diagnose_command(CLI::App& app, int& status) {
+  auto o = std::make_shared<DiagnoseOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "diagnose", "find what a model gets wrong against measured data, its cause and the fix");
+  sub->add_option("model", o->model, "model file (.tnet) whose cases carry measured data")
+      ->required();
+  sub->add_option("--case", o->cases, "diagnose only these cases (repeatable)");
+  sub->add_option("--json", o->json, "write the report as JSON");
+  sub->add_option("--write", o->write, "write the model with the best finding applied");
+  sub->add_option("--plot", o->plot, "write an SVG of before/after curves of the worst nodes");
+  sub->add_option("--threads", o->threads, "worker threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--top", o->top, "most findings reported")->check(CLI::PositiveNumber);
+  sub->callback([o, &status] { status = run_diagnose(*o); });
+}
+
+} // namespace thermnet::cli

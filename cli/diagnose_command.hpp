@@ -1,0 +1,24 @@
+#pragma once
+/// `thermnet diagnose`: what the simulation gets wrong, the cause, the extension and the gain.
+
+#include "kernel/diagnosis.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+namespace thermnet::cli {
+
+/// Registers the diagnose subcommand; its exit status is stored in `status` (0 when the diagnosis
+/// ran, whatever it found; 1 for a model or data problem; 2 for usage errors and unwritable
+/// outputs).
+void add_diagnose_command(CLI::App& app, int& status);
+
+/// The model's root text with a finding applied: new statements appended under a comment that
+/// says why (capacity overrides go into every case block; recalibrated params are rewritten).
+std::string extended_model_text(const lang::Model& model, const Finding& finding);
+
+/// The --plot figure: measured, before and after curves of the worst nodes of every case.
+std::string diagnosis_svg(const DiagnosisReport& report, std::size_t worst = 3);
+
+} // namespace thermnet::cli

@@ -1,0 +1,63 @@
+// Hypothesis 'capacity_error': a node's heat capacity is wrong by a factor. Screen: the unexplained
+// heat flow regressed on -C dT/dt (its coefficient is factor - 1).
+#include "kernel/hypothesis.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace thermnet {
+namespace {
+
+class CapacityError final : public Hypothesis {
+public:
+  std::vector<Candidate> propose(const Evidence& ev) const override {
+    std::vector<Candidate> out;
+    if (ev.cases.empty()) return out;
+    const auto& nodes = ev.cases.front().spec.nodes;
+    for (int a = 0; a < static_cast<int>(nodes.size()); ++a) {
+      const auto& nd = nodes[static_cast<std::size_t>(a)];
+      if (nd.boundary || nd.C <= 0.0 || !ev.measured(a)) continue;
+      const ScreenFit f = ev.regress([&](std::size_t c, int node, std::size_t k) {
+        if (node != a) return 0.0;
+        return -ev.cases[c].spec.nodes[static_cast<std::size_t>(a)].C *
+               ev.cases[c].dTdt[k][static_cast<std::size_t>(a)];
+      });
+      Candidate c;
+      c.kind = "capacity_error";
+      c.nodes = {nd.name};
+      c.names = {"factor"};
+      c.lo = {0.02};
+      c.hi = {50.0};
+      c.start = {std::clamp(1.0 + f.coefficient, 0.2, 5.0)};
+      c.screen = f.reduction;
+      c.index = {a};
+      c.evidence = fmt::format("the unexplained heat flow of {} follows C dT/dt (correlation "
+                               "{:.2f}): its capacity looks {} by a factor of about {:.3g}",
+                               nd.name, f.correlation,
+                               f.coefficient > 0 ? "too small" : "too large", 1.0 + f.coefficient);
+      out.push_back(std::move(c));
+    }
+    return out;
+  }
+
+  void extend(const Candidate& c, const std::vector<double>& p,
+              lang::NetworkSpec& spec) const override {
+    spec.nodes[static_cast<std::size_t>(c.index[0])].C *= p[0];
+  }
+
+  std::string statement(const Candidate& c, const std::vector<double>& p,
+                        const Evidence& ev) const override {
+    const double C = ev.cases.front().spec.nodes[static_cast<std::size_t>(c.index[0])].C;
+    return fmt::format("{}.C = {} [J/K]", c.nodes[0], netlist_number(C * p[0]));
+  }
+};
+
+HypothesisPlugin make_capacity_error() {
+  return {"capacity_error", "a node's heat capacity is wrong by a factor",
+          [] { return std::make_unique<CapacityError>(); }};
+}
+
+} // namespace
+THERMNET_REGISTER_HYPOTHESIS(make_capacity_error);
+} // namespace thermnet

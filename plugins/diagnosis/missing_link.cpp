@@ -1,0 +1,96 @@
+// Hypothesis 'missing_link': a linear (conduction, contact, convection) or radiative path between
+// two nodes, or a node and a boundary, that the model lacks. Screen: the unexplained heat flow of
+// each end regressed on T_b - T_a (linear) or sigma (T_b^4 - T_a^4) (radiation).
+#include "kernel/hypothesis.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace thermnet {
+namespace {
+
+constexpr double kStefanBoltzmann = 5.670374419e-8;
+
+/// The heat driving term into node `to` from node `from` for a mechanism.
+double drive(bool radiative, double to, double from) {
+  if (!radiative) return from - to;
+  const double a2 = from * from, b2 = to * to;
+  return kStefanBoltzmann * (a2 * a2 - b2 * b2);
+}
+
+class MissingLink final : public Hypothesis {
+public:
+  std::vector<Candidate> propose(const Evidence& ev) const override {
+    std::vector<Candidate> out;
+    if (ev.cases.empty()) return out;
+    const auto& nodes = ev.cases.front().spec.nodes;
+    const int n = static_cast<int>(nodes.size());
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b) {
+        if (nodes[static_cast<std::size_t>(a)].boundary &&
+            nodes[static_cast<std::size_t>(b)].boundary)
+          continue;
+        if (!ev.measured(a) && !ev.measured(b)) continue;
+        for (bool rad : {false, true}) {
+          const ScreenFit f = ev.regress([&](std::size_t c, int node, std::size_t k) {
+            const auto& T = ev.cases[c].T[k];
+            if (node == a)
+              return drive(rad, T[static_cast<std::size_t>(a)], T[static_cast<std::size_t>(b)]);
+            if (node == b)
+              return drive(rad, T[static_cast<std::size_t>(b)], T[static_cast<std::size_t>(a)]);
+            return 0.0;
+          });
+          if (f.coefficient <= 0.0) continue; // heat would flow against the difference
+          Candidate c;
+          c.kind = "missing_link";
+          c.nodes = {nodes[static_cast<std::size_t>(a)].name,
+                     nodes[static_cast<std::size_t>(b)].name};
+          c.mechanism = rad ? "radiation" : "linear";
+          c.names = {rad ? "GR" : "G"};
+          c.lo = {rad ? 1e-8 : 1e-6};
+          c.hi = {rad ? 100.0 : 1e4};
+          c.start = {std::clamp(f.coefficient, c.lo[0] * 10, c.hi[0] / 10)};
+          c.screen = f.reduction;
+          c.index = {a, b};
+          c.evidence = fmt::format(
+              "the unexplained heat flow of {} and {} follows {} (correlation {:.2f})", c.nodes[0],
+              c.nodes[1], rad ? "the difference of T^4" : "their temperature difference",
+              f.correlation);
+          out.push_back(std::move(c));
+        }
+      }
+    return out;
+  }
+
+  void extend(const Candidate& c, const std::vector<double>& p,
+              lang::NetworkSpec& spec) const override {
+    const bool rad = c.mechanism == "radiation";
+    spec.elements.push_back(make_element(rad ? "radiation" : "conductance",
+                                         unique_name(spec, name_of(c)), {c.index[0], c.index[1]},
+                                         {{rad ? "GR" : "G", p[0]}}));
+  }
+
+  std::string statement(const Candidate& c, const std::vector<double>& p,
+                        const Evidence& ev) const override {
+    const bool rad = c.mechanism == "radiation";
+    return fmt::format("{} {} {} {} {} = {} [{}]", rad ? "radiation" : "conductance",
+                       unique_name(ev.cases.front().spec, name_of(c)), c.nodes[0], c.nodes[1],
+                       rad ? "GR" : "G", netlist_number(p[0]), rad ? "m^2" : "W/K");
+  }
+
+private:
+  static std::string name_of(const Candidate& c) {
+    return fmt::format("diag_{}_{}", c.nodes[0], c.nodes[1]);
+  }
+};
+
+HypothesisPlugin make_missing_link() {
+  return {"missing_link", "a linear or radiative path between two nodes (or a node and a boundary)",
+          [] { return std::make_unique<MissingLink>(); }};
+}
+
+} // namespace
+THERMNET_REGISTER_HYPOTHESIS(make_missing_link);
+} // namespace thermnet

@@ -1,0 +1,487 @@
+// Unit tests of `thermnet diagnose`: hidden effects. Each test builds a truth model, makes
+// "measured" data with thermnet's simulator plus Gaussian noise, removes the effect from the model
+// and requires the diagnosis to name it (kind, nodes, mechanism where identifiable) with a fitted
+// size close to the truth. Clean data must give no finding. Three networks: a 4-node chain with a
+// step heater, an 8-node instrument with radiation, a pwl boundary and two cases, and a 20-node
+// plate for the speed check.
+
+#include "cli/diagnose_command.hpp"
+#include "kernel/diagnosis.hpp"
+#include "kernel/diagnosis_report.hpp"
+#include "kernel/element_registry.hpp"
+#include "kernel/network.hpp"
+#include "kernel/simulation.hpp"
+
+#include <doctest/doctest.h>
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <random>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace thermnet;
+
+constexpr double kZeroCelsius = 273.15;
+
+/// A scratch directory removed at the end of the test.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    static int counter = 0;
+    path = fs::temp_directory_path() / fmt::format("thermnet_diag_{}_{}", ::getpid(), ++counter);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path / name, std::ios::binary) << text;
+    return (path / name).string();
+  }
+};
+
+/// A loaded model (sources kept alive).
+struct Loaded {
+  lang::SourceManager sources;
+  lang::DiagnosticEngine diags{sources};
+  std::unique_ptr<lang::Model> model;
+  explicit Loaded(const std::string& path) {
+    model = lang::Model::load(path, ElementRegistry::global(), sources, diags);
+    REQUIRE(model);
+    model->lint(diags);
+    REQUIRE(diags.error_count() == 0);
+  }
+};
+
+/// Measurement-side effects applied when making data.
+struct Sensor {
+  std::string node;
+  double offset = 0.0; ///< K
+  double tau = 0.0;    ///< s
+};
+
+/// One test setup: a model template with `{EXTRA}` (where the hidden statements go) and
+/// `{DATA:case}` placeholders, the cases, the measured nodes.
+struct Setup {
+  std::string text;
+  std::vector<std::string> cases;
+  std::vector<std::string> measured;
+  double sigma = 0.05;
+};
+
+std::string fill(std::string text, const std::string& extra, bool with_data,
+                 const std::vector<std::string>& cases) {
+  auto replace = [&](const std::string& key, const std::string& by) {
+    for (auto p = text.find(key); p != std::string::npos; p = text.find(key))
+      text.replace(p, key.size(), by);
+  };
+  replace("{EXTRA}", extra);
+  for (const auto& c : cases)
+    replace("{DATA:" + c + "}", with_data ? fmt::format("; data \"{}.csv\"", c) : "");
+  return text;
+}
+
+/// Writes truth data (truth = template + hidden), then the model without the effect; returns the
+/// diagnosed model's path.
+std::string make_case(const TempDir& dir, const Setup& s, const std::string& hidden,
+                      const std::string& truth_base, const std::vector<Sensor>& sensors = {},
+                      unsigned seed = 7) {
+  const std::string truth = dir.write("truth.tnet", fill(truth_base, hidden, false, s.cases));
+  Loaded gen(truth);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, s.sigma);
+  for (const auto& c : s.cases) {
+    Network net(gen.model->instantiate(c));
+    SimulationResult r = simulate(net);
+    std::string csv = "time";
+    for (const auto& n : s.measured)
+      csv += "," + n;
+    csv += "\n";
+    std::vector<std::vector<double>> cols;
+    for (const auto& n : s.measured) {
+      const auto i = static_cast<std::size_t>(net.spec().node_index(n));
+      std::vector<double> v;
+      for (const auto& row : r.temps)
+        v.push_back(row[i]);
+      for (const auto& sen : sensors)
+        if (sen.node == n) {
+          if (sen.tau > 0) {
+            std::vector<double> y(v.size());
+            y[0] = v[0];
+            for (std::size_t k = 1; k < v.size(); ++k) {
+              const double h = r.times[k] - r.times[k - 1], E = std::exp(-h / sen.tau);
+              const double a = (v[k] - v[k - 1]) / h;
+              y[k] = v[k] - a * sen.tau + (y[k - 1] - v[k - 1] + a * sen.tau) * E;
+            }
+            v = y;
+          }
+          for (double& x : v)
+            x += sen.offset;
+        }
+      cols.push_back(v);
+    }
+    for (std::size_t k = 0; k < r.times.size(); ++k) {
+      csv += fmt::format("{}", r.times[k]);
+      for (auto& col : cols)
+        csv += fmt::format(",{:.5f}", col[k] - kZeroCelsius + noise(rng));
+      csv += "\n";
+    }
+    dir.write(c + ".csv", csv);
+  }
+  return dir.write("model.tnet", fill(s.text, "", true, s.cases));
+}
+
+DiagnosisReport run(const std::string& path, DiagnosisReport* out = nullptr) {
+  Loaded m(path);
+  DiagnosisReport r = diagnose(*m.model);
+  if (out) *out = r;
+  return r;
+}
+
+/// The report plus the refitted candidates that were not significant, for failure messages.
+std::string explain(const DiagnosisReport& r) {
+  std::string s = diagnosis_text(r) + "rejected:\n";
+  for (const auto& f : r.rejected)
+    s += fmt::format("  {} [{}] {} rmse {:.4g} -> {:.4g} val {:.4g} -> {:.4g} dBIC {:.4g}\n",
+                     f.candidate.kind, fmt::join(f.candidate.nodes, ","), f.candidate.mechanism,
+                     f.rmse_before, f.rmse_after, f.validation_rmse_before, f.validation_rmse_after,
+                     f.delta_bic);
+  return s;
+}
+
+const Finding& top(const DiagnosisReport& r) {
+  REQUIRE_MESSAGE(!r.findings.empty(), explain(r));
+  return r.findings.front();
+}
+
+double value(const Finding& f, const std::string& name) {
+  auto v = finding_values(f);
+  REQUIRE(v.count(name));
+  return v.at(name);
+}
+
+bool same_pair(const Finding& f, const std::string& a, const std::string& b) {
+  const auto& n = f.candidate.nodes;
+  return n.size() == 2 && ((n[0] == a && n[1] == b) || (n[0] == b && n[1] == a));
+}
+
+// ------------------------------------------------------------------ network A: 4-node chain
+
+const char* const kChain = R"(model chain
+boundary amb T = 20
+node n1 C = 800 [J/K] T0 = 20
+node n2 C = {C2} [J/K] T0 = 20
+node n3 C = 500 [J/K] T0 = 20
+node n4 C = 400 [J/K] T0 = 20
+conductance g12 n1 n2 G = 2 [W/K]
+conductance g23 n2 n3 G = 1.5 [W/K]
+conductance g34 n3 n4 G = 1 [W/K]
+conductance g4a n4 amb G = 0.8 [W/K]
+heater film n1 P = step(0: {P} [W], 3600: 0 [W])
+{EXTRA}
+case run { duration = 7200; output = 60 {DATA:run} }
+)";
+
+std::string chain(double C2 = 600, double P = 20) {
+  std::string t = kChain;
+  t.replace(t.find("{C2}"), 4, netlist_number(C2));
+  t.replace(t.find("{P}"), 3, netlist_number(P));
+  return t;
+}
+
+Setup chain_setup(double C2 = 600, double P = 20) {
+  return {chain(C2, P), {"run"}, {"n1", "n2", "n3", "n4"}, 0.05};
+}
+
+} // namespace
+
+TEST_CASE("diagnosis helpers: noise estimate and smoothing") {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.2);
+  std::vector<double> t, v;
+  for (int k = 0; k < 400; ++k) {
+    t.push_back(10.0 * k);
+    v.push_back(20.0 + 5.0 * std::sin(k / 60.0) + noise(rng));
+  }
+  CHECK(estimate_noise(v) == doctest::Approx(0.2).epsilon(0.15));
+  std::vector<double> sm, sl;
+  smooth_series(t, v, 6, sm, sl);
+  CHECK(sl[200] == doctest::Approx(5.0 * std::cos(200 / 60.0) / 600.0).epsilon(0.2));
+}
+
+TEST_CASE("diagnose chain: clean data gives no finding") {
+  TempDir dir;
+  const Setup s = chain_setup();
+  const auto path = make_case(dir, s, "", s.text);
+  const auto r = run(path);
+  CHECK_MESSAGE(r.findings.empty(), diagnosis_text(r));
+  CHECK(r.noise_floor == doctest::Approx(0.05).epsilon(0.3));
+  const auto j = diagnosis_json(r);
+  CHECK(j["findings"].is_array());
+  CHECK(j["findings"].empty());
+  CHECK(j["baseline"]["nodes"]["n2"].contains("trend_mismatch_s"));
+}
+
+TEST_CASE("diagnose chain: hidden linear link n1-n4") {
+  TempDir dir;
+  const Setup s = chain_setup();
+  const auto path = make_case(dir, s, "conductance hid n1 n4 G = 0.5 [W/K]", s.text);
+  const auto r = run(path);
+  const Finding& f = top(r);
+  CHECK(f.candidate.kind == "missing_link");
+  CHECK(same_pair(f, "n1", "n4"));
+  CHECK(value(f, "G") == doctest::Approx(0.5).epsilon(0.1));
+  CHECK(f.rmse_after < 0.1);
+  // JSON shape per the spec.
+  const auto j = diagnosis_json(r);
+  const auto& jf = j["findings"][0];
+  CHECK(jf["rank"] == 1);
+  CHECK(jf["kind"] == "missing_link");
+  CHECK(jf["nodes"].size() == 2);
+  CHECK(jf["values"].contains("G"));
+  for (const char* key :
+       {"statement", "evidence", "rmse_after", "r2_after", "validation_rmse_after", "mechanism"})
+    CHECK_MESSAGE(jf.contains(key), key);
+  for (const char* key : {"model", "noise_floor", "baseline"})
+    CHECK(j.contains(key));
+  for (const char* key : {"rmse", "bias", "max_error", "max_error_time", "trend_mismatch_s"})
+    CHECK(j["baseline"]["nodes"]["n1"].contains(key));
+  // --write: the extended model lints clean and fits the data.
+  Loaded m(path);
+  const std::string ext = dir.write("ext.tnet", cli::extended_model_text(*m.model, f));
+  CHECK(ext.size() > 0);
+  Loaded e(ext);
+  const auto r2 = diagnose(*e.model);
+  CHECK(r2.baseline.rmse < 0.1);
+  CHECK_MESSAGE(r2.findings.empty(), diagnosis_text(r2));
+}
+
+TEST_CASE("diagnose chain: hidden source on n3") {
+  TempDir dir;
+  const Setup s = chain_setup();
+  const auto r = run(make_case(dir, s, "heater hidsrc n3 P = 2 [W]", s.text));
+  const Finding& f = top(r);
+  CHECK(f.candidate.kind == "missing_source");
+  CHECK(f.candidate.nodes == std::vector<std::string>{"n3"});
+  CHECK(value(f, "P") == doctest::Approx(2.0).epsilon(0.1));
+}
+
+TEST_CASE("diagnose chain: capacity of n2 is wrong") {
+  TempDir dir;
+  const Setup s = chain_setup(600);
+  const auto path = make_case(dir, s, "", chain(1500));
+  const auto r = run(path);
+  const Finding& f = top(r);
+  CHECK(f.candidate.kind == "capacity_error");
+  CHECK(f.candidate.nodes == std::vector<std::string>{"n2"});
+  CHECK(value(f, "factor") == doctest::Approx(2.5).epsilon(0.1));
+  Loaded m(path);
+  Loaded e(dir.write("ext.tnet", cli::extended_model_text(*m.model, f)));
+  CHECK(diagnose(*e.model).baseline.rmse < 0.1);
+}
+
+TEST_CASE("diagnose chain: heater delivers more than modelled") {
+  TempDir dir;
+  const Setup s = chain_setup(600, 15);
+  const auto path = make_case(dir, s, "", chain(600, 20));
+  const auto r = run(path);
+  const Finding& f = top(r);
+  CHECK(f.candidate.kind == "heater_gain");
+  CHECK(f.candidate.element == "film");
+  CHECK(value(f, "factor") == doctest::Approx(20.0 / 15.0).epsilon(0.05));
+  Loaded m(path);
+  Loaded e(dir.write("ext.tnet", cli::extended_model_text(*m.model, f)));
+  CHECK(diagnose(*e.model).baseline.rmse < 0.1);
+}
+
+TEST_CASE("diagnose chain: sensor offset on n2") {
+  TempDir dir;
+  const Setup s = chain_setup();
+  const auto r = run(make_case(dir, s, "", s.text, {{"n2", 0.8, 0.0}}));
+  const Finding& f = top(r);
+  CHECK(f.candidate.kind == "sensor_offset");
+  CHECK(f.candidate.nodes == std::vector<std::string>{"n2"});
+  CHECK(value(f, "offset") == doctest::Approx(0.8).epsilon(0.05));
+}
+
+TEST_CASE("diagnose chain: sensor lag on n1") {
+  TempDir dir;
+  const Setup s = chain_setup();
+  const auto r = run(make_case(dir, s, "", s.text, {{"n1", 0.0, 150.0}}));
+  const Finding& f = top(r);
+  CHECK(f.candidate.kind == "sensor_lag");
+  CHECK(f.candidate.nodes == std::vector<std::string>{"n1"});
+  CHECK(value(f, "tau") == doctest::Approx(150.0).epsilon(0.1));
+}
+
+TEST_CASE("diagnose chain: a radiative link over a narrow span is not told apart") {
+  TempDir dir;
+  Setup s = chain_setup(600, 4);
+  s.sigma = 0.1;
+  const auto r = run(make_case(dir, s, "radiation hid n1 n4 GR = 0.08 [m^2]", chain(600, 4)));
+  const Finding& f = top(r);
+  CHECK(f.candidate.kind == "missing_link");
+  CHECK(same_pair(f, "n1", "n4"));
+  CHECK_MESSAGE(!f.mechanism_identified, diagnosis_text(r));
+  CHECK(f.mechanism_note.find("fit equally") != std::string::npos);
+}
+
+namespace {
+
+// ------------------------------------------- network B: 8-node instrument, radiation, 2 cases
+
+const char* const kInstrument = R"(model instrument
+boundary space T = pwl(0: 10, 3 [h]: -30)
+node base C = 3000 [J/K] T0 = 15
+node plate C = 900 [J/K] T0 = 15
+node lamp C = 300 [J/K] T0 = 15
+node lens C = 250 [J/K] T0 = 15
+node barrel C = 500 [J/K] T0 = 15
+node window C = 200 [J/K] T0 = 15
+node cover C = 1200 [J/K] T0 = 15
+node elec C = 600 [J/K] T0 = 15
+conductance g1 base plate G = 3 [W/K]
+conductance g2 plate barrel G = 1.2 [W/K]
+conductance g3 barrel lens G = 0.8 [W/K]
+conductance g4 barrel window G = 0.5 [W/K]
+conductance g5 plate elec G = 2 [W/K]
+conductance g6 base cover G = 1.5 [W/K]
+conductance g7 lamp plate G = 0.15 [W/K]
+radiation r1 cover space GR = 0.05 [m^2]
+radiation r2 window space GR = 0.01 [m^2]
+conductance g8 base space G = 0.6 [W/K]
+heater hl lamp P = step(0: 60 [W], 5400: 0 [W])
+heater he elec P = 10 [W]
+{EXTRA}
+case hot { duration = 3 [h]; output = 60 {DATA:hot} }
+case mild { duration = 3 [h]; output = 60; hl.P = step(0: 30 [W], 3600: 0 [W]) {DATA:mild} }
+)";
+
+Setup instrument_setup() {
+  return {kInstrument,
+          {"hot", "mild"},
+          {"base", "plate", "lamp", "lens", "barrel", "window", "cover", "elec"},
+          0.05};
+}
+
+} // namespace
+
+TEST_CASE("diagnose instrument: clean data gives no finding") {
+  TempDir dir;
+  const Setup s = instrument_setup();
+  const auto r = run(make_case(dir, s, "", s.text));
+  CHECK_MESSAGE(r.findings.empty(), diagnosis_text(r));
+}
+
+TEST_CASE("diagnose instrument: radiative lamp-cover link over a wide span is radiation") {
+  TempDir dir;
+  const Setup s = instrument_setup();
+  const auto r = run(make_case(dir, s, "radiation hid lamp cover GR = 0.004 [m^2]", s.text));
+  const Finding& f = top(r);
+  CHECK(f.candidate.kind == "missing_link");
+  CHECK(same_pair(f, "lamp", "cover"));
+  CHECK_MESSAGE(f.candidate.mechanism == "radiation", diagnosis_text(r));
+  CHECK(f.mechanism_identified);
+  CHECK(value(f, "GR") == doctest::Approx(0.004).epsilon(0.1));
+}
+
+TEST_CASE("diagnose instrument: hidden sink in lens and offset on window") {
+  TempDir dir;
+  const Setup s = instrument_setup();
+  {
+    const auto r = run(make_case(dir, s, "heater hid lens P = -3 [W]", s.text));
+    const Finding& f = top(r);
+    CHECK(f.candidate.kind == "missing_source");
+    CHECK(f.candidate.nodes == std::vector<std::string>{"lens"});
+    CHECK(value(f, "P") == doctest::Approx(-3.0).epsilon(0.1));
+  }
+  {
+    const auto r = run(make_case(dir, s, "", s.text, {{"window", -0.6, 0.0}}));
+    const Finding& f = top(r);
+    CHECK(f.candidate.kind == "sensor_offset");
+    CHECK(f.candidate.nodes == std::vector<std::string>{"window"});
+    CHECK(value(f, "offset") == doctest::Approx(-0.6).epsilon(0.05));
+  }
+}
+
+TEST_CASE("diagnose chain: a shared ranged param is recalibrated") {
+  TempDir dir;
+  auto with_param = [](double value) {
+    std::string t = chain();
+    t.replace(
+        t.find("conductance g12 n1 n2 G = 2 [W/K]"), 33,
+        fmt::format("param Gc = {} [W/K] range 0.2 .. 10\nconductance g12 n1 n2 G = Gc", value));
+    t.replace(t.find("conductance g34 n3 n4 G = 1 [W/K]"), 33, "conductance g34 n3 n4 G = Gc");
+    return t;
+  };
+  Setup s = chain_setup();
+  s.text = with_param(1.0);
+  const auto path = make_case(dir, s, "", with_param(2.0));
+  const auto r = run(path);
+  const Finding& f = top(r);
+  CHECK_MESSAGE(f.candidate.kind == "parameter", explain(r));
+  CHECK(value(f, "Gc") == doctest::Approx(2.0).epsilon(0.05));
+  CHECK(diagnosis_json(r)["findings"][0]["params"].contains("Gc"));
+  Loaded m(path);
+  Loaded e(dir.write("ext.tnet", cli::extended_model_text(*m.model, f)));
+  CHECK(diagnose(*e.model).baseline.rmse < 0.1);
+}
+
+namespace {
+
+/// A 20-node plate (4 x 5 grid), two boundaries, two cases with different heater schedules.
+std::string plate_model() {
+  std::string t = "model plate\nboundary amb T = pwl(0: 20, 2 [h]: 5)\nboundary sink T = 10\n";
+  for (int i = 0; i < 20; ++i)
+    t += fmt::format("node p{} C = {} [J/K] T0 = 15\n", i, 300 + 37 * (i % 7));
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 5; ++c) {
+      const int i = r * 5 + c;
+      if (c < 4)
+        t += fmt::format("conductance gx{} p{} p{} G = {} [W/K]\n", i, i, i + 1, 1.0 + 0.1 * r);
+      if (r < 3) t += fmt::format("conductance gy{} p{} p{} G = 0.8 [W/K]\n", i, i, i + 5);
+      if (r == 0) t += fmt::format("conductance ga{} p{} amb G = 0.3 [W/K]\n", i, i);
+    }
+  t += "conductance gs p19 sink G = 1 [W/K]\n";
+  t += "heater h1 p2 P = step(0: 25 [W], 3000: 0 [W])\nheater h2 p16 P = 8 [W]\n{EXTRA}\n";
+  t += "case a { duration = 2 [h]; output = 60 {DATA:a} }\n";
+  t += "case b { duration = 2 [h]; output = 60; h1.P = pwl(0: 0 [W], 3600: 30 [W], 7200: 0 [W]) "
+       "{DATA:b} }\n";
+  return t;
+}
+
+} // namespace
+
+TEST_CASE("diagnose plate: 20 nodes, 2 cases, hidden link to a boundary, within 30 s") {
+  TempDir dir;
+  Setup s{plate_model(), {"a", "b"}, {}, 0.05};
+  for (int i = 0; i < 20; ++i)
+    s.measured.push_back(fmt::format("p{}", i));
+  const auto path = make_case(dir, s, "conductance hid p7 sink G = 0.4 [W/K]", s.text);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto r = run(path);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  MESSAGE(fmt::format("20-node, 2-case diagnosis: {:.2f} s, {} screened, {} refitted\n{}", wall,
+                      r.screened, r.refitted, explain(r)));
+  CHECK(wall < 30.0);
+  const Finding& f = top(r);
+  CHECK(f.candidate.kind == "missing_link");
+  CHECK_MESSAGE(same_pair(f, "p7", "sink"), explain(r));
+  CHECK(value(f, "G") == doctest::Approx(0.4).epsilon(0.1));
+  // The plot renders before/after curves.
+  const std::string svg = cli::diagnosis_svg(r);
+  CHECK(svg.find("<svg") != std::string::npos);
+  CHECK(svg.find("after") != std::string::npos);
+}
