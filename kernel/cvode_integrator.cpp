@@ -177,13 +177,7 @@ public:
     accumulate();
     stats.integrator = "cvode-bdf";
     stats.linear_solver = linear_solver_name(kind_);
-    stats.steps += acc_.steps;
-    stats.linear_setups += acc_.linear_setups;
-    stats.nonlinear_iters += acc_.nonlinear_iters;
-    stats.nonlinear_fails += acc_.nonlinear_fails;
-    stats.error_test_fails += acc_.error_test_fails;
-    stats.rhs_evals += ev_.rhs_evals;
-    stats.jac_evals += ev_.jac_evals;
+    add_counters(stats, acc_, ev_.rhs_evals, ev_.jac_evals);
     acc_ = SolverStats{};
   }
 

@@ -82,4 +82,30 @@ inline void declare_link(JacobianLayout& layout, int a, int b, int slots[4]) {
   slots[3] = layout.slot(b, b);
 }
 
+/// A two-terminal element whose heat flow Q(T_a, T_b) from a to b is nonlinear: subclasses give
+/// Q and its partial derivatives; declaring, stamping and reporting the flow are done here.
+class NonlinearLink : public Element {
+public:
+  /// A link between nodes a and b.
+  NonlinearLink(int a, int b) : a_(a), b_(b) {}
+  void declare(JacobianLayout& layout) override { declare_link(layout, a_, b_, slots_); }
+  void stamp(double, const double* T, double* F, double* J) const override {
+    double dq_da = 0.0, dq_db = 0.0;
+    const double q = evaluate(T[a_], T[b_], dq_da, dq_db);
+    stamp_link(F, J, a_, b_, q, dq_da, dq_db, slots_);
+  }
+  double flow(double, const double* T) const override {
+    double dq_da = 0.0, dq_db = 0.0;
+    return evaluate(T[a_], T[b_], dq_da, dq_db);
+  }
+
+protected:
+  /// Heat flow from a to b in W at temperatures ta, tb (K), with dQ/dTa and dQ/dTb in W/K.
+  virtual double evaluate(double ta, double tb, double& dq_da, double& dq_db) const = 0;
+
+private:
+  int a_, b_;
+  int slots_[4] = {0, 0, 0, 0};
+};
+
 } // namespace thermnet

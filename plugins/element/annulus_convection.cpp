@@ -20,10 +20,10 @@ constexpr double ra_exponent = 0.25;
 /// Q = S k(Tm) R(Tm, dT) dT with R = (1 + X^n)^(1/n), X = c(Tm) |dT|^(1/4) and
 /// c = 0.386 (Pr/(0.861+Pr))^(1/4) (F g delta^3 / (Tm nu alpha))^(1/4), where F is the geometric
 /// factor of Rac = F Ra_delta.
-class AnnulusConvection final : public Element {
+class AnnulusConvection final : public NonlinearLink {
 public:
   AnnulusConvection(int a, int b, double D_in, double D_out, double L, double scale)
-      : a_(a), b_(b) {
+      : NonlinearLink(a, b) {
     const double log_ratio = std::log(D_out / D_in);
     const double delta = 0.5 * (D_out - D_in);
     const double f_geo =
@@ -32,20 +32,10 @@ public:
     K0_ = 0.386 * std::pow(f_geo * gravity * delta * delta * delta, ra_exponent);
     S_ = scale * 2.0 * std::numbers::pi * L / log_ratio;
   }
-  void declare(JacobianLayout& layout) override { declare_link(layout, a_, b_, slots_); }
-  void stamp(double, const double* T, double* F, double* J) const override {
-    double dq_da = 0.0, dq_db = 0.0;
-    const double q = evaluate(T[a_], T[b_], dq_da, dq_db);
-    stamp_link(F, J, a_, b_, q, dq_da, dq_db, slots_);
-  }
-  double flow(double, const double* T) const override {
-    double dq_da = 0.0, dq_db = 0.0;
-    return evaluate(T[a_], T[b_], dq_da, dq_db);
-  }
 
 private:
   /// Heat flow a -> b in W, with its partial derivatives in W/K.
-  double evaluate(double ta, double tb, double& dq_da, double& dq_db) const {
+  double evaluate(double ta, double tb, double& dq_da, double& dq_db) const override {
     const double tm = 0.5 * (ta + tb), dt = ta - tb;
     const air::Properties p = air::properties(tm);
     const double pr_b = p.Pr / (0.861 + p.Pr);
@@ -65,10 +55,8 @@ private:
     return S_ * p.k * R * dt;
   }
 
-  int a_, b_;
   double K0_ = 0.0; // constant part of c
   double S_ = 0.0;  // scale * 2 pi L / ln(Do/Di), m
-  int slots_[4] = {0, 0, 0, 0};
 };
 
 ElementPlugin make_annulus_convection() {

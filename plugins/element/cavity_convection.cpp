@@ -35,23 +35,13 @@ CavityLaw cavity_law(double gap, double H) {
 }
 
 /// Q = S k(Tm) Nu(Tm, dT) dT with Nu = (1 + X^n)^(1/n), X = Nu_c of the chosen law, S = A/gap.
-class CavityConvection final : public Element {
+class CavityConvection final : public NonlinearLink {
 public:
-  CavityConvection(int a, int b, double S, CavityLaw law) : a_(a), b_(b), S_(S), law_(law) {}
-  void declare(JacobianLayout& layout) override { declare_link(layout, a_, b_, slots_); }
-  void stamp(double, const double* T, double* F, double* J) const override {
-    double dq_da = 0.0, dq_db = 0.0;
-    const double q = evaluate(T[a_], T[b_], dq_da, dq_db);
-    stamp_link(F, J, a_, b_, q, dq_da, dq_db, slots_);
-  }
-  double flow(double, const double* T) const override {
-    double dq_da = 0.0, dq_db = 0.0;
-    return evaluate(T[a_], T[b_], dq_da, dq_db);
-  }
+  CavityConvection(int a, int b, double S, CavityLaw law) : NonlinearLink(a, b), S_(S), law_(law) {}
 
 private:
   /// Heat flow a -> b in W, with its partial derivatives in W/K.
-  double evaluate(double ta, double tb, double& dq_da, double& dq_db) const {
+  double evaluate(double ta, double tb, double& dq_da, double& dq_db) const override {
     const double tm = 0.5 * (ta + tb), dt = ta - tb;
     const air::Properties p = air::properties(tm);
     const CavityLaw& l = law_;
@@ -70,10 +60,8 @@ private:
     return S_ * p.k * Nu * dt;
   }
 
-  int a_, b_;
   double S_; // scale * A / gap, m
   CavityLaw law_;
-  int slots_[4] = {0, 0, 0, 0};
 };
 
 ElementPlugin make_cavity_convection() {

@@ -7,24 +7,20 @@ namespace {
 constexpr double stefan_boltzmann = 5.670374419e-8;
 
 /// Radiative exchange between two surfaces with a fixed radiative exchange factor GR.
-class RadiationLink final : public Element {
+class RadiationLink final : public NonlinearLink {
 public:
-  RadiationLink(int a, int b, double GR) : a_(a), b_(b), k_(stefan_boltzmann * GR) {}
-  void declare(JacobianLayout& layout) override { declare_link(layout, a_, b_, slots_); }
-  void stamp(double, const double* T, double* F, double* J) const override {
-    double ta = T[a_], tb = T[b_];
-    double ta3 = ta * ta * ta, tb3 = tb * tb * tb;
-    stamp_link(F, J, a_, b_, k_ * (ta3 * ta - tb3 * tb), 4.0 * k_ * ta3, -4.0 * k_ * tb3, slots_);
-  }
-  double flow(double, const double* T) const override {
-    double ta2 = T[a_] * T[a_], tb2 = T[b_] * T[b_];
-    return k_ * (ta2 * ta2 - tb2 * tb2);
+  RadiationLink(int a, int b, double GR) : NonlinearLink(a, b), k_(stefan_boltzmann * GR) {}
+
+protected:
+  double evaluate(double ta, double tb, double& dq_da, double& dq_db) const override {
+    const double ta3 = ta * ta * ta, tb3 = tb * tb * tb;
+    dq_da = 4.0 * k_ * ta3;
+    dq_db = -4.0 * k_ * tb3;
+    return k_ * (ta3 * ta - tb3 * tb);
   }
 
 private:
-  int a_, b_;
   double k_;
-  int slots_[4] = {0, 0, 0, 0};
 };
 
 /// GR from the keys: given directly, or F A / (1/eps1 + 1/eps2 - 1).
