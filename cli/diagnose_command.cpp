@@ -159,7 +159,7 @@ std::string diagnosis_svg(const DiagnosisReport& r, std::size_t worst) {
 void add_diagnose_command(CLI::App& app, int& status) {
   auto o = std::make_shared<DiagnoseOptions>();
   CLI::App* sub = app.add_subcommand(
-      "diagnose", "find what a model gets wrong against measured data, its cause and the fix");
+      "diagnose", "Find what a model gets wrong against measured data, its cause and the fix");
   sub->add_option("model", o->model, "model file (.tnet) whose cases carry measured data")
       ->required();
   sub->add_option("--case", o->cases, "diagnose only these cases (repeatable)");
