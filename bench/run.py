@@ -24,6 +24,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -40,13 +41,14 @@ csv.field_size_limit(1 << 30)
 
 def timed(cmd, cwd=None):
     """Runs cmd under /usr/bin/time -v; returns (rc, stdout, stderr, process wall s, max RSS MiB)."""
-    tf = os.path.join(cwd or ".", ".time.txt")
-    t0 = time.perf_counter()
-    p = subprocess.run(["/usr/bin/time", "-v", "-o", tf] + cmd, cwd=cwd, capture_output=True, text=True)
-    wall = time.perf_counter() - t0
-    rss = float("nan")
-    with open(tf) as f:
-        for line in f:
+    # GNU time's report goes to a private temp file, never into the caller's directory.
+    with tempfile.NamedTemporaryFile("r", suffix=".time.txt") as tf:
+        t0 = time.perf_counter()
+        p = subprocess.run(["/usr/bin/time", "-v", "-o", tf.name] + cmd, cwd=cwd,
+                           capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+        rss = float("nan")
+        for line in tf:
             if "Maximum resident set size" in line:
                 rss = int(line.split(":")[1]) / 1024.0
     return p.returncode, p.stdout, p.stderr, wall, rss
