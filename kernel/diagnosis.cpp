@@ -11,11 +11,13 @@
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <set>
 #include <stdexcept>
@@ -201,6 +203,56 @@ std::vector<std::vector<double>> run_case(lang::NetworkSpec spec,
   return out;
 }
 
+/// A model-side candidate refitted together with the model's ranged params (the joint refit):
+/// parameters = the candidate's own, then every ranged param (the `parameter` candidate's).
+class Joint final : public Hypothesis {
+public:
+  Joint(const Hypothesis* inner, Candidate ic, const Hypothesis* par, Candidate pc)
+      : inner_(inner), ic_(std::move(ic)), par_(par), pc_(std::move(pc)) {}
+
+  /// The joint candidate: the inner one with the ranged params appended (started at `ranged`).
+  Candidate candidate(const std::vector<double>& ranged) const {
+    Candidate c = ic_;
+    c.names.insert(c.names.end(), pc_.names.begin(), pc_.names.end());
+    c.start.insert(c.start.end(), ranged.begin(), ranged.end());
+    c.lo.insert(c.lo.end(), pc_.lo.begin(), pc_.lo.end());
+    c.hi.insert(c.hi.end(), pc_.hi.begin(), pc_.hi.end());
+    return c;
+  }
+  std::vector<Candidate> propose(const Evidence&) const override { return {}; }
+  lang::ParamValues overrides(const Candidate&, const std::vector<double>& p) const override {
+    lang::ParamValues v = par_->overrides(pc_, tail(p));
+    for (auto& [k, x] : inner_->overrides(ic_, head(p)))
+      v.insert_or_assign(k, x);
+    return v;
+  }
+  void extend(const Candidate&, const std::vector<double>& p,
+              lang::NetworkSpec& spec) const override {
+    inner_->extend(ic_, head(p), spec);
+  }
+  void correct(const Candidate&, const std::vector<double>& p, int node,
+               const std::vector<double>& times, std::vector<double>& sim) const override {
+    inner_->correct(ic_, head(p), node, times, sim);
+  }
+  std::string statement(const Candidate&, const std::vector<double>& p,
+                        const Evidence& ev) const override {
+    return inner_->statement(ic_, head(p), ev) + "\n# fitted jointly with the ranged params:\n" +
+           par_->statement(pc_, tail(p), ev);
+  }
+
+private:
+  std::vector<double> head(const std::vector<double>& p) const {
+    return {p.begin(), p.begin() + static_cast<long>(ic_.start.size())};
+  }
+  std::vector<double> tail(const std::vector<double>& p) const {
+    return {p.begin() + static_cast<long>(ic_.start.size()), p.end()};
+  }
+  const Hypothesis* inner_;
+  Candidate ic_;
+  const Hypothesis* par_;
+  Candidate pc_;
+};
+
 /// The diagnosis of one model: evidence plus the machinery to evaluate candidates.
 class Engine {
 public:
@@ -218,14 +270,16 @@ private:
   };
 
   void collect_evidence();
-  void build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all);
+  void build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all,
+                    double& screen_total);
   CaseSims simulate(const Hypothesis* h, const Candidate* c, const std::vector<double>& p) const;
   bool in_part(std::size_t c, std::size_t k, Part part) const;
   void residuals(const CaseSims& sims, Part part, std::vector<double>& r) const;
   double sst(Part part) const;
-  Fit fit(const Hypothesis& h, const Candidate& c, std::vector<double> start, Part part) const;
+  Fit fit(const Hypothesis& h, const Candidate& c, std::vector<double> start, Part part,
+          int max_iter = 30, double rtol = 1e-7) const;
   FitMetrics metrics(const CaseSims& sims) const;
-  Finding evaluate(const Hypothesis& h, const Candidate& c) const;
+  Finding evaluate(const Hypothesis& h, const Candidate& c, bool joint = false) const;
   std::string trend_words(const FitMetrics& m, const std::vector<std::string>& nodes) const;
 
   const lang::Model& model_;
@@ -279,7 +333,7 @@ void Engine::collect_evidence() {
       const auto& node = ce.spec.nodes[static_cast<std::size_t>(ce.measured.series[s].node_index)];
       if (!node.boundary) sigmas.push_back(estimate_noise(ce.measured.series[s].values));
     }
-    build_screen(ce, all_nodes);
+    build_screen(ce, all_nodes, ev_.screen_total);
     const auto& t = ce.times();
     split_.push_back(t.front() + (1.0 - opt_.holdout) * (t.back() - t.front()));
   }
@@ -291,7 +345,8 @@ void Engine::collect_evidence() {
     baseline_.push_back(ce.simulated);
 }
 
-void Engine::build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all) {
+void Engine::build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all,
+                          double& screen_total) {
   const auto& t = ce.times();
   const std::size_t nk = t.size(), nn = ce.spec.nodes.size();
   constexpr int half = 4;
@@ -331,7 +386,7 @@ void Engine::build_screen(CaseEvidence& ce, const std::vector<std::vector<double
       const double C = ce.spec.nodes[i].C;
       const double v = C * ce.dTdt[k][i] - F[static_cast<std::size_t>(unknown_of[i])];
       ce.q[k][i] = std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN();
-      if (std::isfinite(v)) ev_.screen_total += v * v / (C * C);
+      if (std::isfinite(v)) screen_total += v * v / (C * C);
     }
   }
 }
@@ -403,7 +458,7 @@ double Engine::sst(Part part) const {
 
 /// Bounded Levenberg-Marquardt on the candidate's parameters (log scale where positive).
 Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, std::vector<double> start,
-                        Part part) const {
+                        Part part, int max_iter, double rtol) const {
   const std::size_t np = start.size();
   auto to_u = [&](const std::vector<double>& p) {
     Eigen::VectorXd u(static_cast<long>(np));
@@ -435,14 +490,18 @@ Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, std::vector<dou
   if (!resid(u, r)) return f;
   double sse = r.squaredNorm(), lambda = 1e-3;
   Eigen::MatrixXd J(r.size(), static_cast<long>(np));
-  for (int it = 0; it < 30; ++it) {
+  for (int it = 0; it < max_iter; ++it) {
     // Forward-difference Jacobian in the scaled coordinates.
     bool okJ = true;
     for (std::size_t j = 0; j < np && okJ; ++j) {
       const long jj = static_cast<long>(j);
-      const double step = c.lo[j] > 0 ? 1e-3
-                                      : 1e-3 * std::max(1.0, std::abs(u[jj])) *
-                                            std::max(1e-6, (c.hi[j] - c.lo[j]) * 1e-2);
+      double step = c.lo[j] > 0 ? 1e-3
+                                : 1e-3 * std::max(1.0, std::abs(u[jj])) *
+                                      std::max(1e-6, (c.hi[j] - c.lo[j]) * 1e-2);
+      // At (or near) the upper bound a forward step would be clamped away (a zero column that
+      // pins the parameter to the bound): step backwards instead.
+      const double u_hi = c.lo[j] > 0 ? std::log(c.hi[j]) : c.hi[j];
+      if (u[jj] + step > u_hi) step = -step;
       Eigen::VectorXd u2 = u, r2;
       u2[jj] += step;
       okJ = resid(u2, r2) && r2.size() == r.size();
@@ -463,7 +522,7 @@ Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, std::vector<dou
         u = un, r = rn, sse = rn.squaredNorm();
         lambda = std::max(lambda / 5.0, 1e-9);
         improved = true;
-        if (rel < 1e-7) it = 1000;
+        if (rel < rtol) it = 1 << 20;
       } else {
         lambda *= 8.0;
       }
@@ -591,13 +650,16 @@ std::string Engine::trend_words(const FitMetrics& m, const std::vector<std::stri
                      best->measured_rising ? "falls" : "rises");
 }
 
-Finding Engine::evaluate(const Hypothesis& h, const Candidate& c) const {
+Finding Engine::evaluate(const Hypothesis& h, const Candidate& c, bool joint) const {
   Finding f;
   f.candidate = c;
   f.evidence = c.evidence;
   const double nf = static_cast<double>(n_fit_), na = static_cast<double>(n_all_);
   // 1. Fit on the fitting stretch, judge on the held-back stretch.
-  Fit a = fit(h, c, c.start, Part::fit);
+  // The joint refit (many parameters, started at the recalibrated values) stops earlier.
+  const int max_iter = joint ? 12 : 30;
+  const double rtol = joint ? 1e-5 : 1e-7;
+  Fit a = fit(h, c, c.start, Part::fit, max_iter, rtol);
   if (!a.ok) return f;
   std::vector<double> r;
   CaseSims sa;
@@ -611,7 +673,7 @@ Finding Engine::evaluate(const Hypothesis& h, const Candidate& c) const {
   for (double x : r)
     hold += x * x;
   // 2. Refit on all data from there: the reported values.
-  Fit b = fit(h, c, a.p, Part::all);
+  Fit b = fit(h, c, a.p, Part::all, max_iter, rtol);
   if (!b.ok) return f;
   f.values = b.p;
   f.std_errors = b.se;
@@ -707,12 +769,113 @@ DiagnosisReport Engine::run() {
     parallel_for(chosen.size(), opt_.threads,
                  [&](std::size_t i) { results[i] = evaluate(*chosen[i].h, chosen[i].c); });
 
+  // Joint refit: when recalibrating the ranged params alone is significant (the `parameter`
+  // candidate beats the baseline by the information criterion), the model's params are wrong too,
+  // so a candidate's own parameter fitted at the declared values says little. Every refitted
+  // model-side candidate is then refitted again with its parameter and every ranged param together
+  // (bounded, started at the recalibrated values) and compared on that footing: the joint result
+  // replaces its own-parameter refit, and its extra parameter must also beat the recalibration
+  // alone by the BIC margin (otherwise the recalibration explains it: `parameter`).
+  std::vector<std::unique_ptr<Joint>> joints;
+  std::vector<double> vs_parameter(chosen.size(), -std::numeric_limits<double>::infinity());
+  std::size_t ipar = chosen.size();
+  for (std::size_t i = 0; i < chosen.size(); ++i)
+    if (chosen[i].c.kind == "parameter") ipar = i;
+  if (!rep.at_noise_floor && ipar < chosen.size() && !results[ipar].values.empty() &&
+      results[ipar].delta_bic < -10.0) {
+    // The screen is repeated at the recalibrated params (the unexplained heat flows change with
+    // them); its shortlist, picked by the same rule, joins the one from the declared values.
+    auto same = [](const Candidate& a, const Candidate& b) {
+      return a.kind == b.kind && a.nodes == b.nodes && a.mechanism == b.mechanism &&
+             a.element == b.element;
+    };
+    std::vector<Entry> rescreened;
+    try {
+      Evidence ev2 = ev_;
+      ev2.screen_total = 0.0;
+      const lang::ParamValues ov = chosen[ipar].h->overrides(chosen[ipar].c, results[ipar].values);
+      for (auto& ce : ev2.cases) {
+        ce.spec = model_.instantiate(ce.name, ov);
+        const auto all_nodes = run_case(ce.spec, ce.times());
+        ce.rows.clear();
+        build_screen(ce, all_nodes, ev2.screen_total);
+      }
+      std::vector<Entry> side;
+      for (const auto& hp : hyps)
+        for (auto& c : hp->propose(ev2))
+          if (!c.measurement_side && c.kind != "parameter") side.push_back({hp.get(), std::move(c)});
+      std::stable_sort(side.begin(), side.end(),
+                       [](const Entry& a, const Entry& b) { return a.c.screen > b.c.screen; });
+      // Twice as many sites as the declared-value shortlist (the screen at wrong params is a weak
+      // guide, and the recalibrated one ranks many near-equal sites), counted by site (kind, nodes,
+      // element): the two mechanisms of a link are one site.
+      std::set<std::string> kinds2, sites2;
+      std::set<std::size_t> picked2;
+      for (std::size_t i = 0; i < side.size(); ++i) {
+        const std::string site = fmt::format("{}|{}|{}", side[i].c.kind,
+                                             fmt::join(side[i].c.nodes, ","), side[i].c.element);
+        const bool top = sites2.size() < 2 * opt_.refits || sites2.count(site) != 0;
+        if (top && side[i].c.screen > 0) sites2.insert(site);
+        const bool first_of_kind = kinds2.insert(side[i].c.kind).second;
+        if ((top || first_of_kind) && side[i].c.screen > 0) picked2.insert(i);
+      }
+      for (std::size_t i : std::set<std::size_t>(picked2))
+        if (side[i].c.kind == "missing_link")
+          for (std::size_t j = 0; j < side.size(); ++j)
+            if (side[j].c.kind == "missing_link" && side[j].c.nodes == side[i].c.nodes)
+              picked2.insert(j);
+      for (std::size_t i : picked2) {
+        bool known = false;
+        for (const auto& e : chosen)
+          known = known || same(e.c, side[i].c);
+        if (!known) rescreened.push_back(side[i]);
+      }
+    } catch (const std::exception&) {
+      rescreened.clear(); // the recalibrated screen failed: the declared-value shortlist only
+    }
+    for (auto& e : rescreened) {
+      chosen.push_back(e);
+      results.emplace_back(); // no own-parameter refit: evaluated jointly only
+      vs_parameter.push_back(-std::numeric_limits<double>::infinity());
+    }
+    std::vector<std::size_t> todo;
+    std::vector<Entry> jentries;
+    for (std::size_t i = 0; i < chosen.size(); ++i) {
+      if (chosen[i].c.measurement_side || i == ipar) continue;
+      joints.push_back(
+          std::make_unique<Joint>(chosen[i].h, chosen[i].c, chosen[ipar].h, chosen[ipar].c));
+      todo.push_back(i);
+      jentries.push_back({joints.back().get(), joints.back()->candidate(results[ipar].values)});
+    }
+    std::vector<Finding> jres(todo.size());
+    parallel_for(todo.size(), opt_.threads,
+                 [&](std::size_t j) { jres[j] = evaluate(*jentries[j].h, jentries[j].c, true); });
+    rep.refitted += todo.size();
+    const double na = static_cast<double>(n_all_);
+    const double floor2 = std::max(nf * nf, 1e-12) * 1e-4;
+    const double sse_par = results[ipar].rmse_after * results[ipar].rmse_after * na;
+    for (std::size_t j = 0; j < todo.size(); ++j) {
+      if (jres[j].values.empty()) continue; // the joint fit failed: keep the own-parameter refit
+      const std::size_t i = todo[j];
+      const double sse = jres[j].rmse_after * jres[j].rmse_after * na;
+      const double extra = static_cast<double>(chosen[i].c.start.size());
+      vs_parameter[i] =
+          na * std::log((sse + floor2 * na) / (sse_par + floor2 * na)) + extra * std::log(na);
+      jres[j].evidence += (jres[j].evidence.empty() ? "" : "; ") +
+                          fmt::format("refitted jointly with the ranged params ({})",
+                                      fmt::join(chosen[ipar].c.names, ", "));
+      results[i] = std::move(jres[j]);
+      chosen[i] = jentries[j];
+    }
+  }
+
   // Significance: better by the information criterion, not worse on held-back data.
-  for (auto& f : results) {
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    Finding& f = results[i];
     if (f.values.empty()) continue;
     f.significant = f.delta_bic < -10.0 &&
                     f.validation_rmse_after <= f.validation_rmse_before + 0.1 * nf &&
-                    f.rmse_after < 0.97 * f.rmse_before;
+                    f.rmse_after < 0.97 * f.rmse_before && vs_parameter[i] < -10.0;
   }
   // Mechanism honesty: merge the two mechanisms of a link.
   for (std::size_t i = 0; i < results.size(); ++i)

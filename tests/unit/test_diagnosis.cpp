@@ -439,6 +439,36 @@ TEST_CASE("diagnose chain: a shared ranged param is recalibrated") {
   CHECK(diagnose(*e.model).baseline.rmse < 0.1);
 }
 
+TEST_CASE("diagnose chain: hidden link n1-n4 while a ranged param is also wrong (joint refit)") {
+  // The model's shared conductance Gc is declared at half its true value AND the truth has a hidden
+  // link n1-n4. Refitting the link's G alone (at the wrong Gc) cannot reach the noise, and the
+  // recalibration alone cannot explain the link: the joint refit must name the link, with both G
+  // and Gc close to the truth.
+  TempDir dir;
+  auto with_param = [](double value) {
+    std::string t = chain();
+    t.replace(
+        t.find("conductance g12 n1 n2 G = 2 [W/K]"), 33,
+        fmt::format("param Gc = {} [W/K] range 0.2 .. 10\nconductance g12 n1 n2 G = Gc", value));
+    t.replace(t.find("conductance g34 n3 n4 G = 1 [W/K]"), 33, "conductance g34 n3 n4 G = Gc");
+    return t;
+  };
+  Setup s = chain_setup();
+  s.text = with_param(1.0);
+  const auto path =
+      make_case(dir, s, "conductance hid n1 n4 G = 0.5 [W/K]", with_param(2.0));
+  const auto r = run(path);
+  const Finding& f = top(r);
+  CHECK_MESSAGE(f.candidate.kind == "missing_link", explain(r));
+  CHECK_MESSAGE(same_pair(f, "n1", "n4"), explain(r));
+  CHECK(value(f, "G") == doctest::Approx(0.5).epsilon(0.1));
+  CHECK(value(f, "Gc") == doctest::Approx(2.0).epsilon(0.05));
+  CHECK(f.rmse_after < 0.1);
+  // The recalibration alone is not the best explanation.
+  for (const auto& g : r.findings)
+    if (g.candidate.kind == "parameter") CHECK(g.rank > f.rank);
+}
+
 namespace {
 
 /// A 20-node plate (4 x 5 grid), two boundaries, two cases with different heater schedules.
