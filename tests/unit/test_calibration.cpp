@@ -28,6 +28,10 @@
 #include <unistd.h>
 #include <vector>
 
+#include "temp_dir.hpp"
+
+using thermnet::test::TempDir;
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -37,27 +41,6 @@ constexpr double kZeroCelsius = 273.15;
 constexpr double kSigma = 0.1; // measurement noise of the synthetic data, K
 constexpr double kTrueG = 2.0; // W/K
 constexpr double kTrueH = 8.0; // W/(m^2*K)
-
-/// A scratch directory removed at the end of the test.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static int counter = 0;
-    path = fs::temp_directory_path() / fmt::format("thermnet_cal_{}_{}", ::getpid(), ++counter);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  /// Writes a file and returns its path.
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name, std::ios::binary) << text;
-    return (path / name).string();
-  }
-};
 
 /// Two nodes, two ranged params, two cases with data.
 const char* const kModel = R"(model cal

@@ -25,32 +25,16 @@
 #include <unistd.h>
 #include <vector>
 
+#include "temp_dir.hpp"
+
+using thermnet::test::TempDir;
+
 namespace {
 
 namespace fs = std::filesystem;
 using namespace thermnet;
 
 constexpr double kZeroCelsius = 273.15;
-
-/// A scratch directory removed at the end of the test.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static int counter = 0;
-    path = fs::temp_directory_path() / fmt::format("thermnet_diag_{}_{}", ::getpid(), ++counter);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name, std::ios::binary) << text;
-    return (path / name).string();
-  }
-};
 
 /// A loaded model (sources kept alive).
 struct Loaded {
@@ -455,8 +439,7 @@ TEST_CASE("diagnose chain: hidden link n1-n4 while a ranged param is also wrong 
   };
   Setup s = chain_setup();
   s.text = with_param(1.0);
-  const auto path =
-      make_case(dir, s, "conductance hid n1 n4 G = 0.5 [W/K]", with_param(2.0));
+  const auto path = make_case(dir, s, "conductance hid n1 n4 G = 0.5 [W/K]", with_param(2.0));
   const auto r = run(path);
   const Finding& f = top(r);
   CHECK_MESSAGE(f.candidate.kind == "missing_link", explain(r));

@@ -20,32 +20,16 @@
 #include <unistd.h>
 #include <vector>
 
+#include "temp_dir.hpp"
+
+using thermnet::test::TempDir;
+
 namespace {
 
 namespace fs = std::filesystem;
 using namespace thermnet;
 
 constexpr double kZeroCelsius = 273.15;
-
-/// A scratch directory removed at the end of the test.
-struct Scratch {
-  fs::path path;
-  explicit Scratch(const std::string& tag) {
-    static int counter = 0;
-    path = fs::temp_directory_path() / fmt::format("thermnet_{}_{}_{}", tag, ::getpid(), ++counter);
-    fs::create_directories(path);
-  }
-  ~Scratch() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  Scratch(const Scratch&) = delete;
-  /// Writes a file and returns its path.
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name, std::ios::binary) << text;
-    return (path / name).string();
-  }
-};
 
 /// A model loaded from a file (with its sources kept alive).
 struct Loaded {
@@ -129,7 +113,7 @@ OptimizerResult run_method(const std::string& name, const CalibrationProblem& pr
 }
 
 struct ThreeParamFit {
-  Scratch dir{"lm3"};
+  TempDir dir{"lm3"};
   std::string model_path = dir.write("three.tnet", kThreeParams);
   std::unique_ptr<Loaded> loaded;
   explicit ThreeParamFit(double sigma) {
@@ -203,7 +187,7 @@ TEST_CASE("lm standard errors shrink with less noise") {
 }
 
 TEST_CASE("lm's correlation matrix flags two conductances in series") {
-  Scratch dir("lmser");
+  TempDir dir("lmser");
   const std::string path = dir.write("series.tnet", kSeries);
   {
     Loaded gen(path, false);
@@ -287,7 +271,7 @@ double dT_dG(double t, double G, double P) {
 } // namespace
 
 TEST_CASE("sensitivities match the analytic derivative and rank the dominant param first") {
-  Scratch dir("sens");
+  TempDir dir("sens");
   Loaded loaded(dir.write("one.tnet", kOneNode));
   SensitivityOptions opt;
   opt.elements = true;
@@ -314,7 +298,7 @@ TEST_CASE("sensitivities match the analytic derivative and rank the dominant par
 }
 
 TEST_CASE("uncertainty bands contain the nominal run and are deterministic") {
-  Scratch dir("unc");
+  TempDir dir("unc");
   Loaded loaded(dir.write("one.tnet", kOneNode));
   cli::UncertaintyOptions opt;
   opt.samples = 40;

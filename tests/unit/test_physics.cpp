@@ -22,6 +22,10 @@
 #include <unistd.h>
 #include <vector>
 
+#include "temp_dir.hpp"
+
+using thermnet::test::TempDir;
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -33,34 +37,14 @@ constexpr double kZeroC = 273.15;
 constexpr double kSigma = 5.670374419e-8;
 constexpr double kPi = 3.14159265358979323846;
 
-/// A scratch directory removed at scope exit.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "thermnet_physics_XXXXXX").string();
-    char* p = ::mkdtemp(tmpl.data());
-    REQUIRE(p != nullptr);
-    path = p;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  fs::path write(const std::string& name, const std::string& text) const {
-    fs::path f = path / name;
-    std::ofstream(f) << text;
-    return f;
-  }
-};
-
 /// Loads model text (written as model.tnet in dir), requires no errors, instantiates a case.
 thermnet::lang::NetworkSpec spec_from(const TempDir& dir, const std::string& text,
                                       const std::string& case_name = "") {
   fs::path f = dir.write("model.tnet", text);
   thermnet::lang::SourceManager sources;
   thermnet::lang::DiagnosticEngine diags(sources);
-  auto model = thermnet::lang::Model::load(f.string(), thermnet::ElementRegistry::global(),
-                                           sources, diags);
+  auto model =
+      thermnet::lang::Model::load(f.string(), thermnet::ElementRegistry::global(), sources, diags);
   REQUIRE(model != nullptr);
   model->lint(diags);
   INFO(thermnet::lang::render_text(diags));
@@ -277,8 +261,8 @@ case cycle { duration = 2000; output = 1 }
   // expected switch times
   std::vector<double> expected;
   double t = RC * std::log((Tinf - 20) / (Tinf - 40)); // first switch off
-  bool heating = false;                                  // after the first switch
-  const double t_off = RC * std::log(40.0 / 30.0);       // cooling 40 -> 30
+  bool heating = false;                                // after the first switch
+  const double t_off = RC * std::log(40.0 / 30.0);     // cooling 40 -> 30
   const double t_on = RC * std::log((Tinf - 30) / (Tinf - 40));
   while (t < 2000) {
     expected.push_back(t);
@@ -322,9 +306,9 @@ case cycle { duration = 2000; output = 1 }
   double worst = 0;
   for (std::size_t i = 0; i < found.size(); ++i)
     worst = std::max(worst, std::abs(found[i] - expected[i]));
-  MESSAGE("thermostat: worst switching time error " << worst << " s; band overshoot "
-                                                    << Tmax - (40 + kZeroC) << " / "
-                                                    << (30 + kZeroC) - Tmin << " K");
+  MESSAGE("thermostat: worst switching time error "
+          << worst << " s; band overshoot " << Tmax - (40 + kZeroC) << " / " << (30 + kZeroC) - Tmin
+          << " K");
   CHECK(worst < 1e-3);
   CHECK(Tmax < 40 + kZeroC + 1e-4);
   CHECK(Tmin > 30 + kZeroC - 1e-4);
@@ -376,12 +360,12 @@ case c { duration = 1000; output = 1 }
     double Tamb = ra.temps[k][static_cast<std::size_t>(col(ra, "amb"))];
     err = std::max(err, std::abs(Tn - rb.temps[k][static_cast<std::size_t>(col(rb, "n"))]));
     double mid_exact = (3 * Tn + 6 * Tamb) / 9;
-    err_mid = std::max(err_mid, std::abs(ra.temps[k][static_cast<std::size_t>(col(ra, "mid"))] -
-                                         mid_exact));
+    err_mid = std::max(err_mid,
+                       std::abs(ra.temps[k][static_cast<std::size_t>(col(ra, "mid"))] - mid_exact));
   }
   MESSAGE("arithmetic node: max |T_n - T_n(reduced)| " << err << " K, max |T_mid - (3Tn+6Tamb)/9| "
-                                                         << err_mid << " K; integrator "
-                                                         << ra.stats.integrator);
+                                                       << err_mid << " K; integrator "
+                                                       << ra.stats.integrator);
   CHECK(err < 1e-6);
   CHECK(err_mid < 1e-7); // IDA interpolates algebraic unknowns between steps
 }
@@ -452,7 +436,9 @@ case c { duration = 400; output = 10 }
   auto spec = net.spec();
   int is = spec.node_index("bs"), ip = spec.node_index("bp");
   int ns = spec.node_index("ns"), np = spec.node_index("np");
-  auto sig = [&](int i, double t) { return spec.nodes[static_cast<std::size_t>(i)].T.at(t) - kZeroC; };
+  auto sig = [&](int i, double t) {
+    return spec.nodes[static_cast<std::size_t>(i)].T.at(t) - kZeroC;
+  };
   const double eps = 1e-9;
   // step: the new value holds from the corner on; the old one just before
   CHECK(sig(is, 0) == doctest::Approx(20).epsilon(1e-14));
@@ -471,8 +457,8 @@ case c { duration = 400; output = 10 }
   CHECK(std::abs(sig(ip, 150 - eps) - sig(ip, 150 + eps)) < 1e-6);
 
   // simulate with output samples straddling the corners
-  std::vector<double> times{0, 99.999, 100, 100.001, 149.999, 150, 150.001, 249.999, 250, 250.001,
-                            300, 400};
+  std::vector<double> times{0,       99.999,  100, 100.001, 149.999, 150,
+                            150.001, 249.999, 250, 250.001, 300,     400};
   std::vector<std::vector<double>> rows;
   std::vector<double> T = net.initial_state();
   thermnet::SolverOptions so;
@@ -558,7 +544,8 @@ case s { duration = 5000; initial = steady; output = 50 }
   SimulationResult r = thermnet::simulate(net, SimulationOptions{});
   int ia = col(r, "a"), ib = col(r, "b");
   // steady check of the first row: heater = radiation + conduction via b; b balances
-  double Ta = r.temps[0][static_cast<std::size_t>(ia)], Tb = r.temps[0][static_cast<std::size_t>(ib)];
+  double Ta = r.temps[0][static_cast<std::size_t>(ia)],
+         Tb = r.temps[0][static_cast<std::size_t>(ib)];
   double Tamb = 10 + kZeroC;
   double resid_a = 30 - 2 * (Ta - Tb) - kSigma * 0.005 * (std::pow(Ta, 4) - std::pow(Tamb, 4));
   double resid_b = 2 * (Ta - Tb) - 3 * (Tb - Tamb);

@@ -14,32 +14,16 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.hpp"
+
+using thermnet::test::TempDir;
+
 using namespace thermnet;
 using namespace thermnet::lang;
 
 namespace {
 
 namespace fs = std::filesystem;
-
-/// A folder under the system temp dir for models that need files on disk (removed at the end).
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() /
-           ("thermnet_sema_" + std::to_string(reinterpret_cast<std::uintptr_t>(this)));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    fs::path p = path / name;
-    fs::create_directories(p.parent_path());
-    std::ofstream(p, std::ios::binary) << text;
-    return p.string();
-  }
-};
 
 /// A model loaded from text, with its sources and diagnostics (not movable).
 struct Loaded {
