@@ -12,11 +12,12 @@
 namespace thermnet::cli::lsp {
 namespace {
 
-/// The markdown of a key named by `w`, owned by the statement or object around it.
-std::optional<std::string> key_hover(const Document& doc, const Word& w) {
+/// The markdown of a key named by `cw`, owned by the statement or object around it.
+std::optional<std::string> key_hover(const Document& doc, const CodeWord& cw) {
   const auto& registry = ElementRegistry::global();
   const std::string& text = doc.text();
-  StatementContext ctx = context_at(text, w.begin);
+  const Word& w = cw.word;
+  const StatementContext& ctx = cw.where;
   std::string owner_kind;
   if (w.begin > 0 && text[w.begin - 1] == '.') { // `film.P`, `plate1.T0` in a case
     if (const lang::NodeDecl* n = find_node(doc.model(), ctx.object))
@@ -61,13 +62,13 @@ std::optional<std::string> declaration_hover(const Document& doc, const std::str
 
 nlohmann::json hover(const Document& doc, std::size_t at) {
   const std::string& text = doc.text();
-  std::optional<Word> w = word_at(text, at);
-  if (!w) return nullptr;
-  StatementContext ctx = context_at(text, w->begin);
-  if (ctx.in_comment || ctx.in_string) return nullptr;
+  std::optional<CodeWord> cw = code_word_at(text, at);
+  if (!cw) return nullptr;
+  const Word* w = &cw->word;
+  const StatementContext& ctx = cw->where;
   std::optional<std::string> md;
   const lang::ElementSchema* kind = ElementRegistry::global().find(w->text);
-  if (followed_by_assignment(text, *w)) md = key_hover(doc, *w);
+  if (followed_by_assignment(text, *w)) md = key_hover(doc, *cw);
   if (!md && kind && ctx.tokens.empty() && ctx.object.empty()) md = kind_markdown(*kind);
   if (!md) md = declaration_hover(doc, w->text);
   if (!md && kind) md = kind_markdown(*kind);

@@ -48,10 +48,10 @@ std::vector<Decl> declarations(const lang::Model& m) {
 
 nlohmann::json definition(const Document& doc, std::size_t at) {
   const std::string& text = doc.text();
-  std::optional<Word> w = word_at(text, at);
-  if (!w) return nullptr;
-  StatementContext ctx = context_at(text, w->begin);
-  if (ctx.in_comment || ctx.in_string) return nullptr;
+  std::optional<CodeWord> cw = code_word_at(text, at);
+  if (!cw) return nullptr;
+  const Word* w = &cw->word;
+  const StatementContext& ctx = cw->where;
   if (w->begin > 0 && text[w->begin - 1] == '.') return nullptr; // a key after `object.`
   // Values first (keys are not declarations), then nodes, elements, cases.
   std::vector<Decl> decls = declarations(doc.model());

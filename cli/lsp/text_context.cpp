@@ -152,4 +152,12 @@ StatementContext context_at(std::string_view text, std::size_t at) {
   return ctx;
 }
 
+std::optional<CodeWord> code_word_at(std::string_view text, std::size_t at) {
+  std::optional<Word> w = word_at(text, at);
+  if (!w) return std::nullopt;
+  StatementContext ctx = context_at(text, w->begin);
+  if (ctx.in_comment || ctx.in_string) return std::nullopt;
+  return CodeWord{std::move(*w), std::move(ctx)};
+}
+
 } // namespace thermnet::cli::lsp

@@ -45,4 +45,14 @@ struct StatementContext {
 /// The context of byte offset `at`.
 StatementContext context_at(std::string_view text, std::size_t at);
 
+/// An identifier of the model's code (not of a comment or string) with its statement's context.
+struct CodeWord {
+  Word word;              ///< the identifier
+  StatementContext where; ///< the statement it is in, up to the identifier's start
+};
+
+/// The identifier at byte offset `at` and its context, unless there is none or it is in a comment
+/// or string.
+std::optional<CodeWord> code_word_at(std::string_view text, std::size_t at);
+
 } // namespace thermnet::cli::lsp
