@@ -119,6 +119,27 @@ SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, dou
   const char* step_call = ev.has_algebraic() ? "IDASolve" : "CVode";
 
   try {
+    // Switches (thermostats) start from the temperatures they sense, but arithmetic nodes only
+    // have theirs once IDA made the state consistent. Moving the state there is a change like
+    // any other: an event function that changed sign on the way fires, as it would in a step.
+    if (nev > 0 && ev.has_algebraic()) {
+      std::vector<double> g_guess(static_cast<std::size_t>(nev)), g_ic(g_guess.size());
+      std::vector<int> crossed(g_guess.size());
+      std::vector<double> guess(T.begin(), T.end());
+      for (int pass = 0; pass < 4; ++pass) {
+        ev.events(t0, guess.data(), g_guess.data());
+        ev.events(t0, y, g_ic.data());
+        bool any = false;
+        for (std::size_t k = 0; k < crossed.size(); ++k) {
+          const int s = sign_of(g_ic[k]);
+          crossed[k] = (s != 0 && s != sign_of(g_guess[k])) ? s : 0;
+          any = any || crossed[k] != 0;
+        }
+        if (!any || !sys.apply_events(t0, y, crossed)) break;
+        std::copy(y, y + n, guess.begin());
+        stepper->restart(t0, stops[seg]);
+      }
+    }
     for (; next_out < output_times.size() && output_times[next_out] <= t0; ++next_out)
       emit_state(output_times[next_out], y);
 

@@ -370,6 +370,40 @@ case c { duration = 1000; output = 1 }
   CHECK(err_mid < 1e-7); // IDA interpolates algebraic unknowns between steps
 }
 
+TEST_CASE("physics: a thermostat starts from the temperature of an arithmetic node it senses") {
+  // The arithmetic node s sits at (a + e)/2 = 0 degC at t = 0, below 'on' = 5 (its own T0
+  // default of 20 degC must not decide): the heater is on from the start, and a approaches
+  // the steady value P/(G + G/2) = 13.33 degC as 13.33 (1 - exp(-t G_eff / C)).
+  const std::string sensed = R"(
+boundary e T = 0
+node a C = 100 T0 = 0
+node s C = 0
+conductance g a e G = 1
+conductance g2 a s G = 1
+conductance g3 s e G = 1
+thermostat t a P = 20 on = 5 off = 8 sense = s
+case c { duration = 200; output = 200 }
+)";
+  Network net(spec_from(sensed));
+  SimulationResult r = thermnet::simulate(net, tight(1e-9));
+  const double a = r.temps.back()[static_cast<std::size_t>(col(r, "a"))] - kZeroC;
+  CHECK(a == doctest::Approx(40.0 / 3.0 * (1.0 - std::exp(-200.0 * 1.5 / 100.0))).epsilon(1e-6));
+
+  // A thermostat heating an arithmetic node: off it would sit at 0 < 'on', so it is on, and
+  // on it sits at P/G = 20 degC, inside the band: it stays on.
+  const std::string heated = R"(
+boundary e T = 0
+node a C = 0
+conductance g a e G = 1
+thermostat t a P = 20 on = 18 off = 22
+case c { duration = 100; output = 50 }
+)";
+  Network net2(spec_from(heated));
+  SimulationResult r2 = thermnet::simulate(net2, tight(1e-9));
+  for (const auto& row : r2.temps)
+    CHECK(row[static_cast<std::size_t>(col(r2, "a"))] - kZeroC == doctest::Approx(20.0));
+}
+
 TEST_CASE("physics: composite and geometric conductances match hand computation") {
   // A node with a heater P = 10 W, connected to a 0 degC boundary only through the element under
   // test: G = P / (T - 0).
