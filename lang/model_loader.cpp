@@ -1,6 +1,7 @@
 // Loading a model: reading files, following includes, collecting declarations and checking that
 // every name is unique in its namespace.
 
+#include "lang/keywords.hpp"
 #include "lang/model.hpp"
 #include "lang/parser.hpp"
 
@@ -91,6 +92,8 @@ private:
   /// Registers a name in a namespace, reporting a duplicate with a note at the first definition.
   bool unique(std::unordered_map<std::string, Span>& names, const char* what,
               const ast::Identifier& id, FileId f, const ast::Tagged& stmt) {
+    if (is_keyword(id.name)) // reported, then kept: its uses must not cascade into more errors
+      diags_.report(DiagId::reserved_name, at(f, stmt), span(f, id), what, id.name);
     auto [it, fresh] = names.emplace(id.name, span(f, id));
     if (!fresh) {
       auto& d = diags_.report(DiagId::duplicate_name, at(f, stmt), span(f, id), what, id.name);

@@ -3,6 +3,7 @@
 #include "cli/lsp/schema_text.hpp"
 #include "cli/lsp/text_context.hpp"
 #include "kernel/element_registry.hpp"
+#include "lang/keywords.hpp"
 
 #include <algorithm>
 #include <set>
@@ -119,9 +120,8 @@ nlohmann::json completion(const Document& doc, std::size_t at) {
     if (ctx.inner) {
       add_kinds(items, ctx.block == "series");
     } else {
-      for (const char* k : {"node", "boundary", "param", "const", "series", "parallel", "case",
-                            "model", "include", "plugin"})
-        items.add(k, item_keyword, "statement");
+      for (std::string_view k : lang::statement_keywords)
+        items.add(std::string(k), item_keyword, "statement");
       add_kinds(items, false);
     }
     return items.take();
