@@ -138,8 +138,11 @@ struct case_data_class : annotate {};
 struct case_item_class : annotate {};
 struct case_header_class : annotate {};
 struct statement_class : annotate {};
+struct terminal_pair_class {};
 
 inline const x3::rule<identifier_class, ast::Identifier> identifier = "name";
+inline const x3::rule<terminal_pair_class, std::vector<ast::Identifier>> terminal_pair =
+    "the two terminal nodes";
 inline const x3::rule<string_class, ast::String> string_literal = "string";
 inline const x3::rule<unit_class, ast::UnitText> unit = "unit in brackets";
 inline const x3::rule<quantity_class, ast::Quantity> quantity = "number";
@@ -275,8 +278,9 @@ inline const auto element_stmt_def = identifier >>
 inline const auto inner_element_def = identifier > *key_value;
 inline const auto composite_mode_def =
     x3::raw[lexeme[(lit("series") | lit("parallel")) >> !(alnum | lit('_'))]][set_name];
-inline const auto composite_stmt_def = composite_mode > identifier > x3::repeat(2)[identifier] >
-                                       *x3::eol > lit('{') > *block_separator >
+inline const auto terminal_pair_def = x3::repeat(2)[identifier];
+inline const auto composite_stmt_def = composite_mode > identifier > terminal_pair > *x3::eol >
+                                       lit('{') > *block_separator >
                                        *(inner_element >> *block_separator) > lit('}');
 inline const auto statement_def = model_stmt | include_stmt | plugin_stmt | const_stmt |
                                   param_stmt | node_stmt | boundary_stmt | composite_stmt |
@@ -297,7 +301,7 @@ BOOST_SPIRIT_DEFINE(identifier, string_body, string_literal, unit, quantity, pri
                     signal_kind, signal_point, point_list, point_signal, table_signal, value,
                     key_value, model_stmt, include_stmt, plugin_stmt, const_stmt, range, param_stmt,
                     node_stmt, boundary_stmt, element_stmt, inner_element, composite_mode,
-                    composite_stmt, statement, case_header, target, case_assign, case_data,
-                    case_item)
+                    terminal_pair, composite_stmt, statement, case_header, target, case_assign,
+                    case_data, case_item)
 
 } // namespace thermnet::lang::grammar
