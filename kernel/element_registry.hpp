@@ -76,6 +76,12 @@ struct Key {
     k.min_exclusive = true;
     return *this;
   }
+  /// Requires value >= 0.
+  Key& non_negative() {
+    k.min = 0.0;
+    k.min_exclusive = false;
+    return *this;
+  }
   /// Requires value in (0, 1].
   Key& fraction() {
     positive();

@@ -4,14 +4,17 @@
 namespace thermnet {
 namespace {
 
-/// Heats its node with P while on; turns on below T_on and off above T_off (of the sensed node).
+/// Heats its node with P(t) while on; turns on below T_on and off above T_off (of the sensed node).
 class Thermostat final : public Element {
 public:
-  Thermostat(int node, int sense, double P, double on, double off)
-      : node_(node), sense_(sense), P_(P), on_(on), off_(off) {}
+  Thermostat(int node, int sense, lang::Signal P, double on, double off)
+      : node_(node), sense_(sense), P_(std::move(P)), on_(on), off_(off) {}
   void declare(JacobianLayout&) override {}
-  void stamp(double, const double*, double* F, double*) const override {
-    if (heating_) F[node_] += P_;
+  void stamp(double t, const double*, double* F, double*) const override {
+    if (heating_) F[node_] += P_.at(t);
+  }
+  void breakpoints(std::vector<double>& out) const override {
+    out.insert(out.end(), P_.corners().begin(), P_.corners().end());
   }
   int event_count() const override { return 1; }
   /// While off the event is the sensed temperature reaching T_on; while on, reaching T_off.
@@ -23,11 +26,12 @@ public:
     return true;
   }
   void init_events(double, const double* T) override { heating_ = T[sense_] < on_; }
-  double power_in(double, const double*) const override { return heating_ ? P_ : 0.0; }
+  double power_in(double t, const double*) const override { return heating_ ? P_.at(t) : 0.0; }
 
 private:
   int node_, sense_;
-  double P_, on_, off_;
+  lang::Signal P_;
+  double on_, off_;
   bool heating_ = false;
 };
 
@@ -37,7 +41,10 @@ ElementPlugin make_thermostat() {
   s.terminals = 1;
   s.doc = "on/off heater with hysteresis: on below 'on', off above 'off'";
   s.is_source = true;
-  s.keys.push_back(Key("P", lang::dim::power, "heating power while on [W]").required().positive());
+  s.keys.push_back(Key("P", lang::dim::power, "heating power while on [W], a constant or a signal")
+                       .required()
+                       .non_negative()
+                       .signal());
   s.keys.push_back(Key("on", lang::dim::temperature, "switch-on temperature [degC]")
                        .required()
                        .absolute_temperature());
@@ -57,7 +64,7 @@ ElementPlugin make_thermostat() {
                          auto it = e.node_keys.find("sense");
                          int node = e.nodes.at(0);
                          return std::make_unique<Thermostat>(
-                             node, it == e.node_keys.end() ? node : it->second, e.number("P"),
+                             node, it == e.node_keys.end() ? node : it->second, e.values.at("P"),
                              e.number("on"), e.number("off"));
                        }};
 }

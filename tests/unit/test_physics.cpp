@@ -370,6 +370,38 @@ case c { duration = 1000; output = 1 }
   CHECK(err_mid < 1e-7); // IDA interpolates algebraic unknowns between steps
 }
 
+TEST_CASE("physics: a thermostat's power may be a signal, also in a case override") {
+  // RC = 100 s to 0 degC, P = 20 W while on and before 100 s, 0 after (on 5, off 8): off at
+  // t1 = 100 ln(20/12), on again at t2 = t1 + 100 ln(8/5), then T(100) = 20 - 15 exp(-(100 -
+  // t2)/100) decays freely since the power is gone: T(200) = T(100) / e.
+  const std::string text = R"(
+boundary e T = 0
+node a C = 100 T0 = 0
+conductance g a e G = 1
+thermostat t a P = step(0: 20, 100: 0) on = 5 off = 8
+case c { duration = 200; output = 100 }
+case half {
+  duration = 200
+  output = 100
+  t.P = 6
+}
+)";
+  Network net(spec_from(text, "c"));
+  SimulationResult r = thermnet::simulate(net, tight(1e-10));
+  const double t2 = 100.0 * std::log(20.0 / 12.0) + 100.0 * std::log(8.0 / 5.0);
+  const double at100 = 20.0 - 15.0 * std::exp(-(100.0 - t2) / 100.0);
+  const auto a = static_cast<std::size_t>(col(r, "a"));
+  REQUIRE(r.times.size() == 3);
+  CHECK(r.temps[1][a] - kZeroC == doctest::Approx(at100).epsilon(1e-6));
+  CHECK(r.temps[2][a] - kZeroC == doctest::Approx(at100 * std::exp(-1.0)).epsilon(1e-6));
+  CHECK(r.stats.events == 2);
+
+  // P = 6 W: never reaches 'off' = 8 (T -> 6 (1 - exp(-t/100))), so it heats throughout.
+  Network half(spec_from(text, "half"));
+  SimulationResult rh = thermnet::simulate(half, tight(1e-10));
+  CHECK(rh.temps[2][a] - kZeroC == doctest::Approx(6.0 * (1.0 - std::exp(-2.0))).epsilon(1e-6));
+}
+
 TEST_CASE("physics: a thermostat starts from the temperature of an arithmetic node it senses") {
   // The arithmetic node s sits at (a + e)/2 = 0 degC at t = 0, below 'on' = 5 (its own T0
   // default of 20 degC must not decide): the heater is on from the start, and a approaches
