@@ -44,7 +44,7 @@ int run_lint(const LintOptions& o) {
                                w, w == 1 ? "" : "s", n, n == 1 ? "" : "s");
   }
   std::cout.flush();
-  if (unreadable) return exit_usage;
+  if (unreadable || reports_unreadable_file(diags)) return exit_usage;
   if (diags.error_count() > 0 || (o.werror && diags.warning_count() > 0)) return exit_failure;
   return exit_ok;
 }

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -55,6 +56,14 @@ std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceMan
   return lang::Model::load(path, ElementRegistry::global(), sources, diags, load_options());
 }
 
+bool reports_unreadable_file(const lang::DiagnosticEngine& diags) {
+  return std::any_of(diags.all().begin(), diags.all().end(), [](const lang::Diagnostic& d) {
+    return d.severity == lang::Severity::error &&
+           (d.code == "file-unreadable" || d.code == "include-unreadable" ||
+            d.code == "data-unreadable");
+  });
+}
+
 std::unique_ptr<lang::Model> load_checked_model(const std::string& path,
                                                 lang::SourceManager& sources, int& status) {
   lang::DiagnosticEngine diags(sources);
@@ -69,10 +78,18 @@ std::unique_ptr<lang::Model> load_checked_model(const std::string& path,
   if (diags.error_count() > 0) {
     std::cerr << fmt::format("thermnet: {} error{} in the model; nothing was run\n",
                              diags.error_count(), diags.error_count() == 1 ? "" : "s");
-    status = exit_failure;
+    status = reports_unreadable_file(diags) ? exit_usage : exit_failure;
     return nullptr;
   }
   return model;
+}
+
+int report_model_error(const lang::ModelError& e, const lang::SourceManager& sources) {
+  print_diagnostic(e.diag, sources);
+  const std::string& c = e.diag.code;
+  const bool usage = c == "choose-case" || c == "unknown-case" || c == "file-unreadable" ||
+                     c == "include-unreadable" || c == "data-unreadable";
+  return usage ? exit_usage : exit_failure;
 }
 
 void print_diagnostic(const lang::Diagnostic& d, const lang::SourceManager& sources) {

@@ -30,10 +30,17 @@ void add_plugin_option(CLI::App& app);
 std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceManager& sources,
                                         lang::DiagnosticEngine& diags);
 
+/// True when a diagnostic says a file (model, include, data or table) could not be read.
+bool reports_unreadable_file(const lang::DiagnosticEngine& diags);
+
 /// Loads and lints a model for a command; on errors prints them to stderr, sets `status` and
-/// returns nullptr (status 2 when the file cannot be read, 1 for errors in it).
+/// returns nullptr (status 2 when a file it needs cannot be read, 1 for errors in it).
 std::unique_ptr<lang::Model> load_checked_model(const std::string& path,
                                                 lang::SourceManager& sources, int& status);
+
+/// Prints a model error found while running a command and returns the exit status it calls for:
+/// 2 for a wrong or missing --case or a file that cannot be read, 1 otherwise.
+int report_model_error(const lang::ModelError& e, const lang::SourceManager& sources);
 
 /// Prints one diagnostic (e.g. from a ModelError) to stderr, compiler-style.
 void print_diagnostic(const lang::Diagnostic& d, const lang::SourceManager& sources);

@@ -244,6 +244,8 @@ std::string Model::resolve_case(const std::string& name) const {
   if (name.empty()) {
     if (cases_.size() == 1) return cases_[0].name;
     if (cases_.empty()) return "default";
+    for (const auto& c : cases_)
+      if (c.name == "default") return c.name;
     std::string list;
     for (const auto& c : cases_)
       list += (list.empty() ? "" : ", ") + c.name;

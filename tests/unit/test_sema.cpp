@@ -290,6 +290,9 @@ TEST_CASE("sema: instantiate throws ModelError at the first error, with its code
   CHECK_THROWS_AS(two->model->instantiate(), ModelError);
   CHECK(two->model->resolve_case("b") == "b");
   CHECK_THROWS_AS(two->model->resolve_case("c"), ModelError);
+  // Several cases, one called `default`: it is the one used without --case (cli.md).
+  auto with_default = load(kBase + "case a { duration = 1 }\ncase default { duration = 2 }\n");
+  CHECK(with_default->model->resolve_case("") == "default");
 }
 
 // -----------------------------------------------------------------------------------------
