@@ -1,7 +1,5 @@
 #include "plugins/estimator/arx_fit.hpp"
 
-#include <Eigen/Dense>
-
 #include <cmath>
 
 namespace thermnet::estimation {
@@ -10,27 +8,27 @@ ArxCoefficients fit_arx(const double* upper, const double* middle, const double*
                         const double* lower, std::size_t n) {
   ArxCoefficients c;
   if (n < 2) return c;
-  const auto rows = static_cast<Eigen::Index>(n);
-  Eigen::MatrixXd X(rows, 2);
-  Eigen::VectorXd y(rows);
-  for (Eigen::Index i = 0; i < rows; ++i) {
-    X(i, 0) = d_middle[i];
-    X(i, 1) = middle[i] - lower[i];
-    y(i) = upper[i] - middle[i];
+  // One pass over the window: the 2x2 normal equations of the regressors x1 = d_middle and
+  // x2 = middle - lower against y = upper - middle. No allocation, O(n).
+  double s11 = 0.0, s12 = 0.0, s22 = 0.0, s1y = 0.0, s2y = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x1 = d_middle[i], x2 = middle[i] - lower[i], y = upper[i] - middle[i];
+    s11 += x1 * x1;
+    s12 += x1 * x2;
+    s22 += x2 * x2;
+    s1y += x1 * y;
+    s2y += x2 * y;
   }
-  // Scale the columns so the rank decision does not depend on units (s vs K).
-  Eigen::Vector2d scale;
-  for (int j = 0; j < 2; ++j) {
-    scale(j) = X.col(j).norm();
-    if (!(scale(j) > 0.0) || !std::isfinite(scale(j))) return c;
-    X.col(j) /= scale(j);
-  }
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
-  qr.setThreshold(1e-12);
-  if (qr.rank() < 2) return c;
-  Eigen::Vector2d beta = qr.solve(y);
-  c.tau = beta(0) / scale(0);
-  c.xi = beta(1) / scale(1);
+  // Scaled to unit column norms, so the rank decision does not depend on units (s vs K): the
+  // Gram matrix is [[1, r], [r, 1]], singular when the regressors are (nearly) collinear.
+  const double n1 = std::sqrt(s11), n2 = std::sqrt(s22);
+  if (!(n1 > 0.0) || !(n2 > 0.0) || !std::isfinite(n1) || !std::isfinite(n2)) return c;
+  const double r = s12 / (n1 * n2), det = 1.0 - r * r;
+  constexpr double collinear = 1e-10; // below this, the normal equations keep < 6 digits
+  if (!(det > collinear)) return c;
+  const double b1 = s1y / n1, b2 = s2y / n2;
+  c.tau = (b1 - r * b2) / det / n1;
+  c.xi = (b2 - r * b1) / det / n2;
   c.ok = std::isfinite(c.tau) && std::isfinite(c.xi);
   return c;
 }

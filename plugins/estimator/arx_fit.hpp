@@ -17,7 +17,8 @@ struct ArxCoefficients {
 };
 
 /// Least squares over n samples of `upper = tau d(middle)/dt + (xi + 1) middle - xi lower`, i.e.
-/// upper - middle = tau d_middle + xi (middle - lower), solved by column-pivoting QR.
+/// upper - middle = tau d_middle + xi (middle - lower), solved by the normal equations of the
+/// unit-scaled columns in one allocation-free pass; ok is false when the regressors are collinear.
 ArxCoefficients fit_arx(const double* upper, const double* middle, const double* d_middle,
                         const double* lower, std::size_t n);
 

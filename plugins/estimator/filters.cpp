@@ -7,6 +7,7 @@
 // the record (prefix sums over the whole record with one origin would cancel catastrophically).
 
 #include "plugins/estimator/filters.hpp"
+#include "plugins/estimator/savgol_kernel.hpp"
 
 #include <Eigen/Dense>
 
@@ -123,15 +124,7 @@ void savitzky_golay(const double* y, std::size_t n, int window, int order, doubl
     finite_difference(y, n, dt, slope);
     return;
   }
-  // Gram matrix of the powers (j/h)^k over j = -h..h, and its inverse.
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(p + 1, p + 1);
-  for (int j = -h; j <= h; ++j) {
-    double s = static_cast<double>(j) / h;
-    for (int a = 0; a <= p; ++a)
-      for (int b = 0; b <= p; ++b)
-        G(a, b) += std::pow(s, a + b);
-  }
-  Eigen::MatrixXd Ginv = G.ldlt().solve(Eigen::MatrixXd::Identity(p + 1, p + 1));
+  const Eigen::MatrixXd Ginv = savgol_gram_inverse(h, p);
   std::vector<std::vector<double>> binom(p + 1, std::vector<double>(p + 1, 0.0));
   for (int k = 0; k <= p; ++k) {
     binom[k][0] = 1.0;

@@ -3,9 +3,9 @@
 /// derivatives: Savitzky-Golay, Gaussian, moving average, or none (finite differences only).
 ///
 /// Every filter works on a whole array in O(n) (the Savitzky-Golay moments come from chunked
-/// prefix sums), so a sliding window of tens of thousands of samples is filtered in well under a
-/// millisecond. Edges are treated without padding: Savitzky-Golay evaluates the first/last full
-/// fit there (SciPy's mode 'interp'), the averaging filters shrink their window.
+/// prefix sums); a sliding Savitzky-Golay window reuses per-sample results instead
+/// (savgol_kernel.hpp). Edges are treated without padding: Savitzky-Golay evaluates the first/last
+/// full fit there (SciPy's mode 'interp'), the averaging filters shrink their window.
 
 #include <cstddef>
 #include <string>

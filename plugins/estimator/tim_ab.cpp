@@ -18,6 +18,7 @@
 #include "kernel/estimator.hpp"
 #include "plugins/estimator/arx_fit.hpp"
 #include "plugins/estimator/filters.hpp"
+#include "plugins/estimator/savgol_kernel.hpp"
 
 #include <fmt/format.h>
 
@@ -147,8 +148,15 @@ public:
         {"xi_hat", coeff_.xi, ""},
         {"window_time_mean", windows_ ? time_sum_ / static_cast<double>(windows_) : 0.0, "s"},
         {"window_time_max", time_max_, "s"}};
+    if (!full_ && rows_seen_ > 0) {
+      m.push_back({"row_time_mean", row_time_sum_ / static_cast<double>(rows_seen_), "s"});
+      m.push_back({"row_time_max", row_time_max_, "s"});
+    }
     if (true_col_ >= 0 && compared_ > 0) {
       m.push_back({"mean_relative_error", 100.0 * rel_sum_ / static_cast<double>(rel_count_), "%"});
+      if (windows_scored_ > 0)
+        m.push_back({"window_relative_error",
+                     100.0 * window_rel_sum_ / static_cast<double>(windows_scored_), "%"});
       m.push_back({"rmse", std::sqrt(sq_sum_ / static_cast<double>(compared_)), "K"});
       m.push_back({"max_abs_error", max_abs_, "K"});
       m.push_back({"mean_abs_error", abs_sum_ / static_cast<double>(compared_), "K"});
@@ -172,21 +180,51 @@ private:
     }
   }
 
+  // Savitzky-Golay in a sliding window: the centred value and slope of sample n - 1 - h, computed
+  // once when sample n - 1 arrives (windows overlap, so this is the work they share).
+  void update_savgol_cache() {
+    const std::size_t n = t_.size(), W = static_cast<std::size_t>(sg_.window());
+    for (int k = 0; k < 3; ++k) {
+      cv_[k].resize(n, nan);
+      cd_[k].resize(n, nan);
+      if (n < W) continue;
+      auto [v, s] = sg_.centre(y_[k].data() + (n - W));
+      cv_[k][n - 1 - static_cast<std::size_t>(sg_.half())] = v;
+      cd_[k][n - 1 - static_cast<std::size_t>(sg_.half())] = s;
+    }
+  }
+
   EstimateRow realtime_step() {
+    auto start = std::chrono::steady_clock::now();
     std::size_t n = t_.size();
     if (window_n_ == 0 && n >= 2) {
       window_n_ = static_cast<std::size_t>(std::lround(window_s_ / dt0_)) + 1;
       if (window_n_ < 4) window_n_ = 4;
       spec_ = filter_for(window_n_);
+      if (spec_.kind == estimation::FilterKind::savgol && spec_.window >= 3)
+        sg_ = estimation::SavgolKernel(spec_.window, spec_.order);
     }
-    if (window_n_ == 0 || n < window_n_) return make_row(t_.back(), nan, truth_.back(), false);
+    if (sg_.window() > 0) update_savgol_cache();
+    if (window_n_ == 0 || n < window_n_) {
+      record_row_time(start);
+      return make_row(t_.back(), nan, truth_.back(), false);
+    }
     std::size_t first = n - window_n_;
     double dt = (t_.back() - t_[first]) / static_cast<double>(window_n_ - 1);
-    auto start = std::chrono::steady_clock::now();
     bool refit = since_fit_ == 0 || since_fit_ >= slide_;
     double est = nan;
     if (refit) {
-      filter_block(first, window_n_, spec_, dt);
+      if (sg_.window() > 0) {
+        for (int k = 0; k < 3; ++k) {
+          v_[k].resize(window_n_);
+          d_[k].resize(window_n_);
+          estimation::savgol_window(sg_, y_[k].data() + first, cv_[k].data() + first,
+                                    cd_[k].data() + first, window_n_, dt, v_[k].data(),
+                                    d_[k].data());
+        }
+      } else {
+        filter_block(first, window_n_, spec_, dt);
+      }
       coeff_ =
           estimation::fit_arx(v_[0].data(), v_[1].data(), d_[1].data(), v_[2].data(), window_n_);
       ++windows_;
@@ -194,6 +232,11 @@ private:
       std::size_t last = window_n_ - 1;
       if (coeff_.ok)
         est = estimation::arx_extrapolate(coeff_, v_[0][last], d_[0][last], v_[1][last]);
+    } else if (sg_.window() > 0) {
+      const std::size_t W = static_cast<std::size_t>(sg_.window());
+      auto [vb, db] = sg_.newest(y_[0].data() + (n - W));
+      double vc = sg_.newest(y_[1].data() + (n - W)).first;
+      if (coeff_.ok) est = estimation::arx_extrapolate(coeff_, vb, db / dt, vc);
     } else {
       std::size_t tail = std::min(window_n_, estimation::filter_support(spec_));
       tail_v_.resize(tail);
@@ -208,9 +251,31 @@ private:
       if (coeff_.ok) est = estimation::arx_extrapolate(coeff_, vb, db, tail_v_.back());
     }
     ++since_fit_;
-    if (refit) record_time(start);
+    if (refit) {
+      record_time(start);
+      if (true_col_ >= 0 && coeff_.ok) score_window(first);
+    }
+    record_row_time(start);
     trim();
     return make_row(t_.back(), est, truth_.back(), coeff_.ok);
+  }
+
+  // The study's "mean relative error of the window": the window's fit applied to every row of the
+  // window (its full-time-domain inversion), mean of |error| / |rise of the truth| over the rows.
+  void score_window(std::size_t first) {
+    if (std::isnan(reference_)) reference_ = truth_.front();
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < window_n_; ++i) {
+      double truth = truth_[first + i], rise = std::abs(truth - reference_);
+      if (std::isnan(truth) || !(rise > 1e-9)) continue;
+      double est = estimation::arx_extrapolate(coeff_, v_[0][i], d_[0][i], v_[1][i]);
+      sum += std::abs(est - truth) / rise;
+      ++count;
+    }
+    if (count == 0) return;
+    window_rel_sum_ += sum / static_cast<double>(count);
+    ++windows_scored_;
   }
 
   // Keeps the stored history bounded in realtime mode (the window plus slack).
@@ -223,14 +288,27 @@ private:
     };
     cut(t_);
     cut(truth_);
-    for (auto& y : y_)
-      cut(y);
+    for (int k = 0; k < 3; ++k) {
+      cut(y_[k]);
+      if (sg_.window() > 0) {
+        cut(cv_[k]);
+        cut(cd_[k]);
+      }
+    }
   }
 
+  // Wall time of one refit (filter + fit + estimate).
   void record_time(std::chrono::steady_clock::time_point start) {
     double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     time_sum_ += s;
     time_max_ = std::max(time_max_, s);
+  }
+
+  // Wall time of one realtime row, refit or not (all the work a new sample causes).
+  void record_row_time(std::chrono::steady_clock::time_point start) {
+    double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    row_time_sum_ += s;
+    row_time_max_ = std::max(row_time_max_, s);
   }
 
   EstimateRow make_row(double t, double est, double truth, bool have = true) {
@@ -266,11 +344,15 @@ private:
   double window_s_ = 0.0, gamma_ = 0.5, dt0_ = 0.0;
   std::size_t slide_ = 10, window_n_ = 0, since_fit_ = 0;
   FilterSpec filter_, spec_;
+  estimation::SavgolKernel sg_; // realtime Savitzky-Golay kernels (window 0: not used)
   std::vector<double> t_, truth_, y_[3], v_[3], d_[3], tail_v_, tail_d_;
+  std::vector<double> cv_[3], cd_[3]; // centred Savitzky-Golay value and slope per sample
   ArxCoefficients coeff_;
-  std::size_t rows_seen_ = 0, windows_ = 0, estimated_ = 0, compared_ = 0, rel_count_ = 0;
+  std::size_t rows_seen_ = 0, windows_ = 0, estimated_ = 0, compared_ = 0, rel_count_ = 0,
+              windows_scored_ = 0;
   double time_sum_ = 0.0, time_max_ = 0.0, sq_sum_ = 0.0, abs_sum_ = 0.0, max_abs_ = 0.0,
-         rel_sum_ = 0.0, reference_ = nan;
+         rel_sum_ = 0.0, reference_ = nan, row_time_sum_ = 0.0, row_time_max_ = 0.0,
+         window_rel_sum_ = 0.0;
 };
 
 EstimatorPlugin tim_ab_plugin() {

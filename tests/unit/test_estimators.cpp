@@ -11,13 +11,17 @@
 #include "lang/model.hpp"
 #include "plugins/estimator/arx_fit.hpp"
 #include "plugins/estimator/filters.hpp"
+#include "plugins/estimator/savgol_kernel.hpp"
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -158,6 +162,53 @@ TEST_CASE("filters: the tail of filter_support samples gives the same newest val
   CHECK(clamp_filter({FilterKind::savgol, 2, 3}, 400).window == 5);
 }
 
+TEST_CASE("filters: cached Savitzky-Golay kernels give the direct computation's window") {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  const int n = 4000;
+  const double dt = 0.1;
+  std::vector<double> y(n);
+  for (int i = 0; i < n; ++i)
+    y[i] = 20 + 300 * std::sin(i * 0.0015) + 0.002 * i + noise(rng);
+  for (auto [window, order] :
+       {std::pair{301, 3}, std::pair{3, 1}, std::pair{41, 0}, std::pair{151, 5}}) {
+    SavgolKernel kernel(window, order);
+    const int h = kernel.half();
+    // The cache: each sample's centred value and slope, as a stream computes them.
+    std::vector<double> cv(n, std::nan("")), cd(n, std::nan(""));
+    for (int i = h; i + h < n; ++i)
+      std::tie(cv[i], cd[i]) = kernel.centre(y.data() + (i - h));
+    for (int first : {0, 517, n - 1200}) {
+      const int N = 1200;
+      std::vector<double> v(N), s(N), dv(N), ds(N);
+      savgol_window(kernel, y.data() + first, cv.data() + first, cd.data() + first, N, dt, v.data(),
+                    s.data());
+      savitzky_golay(y.data() + first, N, window, order, dt, dv.data(), ds.data());
+      double worst_v = 0, worst_s = 0;
+      for (int i = 0; i < N; ++i) {
+        worst_v = std::max(worst_v, std::abs(v[i] - dv[i]));
+        worst_s = std::max(worst_s, std::abs(s[i] - ds[i]));
+      }
+      CAPTURE(window);
+      CAPTURE(first);
+      CHECK(worst_v < 1e-9);
+      CHECK(worst_s < 1e-9);
+      auto [nv, ns] = kernel.newest(y.data() + first + N - window);
+      CHECK(nv == doctest::Approx(dv.back()).epsilon(1e-12));
+      CHECK(ns / dt == doctest::Approx(ds.back()).epsilon(1e-9));
+    }
+  }
+  // The kernels of a cubic fit reproduce a cubic and its slope exactly.
+  SavgolKernel cubic(51, 3);
+  std::vector<double> c(51);
+  for (int i = 0; i < 51; ++i)
+    c[i] = 1.0 + 0.2 * i - 0.01 * i * i + 3e-4 * i * i * i;
+  auto [cv, cs] = cubic.centre(c.data());
+  CHECK(cv == doctest::Approx(c[25]).epsilon(1e-12));
+  CHECK(cs == doctest::Approx(0.2 - 0.02 * 25 + 9e-4 * 25 * 25).epsilon(1e-10));
+  CHECK_THROWS_AS(SavgolKernel(4, 2), std::invalid_argument);
+}
+
 TEST_CASE("tim-ab: window bookkeeping, and exact estimates where the relation holds exactly") {
   // Quadratic C, D: second-order differences are exact, so the relation holds sample by sample.
   const double tau = 120.0, xi = 0.8, dt = 0.5;
@@ -203,6 +254,56 @@ TEST_CASE("tim-ab: window bookkeeping, and exact estimates where the relation ho
                   EstimatorError);
   CHECK_THROWS_AS(make("tim-ab", {"time", "B", "C", "D"}, {{"sensors", "B,C,D"}}),
                   EstimatorError); // realtime without a window
+}
+
+TEST_CASE("tim-ab: the realtime Savitzky-Golay path equals filtering and fitting each window") {
+  // Noisy sensors; every estimate must equal the direct computation: Savitzky-Golay over the
+  // whole window, least squares, relation at the newest sample (refit rows) or the last
+  // coefficients with the filter's newest value (rows between refits). The record is long enough
+  // for the estimator to trim its history.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> noise(-0.5, 0.5);
+  const double dt = 0.5;
+  const int rows = 1500, N = 201, slide = 6;
+  std::vector<double> Y[3];
+  for (int k = 0; k < rows; ++k) {
+    double t = k * dt;
+    Y[0].push_back(20 + 80 * (1 - std::exp(-t / 150)) + 5 * std::sin(t / 40) + noise(rng));
+    Y[1].push_back(20 + 50 * (1 - std::exp(-t / 220)) + 2 * std::sin(t / 50) + noise(rng));
+    Y[2].push_back(20 + 30 * (1 - std::exp(-t / 300)) + noise(rng));
+  }
+  auto est = make("tim-ab", {"time", "B", "C", "D"},
+                  {{"sensors", "B,C,D"},
+                   {"window", "100"},
+                   {"slide", std::to_string(slide)},
+                   {"filter", "savgol"},
+                   {"gamma", "0.4"}});
+  FilterSpec spec =
+      clamp_filter({FilterKind::savgol, static_cast<int>(std::lround(0.4 * N)), 3}, N);
+  ArxCoefficients coeff;
+  std::vector<double> v[3], d[3];
+  int checked = 0;
+  for (int k = 0; k < rows; ++k) {
+    auto out = est->push({k * dt, Y[0][k], Y[1][k], Y[2][k]});
+    REQUIRE(out.size() == 1);
+    if (k + 1 < N) {
+      CHECK(std::isnan(out[0].values[0]));
+      continue;
+    }
+    const int first = k + 1 - N;
+    for (int c = 0; c < 3; ++c) {
+      v[c].resize(N);
+      d[c].resize(N);
+      apply_filter(spec, Y[c].data() + first, N, dt, v[c].data(), d[c].data());
+    }
+    if (first % slide == 0) coeff = fit_arx(v[0].data(), v[1].data(), d[1].data(), v[2].data(), N);
+    REQUIRE(coeff.ok);
+    double direct = arx_extrapolate(coeff, v[0].back(), d[0].back(), v[1].back());
+    CHECK(out[0].values[0] == doctest::Approx(direct).epsilon(1e-9));
+    CHECK(out[0].values[1] == doctest::Approx(coeff.tau).epsilon(1e-9));
+    ++checked;
+  }
+  CHECK(checked == rows - N + 1);
 }
 
 TEST_CASE("tim-ab: the study's slab, error falls with the window and stays within bounds") {
