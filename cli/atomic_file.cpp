@@ -7,14 +7,22 @@
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
+#include <set>
 #include <sys/stat.h>
 #include <unistd.h>
 
 namespace thermnet::cli {
 
-void write_file_atomically(const std::string& path, const std::string& content) {
-  namespace fs = std::filesystem;
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Writes `content` to a fresh temporary file beside `path` (synced) and returns its name.
+std::string stage(const std::string& path, const std::string& content) {
   fs::path target(path);
+  std::error_code ec;
+  if (fs::is_directory(target, ec))
+    throw OutputError(fmt::format("cannot write '{}': it is a directory", path));
   fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
   std::string tmpl = (dir / ("." + target.filename().string() + ".tmp.XXXXXX")).string();
   int fd = ::mkstemp(tmpl.data());
@@ -38,14 +46,47 @@ void write_file_atomically(const std::string& path, const std::string& content) 
   }
   if (::fchmod(fd, 0644) != 0 || ::fsync(fd) != 0) fail("sync");
   if (::close(fd) != 0) {
-    ::unlink(tmpl.c_str());
-    throw OutputError(fmt::format("cannot write '{}': {}", path, std::strerror(errno)));
-  }
-  if (std::rename(tmpl.c_str(), path.c_str()) != 0) {
     int err = errno;
     ::unlink(tmpl.c_str());
     throw OutputError(fmt::format("cannot write '{}': {}", path, std::strerror(err)));
   }
+  return tmpl;
+}
+
+/// Removes staged temporary files (best effort).
+void discard(const std::vector<std::string>& staged, std::size_t from = 0) {
+  for (std::size_t i = from; i < staged.size(); ++i)
+    ::unlink(staged[i].c_str());
+}
+
+} // namespace
+
+void write_file_atomically(const std::string& path, const std::string& content) {
+  write_files_atomically({OutputFile{path, content}});
+}
+
+void write_files_atomically(const std::vector<OutputFile>& files) {
+  std::set<fs::path> targets;
+  for (const auto& f : files) {
+    std::error_code ec;
+    fs::path key = fs::weakly_canonical(fs::path(f.path), ec);
+    if (!targets.insert(ec ? fs::path(f.path) : key).second)
+      throw OutputError(fmt::format("'{}' is named for two outputs", f.path));
+  }
+  std::vector<std::string> staged;
+  try {
+    for (const auto& f : files)
+      staged.push_back(stage(f.path, f.content));
+  } catch (...) {
+    discard(staged);
+    throw;
+  }
+  for (std::size_t i = 0; i < files.size(); ++i)
+    if (std::rename(staged[i].c_str(), files[i].path.c_str()) != 0) {
+      int err = errno;
+      discard(staged, i);
+      throw OutputError(fmt::format("cannot write '{}': {}", files[i].path, std::strerror(err)));
+    }
 }
 
 } // namespace thermnet::cli

@@ -13,6 +13,7 @@
 #include "cli/model_loading.hpp"
 #include "cli/model_rewrite.hpp"
 #include "cli/progress_bar.hpp"
+#include "cli/rewritten_model.hpp"
 #include "kernel/optimizer.hpp"
 #include "lang/csv.hpp"
 
@@ -112,33 +113,40 @@ CLI::Validator number_validator(bool whole, bool allow_zero) {
       whole ? "INT" : "NUMBER");
 }
 
+/// Writes the requested outputs as one unit: nothing is written unless everything could be.
 void write_outputs(const CalibrateOptions& o, const lang::Model& model,
                    const CalibrationProblem& problem, const OptimizerResult& r) {
+  std::vector<OutputFile> files;
   if (!o.json.empty()) {
     ReportContext ctx{o.seed, o.tolerance, o.model};
-    write_file_atomically(o.json, result_json(r, problem, ctx).dump(2) + "\n");
+    files.push_back({o.json, result_json(r, problem, ctx).dump(2) + "\n"});
   }
-  if (!r.found) return;
-  if (!o.out.empty()) {
+  std::vector<RewrittenFile> model_files;
+  if (r.found && !o.out.empty()) {
     std::vector<ParamUpdate> updates;
     for (std::size_t j = 0; j < problem.dimension(); ++j)
       updates.push_back({problem.params()[j], r.best[j]});
     const long root = model.sources().find(model.path());
     if (root < 0) throw OutputError("the model's own text is no longer available");
-    RewriteResult rw = rewrite_params(model.sources(), static_cast<lang::FileId>(root), updates);
-    if (!rw.skipped.empty())
-      std::cerr << fmt::format("thermnet calibrate: warning: {} declared in included files {} not "
-                               "rewritten in {}: {}\n",
-                               rw.skipped.size() == 1 ? "this param" : "these params",
-                               rw.skipped.size() == 1 ? "is" : "are", o.out,
-                               fmt::join(rw.skipped, ", "));
-    write_file_atomically(o.out, rw.text);
+    model_files = rewrite_model(model.sources(), static_cast<lang::FileId>(root), updates, o.out);
+    for (const auto& f : model_files)
+      files.push_back({f.path, f.text});
   }
-  if (!o.plot.empty()) {
+  if (r.found && !o.plot.empty()) {
     auto cmp = problem.compare(r.best);
     std::string title =
         fmt::format("{} — calibrated by {} (RMSE {:.3g} K)", model.name(), r.method, r.rmse);
-    write_file_atomically(o.plot, plot::render_svg(comparison_figure(cmp, title)));
+    files.push_back({o.plot, plot::render_svg(comparison_figure(cmp, title))});
+  }
+  write_files_atomically(files);
+  if (model_files.size() > 1) {
+    std::vector<std::string> copies;
+    for (std::size_t k = 1; k < model_files.size(); ++k)
+      copies.push_back(fmt::format("{} (copy of {})", model_files[k].path,
+                                   model.sources().path(model_files[k].source)));
+    std::cerr << fmt::format("thermnet calibrate: note: {} includes rewritten copies of the files "
+                             "declaring calibrated params, written beside it: {}\n",
+                             o.out, fmt::join(copies, ", "));
   }
 }
 
@@ -244,7 +252,12 @@ void add_calibrate_command(CLI::App& app, int& status) {
       ->check(number_validator(true, true));
   cmd->add_option("--threads", o->threads, "worker threads (default 0: all cores)")
       ->check(number_validator(true, true));
-  cmd->add_option("-o,--out", o->out, "write the model with the calibrated param values");
+  cmd->add_option("-o,--out", o->out,
+                  "write the model with the calibrated values in place (comments and layout "
+                  "kept, units as written); params declared in included files go to rewritten "
+                  "copies beside OUT named OUTSTEM.FILE, which OUT includes instead of the "
+                  "originals; the inputs are never modified (unless OUT is the model itself), "
+                  "and nothing is written unless every output can be");
   cmd->add_option("--json", o->json, "write the result as JSON");
   cmd->add_option("--plot", o->plot, "SVG plot of measured vs simulated for the best fit");
   cmd->add_option("--case", o->cases,

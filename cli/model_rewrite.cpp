@@ -55,8 +55,34 @@ Written classify(std::string_view s) {
   return w;
 }
 
+/// The distinct unit texts (between square brackets) of an expression, in order.
+std::vector<std::string> units_in(std::string_view s) {
+  std::vector<std::string> units;
+  for (std::size_t open = s.find('['); open != std::string_view::npos; open = s.find('[', open)) {
+    const std::size_t close = s.find(']', open);
+    if (close == std::string_view::npos) break;
+    std::string u(s.substr(open + 1, close - open - 1));
+    u.erase(std::remove_if(u.begin(), u.end(), is_space), u.end());
+    if (std::find(units.begin(), units.end(), u) == units.end()) units.push_back(u);
+    open = close;
+  }
+  return units;
+}
+
 std::string number(double v) {
   return fmt::format("{:.8g}", v);
+}
+
+/// `si` written in the unit `unit` when that unit parses and has the param's dimension.
+std::optional<std::string> in_unit(const std::string& unit, const lang::ParamInfo& param,
+                                   double si) {
+  try {
+    const lang::Unit u = lang::parse_unit(unit);
+    if (!param.dim || u.dim != *param.dim) return std::nullopt;
+    return fmt::format("{} [{}]", number((si - u.offset) / u.scale), unit);
+  } catch (const lang::UnitError&) {
+    return std::nullopt; // not expected for a checked model
+  }
 }
 
 } // namespace
@@ -65,40 +91,46 @@ std::string format_param_value(std::string_view written, const lang::ParamInfo& 
   const Written w = classify(written);
   const bool temperature = param.dim && *param.dim == lang::dim::temperature;
   if (w.literal && w.unit) {
-    try {
-      const lang::Unit u = lang::parse_unit(*w.unit);
-      return fmt::format("{} [{}]", number((si - u.offset) / u.scale), *w.unit);
-    } catch (const lang::UnitError&) {
-      // Not expected for a checked model; fall through to the SI form.
-    }
+    if (auto s = in_unit(*w.unit, param, si)) return *s;
   } else if (w.literal) {
     return number(temperature ? si - kZeroCelsius : si);
+  } else {
+    const auto units = units_in(written);
+    if (units.size() == 1)
+      if (auto s = in_unit(units.front(), param, si)) return *s;
   }
   if (!param.dim || param.dim->dimensionless()) return number(si);
   return fmt::format("{} [{}]", number(si), lang::describe(*param.dim));
 }
 
+std::vector<TextEdit> param_edits(const lang::SourceManager& sources, lang::FileId file,
+                                  const std::vector<ParamUpdate>& updates) {
+  const std::string& text = sources.text(file);
+  std::vector<TextEdit> edits;
+  for (const auto& u : updates) {
+    const lang::Span s = u.param.value_span;
+    if (s.file != file || s.end < s.begin || s.end > text.size()) continue;
+    const std::string_view old(text.data() + s.begin, s.end - s.begin);
+    edits.push_back({s.begin, s.end, format_param_value(old, u.param, u.value)});
+  }
+  return edits;
+}
+
+std::string apply_edits(std::string text, std::vector<TextEdit> edits) {
+  // From the end of the text backwards, so earlier offsets stay valid.
+  std::sort(edits.begin(), edits.end(),
+            [](const TextEdit& a, const TextEdit& b) { return a.begin > b.begin; });
+  for (const auto& e : edits)
+    text.replace(e.begin, e.end - e.begin, e.text);
+  return text;
+}
+
 RewriteResult rewrite_params(const lang::SourceManager& sources, lang::FileId root,
                              const std::vector<ParamUpdate>& updates) {
   RewriteResult r;
-  r.text = sources.text(root);
-  std::vector<const ParamUpdate*> here;
-  for (const auto& u : updates) {
-    if (u.param.value_span.file == root)
-      here.push_back(&u);
-    else
-      r.skipped.push_back(u.param.name);
-  }
-  // From the end of the file backwards, so earlier spans keep their offsets.
-  std::sort(here.begin(), here.end(), [](const ParamUpdate* a, const ParamUpdate* b) {
-    return a->param.value_span.begin > b->param.value_span.begin;
-  });
-  for (const ParamUpdate* u : here) {
-    const lang::Span s = u->param.value_span;
-    if (s.end < s.begin || s.end > r.text.size()) continue;
-    const std::string_view old(r.text.data() + s.begin, s.end - s.begin);
-    r.text.replace(s.begin, s.end - s.begin, format_param_value(old, u->param, u->value));
-  }
+  r.text = apply_edits(sources.text(root), param_edits(sources, root, updates));
+  for (const auto& u : updates)
+    if (u.param.value_span.file != root) r.skipped.push_back(u.param.name);
   return r;
 }
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The command-line contract of `thermnet calibrate`: the Table-3 style table, JSON fields, -o
-# round-trips comments and layout, --plot, determinism across --threads, usage errors (exit 2),
+# round-trips comments and layout (also of included files, rewritten as copies beside OUT), a
+# failed output writes nothing, --plot, determinism across --threads, usage errors (exit 2),
 # nothing to calibrate (exit 1) and Ctrl-C (SIGINT still writes the best result, exit 1).
 # Usage: calibrate_cli.sh PATH/TO/thermnet
 set -u
@@ -97,6 +98,69 @@ check "the calibrated model lints clean" test $? -eq 0
 check "--plot writes an SVG" grep -q '<svg' fit.svg
 check "the SVG has measured and simulated series" grep -q 'a measured' fit.svg
 
+# -o when the ranged params live in an included file: the file is rewritten as a copy beside OUT
+mkdir -p lib out
+cat >lib/unknowns.tnet <<'EOF2'
+# unknowns of the a-b test (included by inc.tnet)
+param G = 3 [W/K] range 0.5 .. 5   # conductance a-b
+param  h = 2 * 2.5 [W/(m^2*K)]  range 2 .. 15 "convection b-ambient"   # an expression
+EOF2
+cat >inc.tnet <<'EOF2'
+model inc
+include "lib/unknowns.tnet"   # the ranged params
+param C_b = 300 [J/K]
+boundary amb T = 20     # ambient
+node a C = 500 [J/K] T0 = 20
+node b C = C_b T0 = 20
+conductance g a b G = G
+convection cv b amb h = h A = 0.05 [m^2]
+heater film a P = 10
+case heat { duration = 3600; output = 60; data "heat.csv" }
+EOF2
+cp lib/unknowns.tnet unknowns.orig
+cp inc.tnet inc.orig
+run calibrate inc.tnet --method lm -o out/cal.tnet --json out/inc.json
+check "-o with included params: exit 0" test "$rc" -eq 0
+check "-o: the main file and a copy of the included file beside it" \
+  test -s out/cal.tnet -a -s out/cal.unknowns.tnet -a "$(ls out | wc -l)" -eq 3
+check "-o: says where the copy went" grep -q 'out/cal.unknowns.tnet (copy of lib/unknowns.tnet)' err.txt
+check "-o: the user's files are untouched" eval 'cmp -s lib/unknowns.tnet unknowns.orig && cmp -s inc.tnet inc.orig'
+check "-o: the main file includes the copy and reads the original data, nothing else changes" \
+  test "$(diff inc.tnet out/cal.tnet | grep -c '^[<>]')" -eq 4 -a \
+       "$(grep -c -e '^include "cal.unknowns.tnet"   # the ranged params$' -e 'data "../heat.csv"' out/cal.tnet)" -eq 2
+check "-o: the copy keeps comments, spacing, ranges and docs" \
+  cmp -s <(sed -E 's/^(param +[A-Za-z_]+ = )[^[]+ \[/\1X [/' unknowns.orig) \
+         <(sed -E 's/^(param +[A-Za-z_]+ = )[^[]+ \[/\1X [/' out/cal.unknowns.tnet)
+check "-o: an expression becomes the value in its unit" \
+  grep -Eq '^param  h = [0-9.]+ \[W/\(m\^2\*K\)\]  range 2 \.\. 15 "convection b-ambient"   # an expression$' out/cal.unknowns.tnet
+"$TN" lint out/cal.tnet --werror >/dev/null 2>&1
+check "-o: the calibrated model lints clean" test $? -eq 0
+run calibrate out/cal.tnet --method lm --samples 1 --json out2.json
+check "-o: the calibrated model declares the fitted values and gives the fit's RMSE" \
+  test "$(python3 -c "import json; a = json.load(open('out/inc.json')); b = json.load(open('out2.json'))
+print(all(abs(b['declared'][k] / v - 1) < 1e-7 for k, v in a['params'].items()) and abs(b['rmse'] / a['rmse'] - 1) < 1e-3)")" = True
+
+# a failure leaves no partial outputs
+mkdir -p fail/cal.unknowns.tnet # a directory where the copy would go
+run calibrate inc.tnet --method lm -o fail/cal.tnet --json fail/r.json --plot fail/fit.svg
+check "an output that cannot be written: exit 2 with the reason" \
+  test "$rc" -eq 2 -a -n "$(grep "cannot write 'fail/cal.unknowns.tnet'" err.txt)"
+check "  ... and nothing written (no model, JSON, plot or temporary file)" test "$(ls -A fail)" = cal.unknowns.tnet
+run calibrate inc.tnet --method lm -o lib/unknowns.tnet --json fail/r2.json
+check "-o naming an included input: exit 2" \
+  test "$rc" -eq 2 -a -n "$(grep 'would overwrite a file the model reads' err.txt)"
+check "  ... the input untouched and nothing written" \
+  eval 'cmp -s lib/unknowns.tnet unknowns.orig && test ! -e fail/r2.json'
+run calibrate inc.tnet --method lm -o out/cal.tnet --json out/cal.tnet
+check "-o and --json naming the same file: exit 2" test "$rc" -eq 2
+
+# in place: the root file is the target, the included file still gets a new copy
+cp inc.tnet inplace.tnet
+run calibrate inplace.tnet --method lm -o inplace.tnet
+check "-o onto the model itself: exit 0, the include points at a new copy" \
+  test "$rc" -eq 0 -a -s inplace.unknowns.tnet -a -n "$(grep '^include "inplace.unknowns.tnet"' inplace.tnet)"
+check "  ... and the included original is untouched" cmp -s lib/unknowns.tnet unknowns.orig
+
 run calibrate cal.tnet --method mc --samples 400 --seed 9 --threads 1 --json t1.json
 r1=$rc
 run calibrate cal.tnet --method mc --samples 400 --seed 9 --threads 2 --json t2.json
@@ -132,6 +196,7 @@ run calibrate cal.tnet --samples 10 -o no_such_dir/out.tnet
 check "unwritable -o: exit 2" test "$rc" -eq 2
 run calibrate --help
 check "--help lists the registered methods" grep -q 'lhs:' out.txt
+check "--help explains -o with included files" grep -q 'included files' out.txt
 
 # nothing to calibrate: exit 1
 run calibrate norange.tnet

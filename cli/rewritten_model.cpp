@@ -1,0 +1,204 @@
+#include "cli/rewritten_model.hpp"
+
+#include "cli/atomic_file.hpp"
+#include "lang/parser.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <set>
+
+namespace thermnet::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace ast = lang::ast;
+
+/// A path literal written in a model file.
+struct PathRef {
+  std::uint32_t begin = 0; ///< first byte of the literal (its opening quote)
+  std::uint32_t end = 0;   ///< one past its closing quote
+  std::string text;        ///< the path, unescaped
+  bool include = false;    ///< an `include` (else a data, table or plugin file)
+};
+
+/// Collects the path literals of a file's statements.
+struct PathCollector {
+  std::vector<PathRef>& out;
+
+  void add(const ast::String& s, bool include) const {
+    out.push_back({s.begin, s.end, s.text, include});
+  }
+  void value(const ast::Value& v) const {
+    if (const auto* t = boost::get<ast::TableSignal>(&v)) add(t->file, false);
+  }
+  void keys(const std::vector<ast::KeyValue>& kvs) const {
+    for (const auto& kv : kvs)
+      value(kv.value);
+  }
+  void operator()(const ast::IncludeStmt& s) const { add(s.path, true); }
+  void operator()(const ast::PluginStmt& s) const { add(s.path, false); }
+  void operator()(const ast::NodeStmt& s) const { keys(s.keys); }
+  void operator()(const ast::BoundaryStmt& s) const { keys(s.keys); }
+  void operator()(const ast::ElementStmt& s) const { keys(s.keys); }
+  void operator()(const ast::CompositeStmt& s) const {
+    for (const auto& part : s.parts)
+      keys(part.keys);
+  }
+  void operator()(const ast::CaseStmt& s) const {
+    for (const auto& item : s.items) {
+      if (const auto* d = boost::get<ast::CaseData>(&item))
+        add(d->path, false);
+      else if (const auto* a = boost::get<ast::CaseAssign>(&item))
+        value(a->value);
+    }
+  }
+  void operator()(const ast::ModelStmt&) const {}
+  void operator()(const ast::ConstStmt&) const {}
+  void operator()(const ast::ParamStmt&) const {}
+};
+
+/// A model file's path literals and, for each include, the file it loaded.
+struct FileRefs {
+  std::vector<PathRef> refs;
+  std::vector<std::optional<lang::FileId>> targets;
+};
+
+/// An absolute, normalised path with symlinks resolved as far as the path exists.
+fs::path real_path(const fs::path& p) {
+  std::error_code ec;
+  fs::path c = fs::weakly_canonical(p, ec);
+  if (!ec) return c;
+  return fs::absolute(p, ec).lexically_normal();
+}
+
+fs::path directory_of(const fs::path& file) {
+  return file.parent_path().empty() ? fs::path(".") : file.parent_path();
+}
+
+/// A path written in file `from` as the path it names.
+fs::path resolve(const fs::path& from, const std::string& written) {
+  const fs::path p(written);
+  return p.is_absolute() ? p : directory_of(from) / p;
+}
+
+/// How a file at `target` is named from directory `dir`: relative when possible.
+std::string path_from(const fs::path& dir, const fs::path& target) {
+  const fs::path t = real_path(target);
+  const fs::path rel = t.lexically_relative(real_path(dir));
+  return (rel.empty() ? t : rel).generic_string();
+}
+
+/// A string literal of the language for a path (\" and \\ escaped).
+std::string string_literal(const std::string& path) {
+  if (path.find_first_of("\r\n") != std::string::npos)
+    throw OutputError(fmt::format("cannot name '{}' in a model file (line break)", path));
+  std::string s = "\"";
+  for (char c : path) {
+    if (c == '"' || c == '\\') s += '\\';
+    s += c;
+  }
+  return s + "\"";
+}
+
+} // namespace
+
+std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lang::FileId root,
+                                         const std::vector<ParamUpdate>& updates,
+                                         const std::string& out) {
+  std::map<fs::path, lang::FileId> by_path;
+  std::set<fs::path> inputs;
+  for (lang::FileId id = 0; id < sources.size(); ++id) {
+    by_path.emplace(real_path(sources.path(id)), id);
+    inputs.insert(real_path(sources.path(id)));
+  }
+
+  // The model files reachable from the root, with their path literals.
+  std::vector<lang::FileId> order{root};
+  std::map<lang::FileId, FileRefs> files;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const lang::FileId f = order[i];
+    lang::DiagnosticEngine diags(sources);
+    const ast::File parsed = lang::parse_file(f, sources, diags);
+    FileRefs info;
+    for (const auto& s : parsed.statements)
+      boost::apply_visitor(PathCollector{info.refs}, s);
+    for (const auto& r : info.refs) {
+      const fs::path named = real_path(resolve(sources.path(f), r.text));
+      std::optional<lang::FileId> target;
+      if (r.include) {
+        if (auto it = by_path.find(named); it != by_path.end()) target = it->second;
+        if (target && std::find(order.begin(), order.end(), *target) == order.end())
+          order.push_back(*target);
+      }
+      inputs.insert(named);
+      info.targets.push_back(target);
+    }
+    files.emplace(f, std::move(info));
+  }
+
+  // The files that change: the root, those declaring an updated param, and their includers.
+  std::set<lang::FileId> changed{root};
+  for (const auto& u : updates)
+    if (files.count(u.param.value_span.file)) changed.insert(u.param.value_span.file);
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const auto& [f, info] : files)
+      if (!changed.count(f))
+        for (const auto& t : info.targets)
+          if (t && changed.count(*t)) {
+            changed.insert(f);
+            grew = true;
+            break;
+          }
+  }
+
+  // Where each goes: never onto an input, except the root onto itself.
+  const fs::path out_path(out);
+  const fs::path out_key = real_path(out_path);
+  if (inputs.count(out_key) && out_key != real_path(sources.path(root)))
+    throw OutputError(fmt::format("-o '{}' would overwrite a file the model reads; write the "
+                                  "calibrated model to a new file",
+                                  out));
+  std::map<lang::FileId, fs::path> dest{{root, out_path}};
+  std::set<fs::path> taken = inputs;
+  taken.insert(out_key);
+  for (lang::FileId f : order) {
+    if (f == root || !changed.count(f)) continue;
+    const fs::path original(sources.path(f));
+    const std::string stem = out_path.stem().string() + "." + original.stem().string();
+    const std::string ext = original.extension().string();
+    fs::path p = out_path.parent_path() / (stem + ext);
+    for (int n = 2; taken.count(real_path(p)); ++n)
+      p = out_path.parent_path() / fmt::format("{}-{}{}", stem, n, ext);
+    taken.insert(real_path(p));
+    dest.emplace(f, p);
+  }
+
+  std::vector<RewrittenFile> result;
+  for (lang::FileId f : order) {
+    if (!changed.count(f)) continue;
+    const fs::path from_dir = directory_of(sources.path(f));
+    const fs::path to_dir = directory_of(dest.at(f));
+    const bool moved = real_path(from_dir) != real_path(to_dir);
+    std::vector<TextEdit> edits = param_edits(sources, f, updates);
+    const FileRefs& info = files.at(f);
+    for (std::size_t k = 0; k < info.refs.size(); ++k) {
+      const PathRef& r = info.refs[k];
+      std::optional<std::string> path;
+      if (info.targets[k] && changed.count(*info.targets[k]))
+        path = path_from(to_dir, dest.at(*info.targets[k]));
+      else if (moved && fs::path(r.text).is_relative())
+        path = path_from(to_dir, from_dir / r.text);
+      if (path && *path != r.text) edits.push_back({r.begin, r.end, string_literal(*path)});
+    }
+    result.push_back({dest.at(f).string(), apply_edits(sources.text(f), std::move(edits)), f});
+  }
+  return result;
+}
+
+} // namespace thermnet::cli

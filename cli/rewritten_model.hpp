@@ -1,0 +1,31 @@
+#pragma once
+/// The calibrated model as files (calibrate -o): the root file at OUT and, beside it, a copy of
+/// every included file that declares a rewritten param or includes such a file, with the paths
+/// written in the copies adjusted so that the new model reads the copies and the original data.
+
+#include "cli/model_rewrite.hpp"
+
+#include <string>
+#include <vector>
+
+namespace thermnet::cli {
+
+/// One file of a rewritten model.
+struct RewrittenFile {
+  std::string path;        ///< where it is to be written
+  std::string text;        ///< its new text
+  lang::FileId source = 0; ///< the model file it is a copy of
+};
+
+/// The files of the model rooted at `root` with the params set to their new values, root first.
+/// The root goes to `out`; every other file that changes goes beside `out` as `OUTSTEM.NAME`
+/// (`OUTSTEM.STEM-2.EXT`, ... when that name is taken by an input or another copy). In each written
+/// file, includes of a copied file name the copy, and relative include/data/table/plugin paths
+/// are re-expressed from the new directory when it differs from the original's. Files that do not
+/// change are not copied; the user's inputs are never targets, except the root when `out` names
+/// it. Throws OutputError when `out` names another input of the model (an included or data file).
+std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lang::FileId root,
+                                         const std::vector<ParamUpdate>& updates,
+                                         const std::string& out);
+
+} // namespace thermnet::cli

@@ -1,0 +1,196 @@
+// Unit tests of `calibrate -o` across files: which files are rewritten and where they go, include
+// and data paths in the copies, the user's inputs never overwritten, the written model loading
+// with the new values, units kept in expressions, and outputs written all-or-nothing.
+
+#include "cli/atomic_file.hpp"
+#include "cli/rewritten_model.hpp"
+#include "kernel/element_registry.hpp"
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "temp_dir.hpp"
+
+using thermnet::test::TempDir;
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace thermnet;
+
+/// A loaded model (sources kept alive).
+struct Loaded {
+  lang::SourceManager sources;
+  lang::DiagnosticEngine diags{sources};
+  std::unique_ptr<lang::Model> model;
+  explicit Loaded(const std::string& path) {
+    model = lang::Model::load(path, ElementRegistry::global(), sources, diags);
+    REQUIRE(model);
+  }
+  lang::FileId root() const {
+    const long id = sources.find(model->path());
+    REQUIRE(id >= 0);
+    return static_cast<lang::FileId>(id);
+  }
+};
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// main.tnet includes lib/mid.tnet (no param), which includes lib/params.tnet (the ranged
+/// params), and geometry.tnet (nothing to change); one case reads heat.csv.
+struct Tree {
+  TempDir dir{"rewrite"};
+  Tree() {
+    dir.write("heat.csv", "time,a\n0,20\n60,21\n");
+    dir.write("geometry.tnet", "# geometry\nnode a C = Ca\nboundary amb T = 20\n");
+    dir.write("lib/params.tnet", "# unknowns\n"
+                                 "param G  = 3 [W/K]  range 0.5 .. 5   # conductance a-amb\n"
+                                 "param Ca = 0.5 [kJ/K] range 0.1 [kJ/K] .. 2 [kJ/K] \"cap\"\n");
+    dir.write("lib/mid.tnet", "# middle\ninclude \"params.tnet\"  # the unknowns\n");
+    dir.write("main.tnet", "model m  # root\n"
+                           "include \"lib/mid.tnet\"\n"
+                           "include \"geometry.tnet\"\n"
+                           "param h = 5 range 1 .. 10\n"
+                           "conductance g a amb G = G * h / 5\n"
+                           "case heat { duration = 60; data \"heat.csv\" }\n");
+  }
+  std::string path(const std::string& name) const { return (dir.path / name).string(); }
+};
+
+std::vector<cli::ParamUpdate> updates_for(const lang::Model& m) {
+  std::vector<cli::ParamUpdate> u;
+  for (const auto& p : m.params())
+    u.push_back({p, p.name == "G" ? 2.25 : p.name == "Ca" ? 1250.0 : 7.5});
+  return u;
+}
+
+} // namespace
+
+TEST_CASE("rewrite_model: the files declaring params and their includers, beside OUT") {
+  Tree t;
+  Loaded m(t.path("main.tnet"));
+  fs::create_directories(t.dir.path / "out");
+  auto files =
+      cli::rewrite_model(m.sources, m.root(), updates_for(*m.model), t.path("out/cal.tnet"));
+  REQUIRE(files.size() == 3);
+  CHECK(files[0].path == t.path("out/cal.tnet"));
+  CHECK(files[0].text == "model m  # root\n"
+                         "include \"cal.mid.tnet\"\n"
+                         "include \"../geometry.tnet\"\n"
+                         "param h = 7.5 range 1 .. 10\n"
+                         "conductance g a amb G = G * h / 5\n"
+                         "case heat { duration = 60; data \"../heat.csv\" }\n");
+  CHECK(files[1].path == t.path("out/cal.mid.tnet"));
+  CHECK(files[1].text == "# middle\ninclude \"cal.params.tnet\"  # the unknowns\n");
+  CHECK(files[2].path == t.path("out/cal.params.tnet"));
+  CHECK(m.sources.path(files[2].source) == t.path("lib/params.tnet"));
+  CHECK(files[2].text == "# unknowns\n"
+                         "param G  = 2.25 [W/K]  range 0.5 .. 5   # conductance a-amb\n"
+                         "param Ca = 1.25 [kJ/K] range 0.1 [kJ/K] .. 2 [kJ/K] \"cap\"\n");
+
+  SUBCASE("written, the model loads clean and declares the new values") {
+    std::vector<cli::OutputFile> out;
+    for (const auto& f : files)
+      out.push_back({f.path, f.text});
+    cli::write_files_atomically(out);
+    Loaded back(t.path("out/cal.tnet"));
+    back.model->lint(back.diags);
+    CHECK(back.diags.error_count() == 0);
+    std::map<std::string, double> values;
+    for (const auto& p : back.model->params())
+      values[p.name] = p.value;
+    CHECK(values.at("G") == doctest::Approx(2.25));
+    CHECK(values.at("Ca") == doctest::Approx(1250.0));
+    CHECK(values.at("h") == doctest::Approx(7.5));
+    CHECK(read(t.dir.path / "lib/params.tnet").find("param G  = 3 [W/K]") != std::string::npos);
+  }
+}
+
+TEST_CASE(
+    "rewrite_model: only the root when every param is declared there; same folder keeps paths") {
+  Tree t;
+  Loaded m(t.path("main.tnet"));
+  std::vector<cli::ParamUpdate> only_h;
+  for (const auto& u : updates_for(*m.model))
+    if (u.param.name == "h") only_h.push_back(u);
+  auto files = cli::rewrite_model(m.sources, m.root(), only_h, t.path("cal.tnet"));
+  REQUIRE(files.size() == 1);
+  CHECK(files[0].text ==
+        cli::apply_edits(m.sources.text(m.root()), cli::param_edits(m.sources, m.root(), only_h)));
+  CHECK(files[0].text.find("include \"lib/mid.tnet\"") != std::string::npos);
+  CHECK(files[0].text.find("data \"heat.csv\"") != std::string::npos);
+}
+
+TEST_CASE("rewrite_model: the user's inputs are never targets, except the root onto itself") {
+  Tree t;
+  Loaded m(t.path("main.tnet"));
+  const auto updates = updates_for(*m.model);
+  CHECK_THROWS_AS(cli::rewrite_model(m.sources, m.root(), updates, t.path("lib/params.tnet")),
+                  cli::OutputError);
+  CHECK_THROWS_AS(cli::rewrite_model(m.sources, m.root(), updates, t.path("heat.csv")),
+                  cli::OutputError);
+  // In place: the root is the target; its included copies are new files named after it.
+  auto in_place = cli::rewrite_model(m.sources, m.root(), updates, t.path("main.tnet"));
+  REQUIRE(in_place.size() == 3);
+  CHECK(in_place[1].path == t.path("main.mid.tnet"));
+  CHECK(in_place[2].path == t.path("main.params.tnet"));
+  CHECK(in_place[0].text.find("include \"main.mid.tnet\"") != std::string::npos);
+  CHECK(in_place[0].text.find("include \"geometry.tnet\"") != std::string::npos);
+  // A copy's name that an input already has gets a number.
+  t.dir.write("cal.mid.tnet", "# an input that happens to have the copy's name\n");
+  t.dir.write("main.tnet", read(t.dir.path / "main.tnet") + "include \"cal.mid.tnet\"\n");
+  Loaded m2(t.path("main.tnet"));
+  auto files =
+      cli::rewrite_model(m2.sources, m2.root(), updates_for(*m2.model), t.path("cal.tnet"));
+  REQUIRE(files.size() == 3);
+  CHECK(files[1].path == t.path("cal.mid-2.tnet"));
+  CHECK(files[0].text.find("include \"cal.mid-2.tnet\"") != std::string::npos);
+  CHECK(files[0].text.find("include \"cal.mid.tnet\"") != std::string::npos);
+}
+
+TEST_CASE("format_param_value: an expression keeps the one unit it is written in") {
+  lang::ParamInfo k;
+  k.dim = lang::dim::conductivity;
+  CHECK(cli::format_param_value("2 * 1.25 [W/(m*K)]", k, 3.5) == "3.5 [W/(m*K)]");
+  lang::ParamInfo len;
+  len.dim = lang::dim::length;
+  CHECK(cli::format_param_value("3 [mm] + 0.5 [mm]", len, 0.004) == "4 [mm]");
+  CHECK(cli::format_param_value("1 [mm] + 1 [cm]", len, 0.011) == "0.011 [m]"); // two units: SI
+  lang::ParamInfo ratio;
+  ratio.dim = lang::Dimension{};
+  CHECK(cli::format_param_value("2 [mm] / 1 [mm]", ratio, 1.5) == "1.5");
+  lang::ParamInfo bare;
+  CHECK(cli::format_param_value("k0 * 1.1", bare, 0.25) == "0.25");
+}
+
+TEST_CASE("write_files_atomically: all or nothing") {
+  TempDir dir{"atomic"};
+  const std::string a = (dir.path / "a.txt").string();
+  fs::create_directories(dir.path / "b.txt");
+  CHECK_THROWS_AS(cli::write_files_atomically({{a, "A\n"}, {(dir.path / "b.txt").string(), "B\n"}}),
+                  cli::OutputError);
+  CHECK_FALSE(fs::exists(a));
+  std::size_t entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir.path))
+    ++entries;
+  CHECK(entries == 1); // only the directory b.txt: no temporary file left
+  CHECK_THROWS_AS(
+      cli::write_files_atomically({{a, "1"}, {(dir.path / "." / "a.txt").string(), "2"}}),
+      cli::OutputError);
+  CHECK_FALSE(fs::exists(a));
+  cli::write_files_atomically({{a, "A\n"}, {(dir.path / "c.txt").string(), "C\n"}});
+  CHECK(read(a) == "A\n");
+  CHECK(read(dir.path / "c.txt") == "C\n");
+}
