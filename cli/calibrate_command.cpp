@@ -217,8 +217,7 @@ int run_calibrate(const CalibrateOptions& o) {
       return exit_failure;
     }
   } catch (const lang::ModelError& e) {
-    print_diagnostic(e.diag, sources);
-    return exit_failure;
+    return report_model_error(e, sources);
   } catch (const lang::CsvError& e) {
     std::cerr << fmt::format("{}: error: {}\n", me, e.what());
     return exit_failure;

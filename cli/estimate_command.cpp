@@ -260,8 +260,7 @@ int run(EstimateOptions& o) {
     std::cerr << who << ": error: " << e.what() << "\n";
     return e.row == 0 ? exit_usage : exit_failure;
   } catch (const lang::ModelError& e) {
-    print_diagnostic(e.diag, sources);
-    return exit_failure;
+    return report_model_error(e, sources);
   } catch (const EstimatorError& e) {
     std::cerr << who << ": error: " << e.what() << "\n";
     return exit_failure;

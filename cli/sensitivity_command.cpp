@@ -110,8 +110,7 @@ int run_sensitivity(const SensitivityCommandOptions& o) {
     std::cerr << fmt::format("thermnet sensitivity: {} simulations\n", r.simulations);
     if (!o.json.empty()) write_file_atomically(o.json, to_json(*model, r).dump(2) + "\n");
   } catch (const lang::ModelError& e) {
-    print_diagnostic(e.diag, sources);
-    return exit_failure;
+    return report_model_error(e, sources);
   } catch (const lang::CsvError& e) {
     std::cerr << "thermnet sensitivity: error: " << e.what() << "\n";
     return exit_failure;
