@@ -22,15 +22,10 @@ std::size_t MeasuredData::points() const {
 
 MeasuredData load_measured(const std::string& path, const lang::NetworkSpec& spec) {
   lang::CsvTable table = lang::read_csv(path);
+  lang::check_measured(table);
   MeasuredData data;
   data.path = path;
   data.times = table.time();
-  for (std::size_t r = 0; r < data.times.size(); ++r)
-    if (data.times[r] < 0.0)
-      // Rows are counted from the header (row 1); blank lines, if any, are not counted.
-      throw lang::CsvError(
-          path, r + 2, 1,
-          fmt::format("time {:g} is negative; simulations start at 0", data.times[r]));
   for (std::size_t c = 1; c < table.columns.size(); ++c) {
     const std::string& name = table.columns[c];
     int index = spec.node_index(name);

@@ -129,4 +129,18 @@ CsvTable read_csv(const std::string& path) {
   return parse_csv(text, path);
 }
 
+void check_measured(const CsvTable& t) {
+  const std::vector<double>& time = t.time();
+  for (std::size_t r = 0; r < time.size(); ++r)
+    if (time[r] < 0.0)
+      // Rows are counted from the header (row 1); blank lines, if any, are not counted.
+      throw CsvError(t.path, r + 2, 1,
+                     fmt::format("time {:g} is negative; simulations start at 0", time[r]));
+  for (std::size_t c = 1; c < t.cells.size(); ++c)
+    for (double v : t.cells[c])
+      if (!std::isnan(v)) return;
+  throw CsvError(t.path, 1, 0,
+                 "no measured value: the file has no cell with a number below its header");
+}
+
 } // namespace thermnet::lang

@@ -34,5 +34,7 @@ struct CsvTable {
 CsvTable parse_csv(const std::string& text, const std::string& path);
 /// Reads and parses a CSV file; throws CsvError (row 0 when the file cannot be read).
 CsvTable read_csv(const std::string& path);
+/// Checks a table as measured data (no negative time, at least one value); throws CsvError.
+void check_measured(const CsvTable& t);
 
 } // namespace thermnet::lang

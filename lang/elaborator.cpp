@@ -771,6 +771,7 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, File
 void Elaborator::check_data(const NetworkSpec& net, const std::string& path, Span at, Span mark) {
   try {
     CsvTable t = read_csv(path);
+    check_measured(t);
     for (std::size_t c = 1; c < t.columns.size(); ++c) {
       if (net.node_index(t.columns[c]) >= 0 || m_.declared_by_unparsed(t.columns[c])) continue;
       Diagnostic d = DiagnosticEngine::make(DiagId::data_unknown_column, at, mark, t.columns[c]);
