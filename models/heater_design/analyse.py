@@ -1,48 +1,55 @@
 #!/usr/bin/python3
 """Study B numbers from thermnet CSVs (docs/heater_design.md).
 
-  analyse.py --leak LEAK.csv        steady heat leak (thermnet simulate leak.tnet --steady)
-  analyse.py RUN.csv [--heated]     min/max optics temperatures, gradients; with --heated also the
-                                    thermostat duty cycles and energy, reconstructed from each
-                                    zone's temperature with the thermostat's own rule (on below
-                                    17 degC, off above 20 degC, starting off).
+  analyse.py --leak LEAK.csv        steady heat leak (thermnet simulate leak.tnet --steady), in
+                                    total and per heating zone next to the zone's heater
+  analyse.py RUN.csv [--heated]     min/max optics temperatures and gradients; with --heated also
+                                    the duty cycle and energy of every heater, read from the heater
+                                    state meters of duty_meters.tnet (1 degC while on, 0 while off)
 """
 import sys
+
 import numpy as np
 
 R_M = 0.01  # K/W, meter resistors of leak.tnet
 ZONES = [f"zone{i}" for i in range(1, 7)]
-POWER = [5.8, 2.1, 1.8, 2.8, 3.0, 2.0]
+HEATERS = [(f"h{i}", z, p) for i, (z, p) in enumerate(zip(ZONES, [5.8, 2.1, 1.8, 2.8, 3.0, 2.0]), 1)]
+HEATERS.append(("hw", "window", 25.0))  # the window heater of heaters.tnet
 LENS = ["lens1_c", "lens1_e", "lens2_c", "lens2_e", "lens3_c", "lens3_e"]
+T_CLIMB = 2750.0  # s, end of the climb: the flight starts
 
 d = np.genfromtxt([a for a in sys.argv[1:] if not a.startswith("--")][0], delimiter=",", names=True)
 if sys.argv[1] == "--leak":
     lens = sum((20.0 - float(d[z])) / R_M for z in ZONES)
     win = sum((20.0 - float(d[n])) / R_M for n in ("window", "wseat"))
     print(f"steady heat leak at -35 degC: lens {lens:.1f} W, window {win:.1f} W, total {lens + win:.1f} W")
+    print("per zone (heater): " + ", ".join(f"{z} {(20.0 - float(d[z])) / R_M:.2f} W ({p:g} W)" for _, z, p in HEATERS[:6]))
     sys.exit(0)
 t = d["time"]
 optics = np.vstack([d[n] for n in LENS + ZONES])
-for at in (2750, 3000, t[-1]):
+lenses, barrel = optics[:len(LENS)], optics[len(LENS):]
+for at in (T_CLIMB, 3000, t[-1]):
     i = int(np.argmin(abs(t - at)))
-    print(f"t = {t[i]:.0f} s: optics (lenses + barrel) {optics[:, i].min():.2f} .. {optics[:, i].max():.2f} degC, "
-          f"gradient {optics[:, i].max() - optics[:, i].min():.2f} K; window {d['window'][i]:.2f} degC")
-late = t >= 2750
-print(f"after 2750 s: optics {optics[:, late].min():.2f} .. {optics[:, late].max():.2f} degC; "
+    print(f"t = {t[i]:.0f} s: lenses {lenses[:, i].min():.2f} .. {lenses[:, i].max():.2f} degC (mean {lenses[:, i].mean():.2f}), "
+          f"barrel {barrel[:, i].min():.2f} .. {barrel[:, i].max():.2f} degC; optics gradient "
+          f"{optics[:, i].max() - optics[:, i].min():.2f} K; window {d['window'][i]:.2f} degC")
+late = t >= T_CLIMB
+print(f"flight (t >= {T_CLIMB:.0f} s): optics {optics[:, late].min():.2f} .. {optics[:, late].max():.2f} degC; "
       f"largest gradient {np.max(optics[:, late].max(0) - optics[:, late].min(0)):.2f} K; "
-      f"largest lens radial gradient {max(np.max(abs(d[f'lens{k}_c'] - d[f'lens{k}_e'])[late]) for k in (1, 2, 3)):.2f} K")
+      f"largest lens radial gradient {max(np.max(abs(d[f'lens{k}_c'] - d[f'lens{k}_e'])[late]) for k in (1, 2, 3)):.2f} K; "
+      f"window {d['window'][late].min():.2f} .. {d['window'][late].max():.2f} degC")
 if "--heated" in sys.argv:
+    # Each sample's state holds until the next sample: a switch is placed to within one output step.
     dt = np.diff(t, append=t[-1])
     total = 0.0
-    for z, p in zip(ZONES, POWER):
-        on, st = False, []
-        for T in d[z]:
-            if T < 17.0: on = True
-            elif T > 20.0: on = False
-            st.append(on)
-        st = np.array(st)
-        e = p * float(np.sum(dt[st]))
+    for name, node, p in HEATERS:
+        on = d[f"on_{name}"] > 0.5
+        e = p * float(np.sum(dt[on]))
         total += e
-        print(f"{z}: {p} W, duty cycle over flight (t >= 2750 s) {100 * np.sum(dt[st & late]) / np.sum(dt[late]):.1f} %, "
-              f"energy {e / 3600:.2f} Wh")
-    print(f"total heater energy {total / 3600:.2f} Wh, mean power over flight {total / (t[-1] - 0):.2f} W")
+        switches = int(np.count_nonzero(on[1:] != on[:-1]))
+        print(f"{name} on {node}, {p:g} W: duty cycle {100 * np.sum(dt[on & late]) / np.sum(dt[late]):.1f} % over the "
+              f"flight, {100 * np.sum(dt[on]) / np.sum(dt):.1f} % overall, {switches} on/off changes, energy {e / 3600:.2f} Wh")
+    lens_e = total - HEATERS[-1][2] * float(np.sum(dt[d["on_hw"] > 0.5]))
+    print(f"heater energy over {t[-1]:.0f} s: lens barrel {lens_e / 3600:.2f} Wh (mean {lens_e / t[-1]:.2f} W), "
+          f"window {(total - lens_e) / 3600:.2f} Wh, total {total / 3600:.2f} Wh (mean {total / t[-1]:.2f} W); "
+          f"output step {np.median(np.diff(t)):g} s")
