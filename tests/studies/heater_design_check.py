@@ -1,0 +1,57 @@
+#!/usr/bin/python3
+"""Study B (docs/heater_design.md) as a test: the model's cold-case heat leak matches the study,
+the unheated optics cool to about 15 degC by 3000 s, and the thermostats hold the optics near
+their band with small gradients during the flight.
+
+  heater_design_check.py THERMNET
+"""
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+MODEL = os.path.join(HERE, "..", "..", "models", "heater_design")
+R_M = 0.01  # K/W, the meter resistors of leak.tnet between each zone and its 20 degC source
+ZONES = [f"zone{i}" for i in range(1, 7)]
+LENS = ["lens1_c", "lens1_e", "lens2_c", "lens2_e", "lens3_c", "lens3_e"]
+T_CLIMB = 2750.0
+failures = []
+
+
+def check(what, ok, detail):
+    print(f"{'ok  ' if ok else 'FAIL'} {what}: {detail}")
+    if not ok:
+        failures.append(what)
+
+
+def simulate(out_dir, model, *args):
+    csv = os.path.join(out_dir, f"{model}{'_'.join(args)}.csv".replace("-", ""))
+    subprocess.run([sys.argv[1], "simulate", os.path.join(MODEL, model), *args, "-o", csv], check=True)
+    return np.genfromtxt(csv, delimiter=",", names=True)
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    leak = simulate(tmp, "leak.tnet", "--steady")
+    lens = sum((20.0 - float(leak[z])) / R_M for z in ZONES)
+    window = sum((20.0 - float(leak[n])) / R_M for n in ("window", "wseat"))
+    check("lens heat leak at -35 degC (study 17.5 W)", abs(lens - 17.5) < 0.3, f"{lens:.2f} W")
+    check("window heat loss at -35 degC (study 16.7 W)", abs(window - 16.7) < 0.3, f"{window:.2f} W")
+
+    cold = simulate(tmp, "heaters.tnet", "--case", "unheated")
+    i = int(np.argmin(abs(cold["time"] - 3000.0)))
+    mean = np.mean([cold[n][i] for n in LENS])
+    check("unheated lenses at 3000 s (study: about 15 degC)", 14.0 < mean < 16.5, f"mean {mean:.2f} degC")
+
+    warm = simulate(tmp, "heaters.tnet", "--case", "thermostats")
+    late = warm["time"] >= T_CLIMB
+    optics = np.vstack([warm[n][late] for n in LENS + ZONES])
+    lo, hi = optics.min(), optics.max()
+    check("thermostat-held optics during the flight (study 17.5-20.5 degC)", 16.5 < lo and hi < 21.0,
+          f"{lo:.2f} .. {hi:.2f} degC")
+    grad = np.max(optics.max(0) - optics.min(0))
+    check("largest optics gradient during the flight (study: small, < 2-3 K)", grad < 2.5, f"{grad:.2f} K")
+
+sys.exit(1 if failures else 0)
