@@ -88,6 +88,11 @@ struct Key {
     k.max = 1.0;
     return *this;
   }
+  /// An optional key that belongs to the alternative group holding `key`.
+  Key& goes_with(std::string key) {
+    k.with = std::move(key);
+    return *this;
+  }
   /// Accepts time signals.
   Key& signal() {
     k.type = lang::KeyType::signal;

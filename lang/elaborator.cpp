@@ -345,6 +345,9 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
         any |= given.count(g[i]) != 0;
         names += (i == 0 ? "" : i + 1 == g.size() ? " and " : ", ") + g[i];
       }
+      for (const auto& ks : schema.keys) // optional parts of the group (radiation: F)
+        any |= !ks.with.empty() && std::find(g.begin(), g.end(), ks.with) != g.end() &&
+               given.count(ks.name) != 0;
       options += (options.empty() ? "" : ", or ") + names;
       if (any) touched.push_back(&g);
     }

@@ -179,9 +179,8 @@ private:
         return;
       }
     if (loaded_.count(key)) return; // already included elsewhere: its declarations are in
-    if (stack_.size() >= 64) {
-      diags_.report(DiagId::include_unreadable, at(f, s), span(f, s.path), s.path.text,
-                    "includes are nested more than 64 deep");
+    if (constexpr std::size_t max_depth = 64; stack_.size() >= max_depth) {
+      diags_.report(DiagId::include_too_deep, at(f, s), span(f, s.path), s.path.text, max_depth);
       return;
     }
     std::string text, error;

@@ -36,7 +36,10 @@ ElementPlugin make_radiation() {
   s.doc = "radiation exchange, Q = sigma GR (T_a^4 - T_b^4) in kelvin";
   s.keys.push_back(Key("GR", lang::dim::area, "radiative exchange factor [m^2]").positive());
   s.keys.push_back(Key("A", lang::dim::area, "radiating area [m^2]").positive());
-  s.keys.push_back(Key("F", lang::dim::none, "view factor (default 1)").fraction().otherwise(1.0));
+  s.keys.push_back(Key("F", lang::dim::none, "view factor (default 1), with A, eps1 and eps2")
+                       .fraction()
+                       .otherwise(1.0)
+                       .goes_with("A"));
   s.keys.push_back(Key("eps1", lang::dim::none, "emissivity of surface A, in (0, 1]").fraction());
   s.keys.push_back(Key("eps2", lang::dim::none, "emissivity of surface B, in (0, 1]").fraction());
   s.alternatives = {{"GR"}, {"A", "eps1", "eps2"}};

@@ -216,10 +216,10 @@ print('\n'.join(''.join(random.choice('abc =+-*/()[]{}#\"12.;:\\\\,') for _ in r
 
   for i in $(seq 0 99); do printf 'include "inc%d.tnet"\nnode n%d C = 1\n' $((i + 1)) "$i" >"inc$i.tnet"; done
   printf 'node n100 C = 1\n' >inc100.tnet
-  hostile "includes nested 100 deep" 20 1 "include-unreadable" inc0.tnet
+  hostile "includes nested 100 deep" 20 1 "include-too-deep" inc0.tnet
 
   printf 'boundary b T = 20\nnode n C = 1\nconductance g n b G = 1\ncase c {\n duration = 1\n data "%s"\n}\n' "/dev/urandom" >device.tnet
-  hostile "a data file that never ends is not read forever" 30 "0 1" "" device.tnet
+  hostile "a data file that never ends is not read forever" 30 2 "data-unreadable" device.tnet
 
   cd "$here" || exit 2
 }
