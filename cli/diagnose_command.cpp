@@ -58,8 +58,7 @@ int run_diagnose(const DiagnoseOptions& o) {
     std::cerr << fmt::format("{}: error: {}\n", me, e.what());
     return exit_failure;
   } catch (const lang::ModelError& e) {
-    print_diagnostic(e.diag, model->sources());
-    return exit_failure;
+    return report_model_error(e, model->sources());
   } catch (const lang::CsvError& e) {
     std::cerr << fmt::format("{}: error: {}\n", me, e.what());
     return exit_failure;
@@ -81,7 +80,7 @@ std::string extended_model_text(const lang::Model& model, const Finding& f) {
   const auto file = static_cast<lang::FileId>(root);
   std::string text = model.sources().text(file);
   std::string why = fmt::format(
-      "# thermnet diagnose: {} [{}]{} -- {}\n# RMSE {:.4g} -> {:.4g} K (held-back {:.4g} -> "
+      "# thermnet diagnose: {} [{}]{} -- {}\n# RMSE {:.4g} -> {:.4g} K (held-out {:.4g} -> "
       "{:.4g} K)\n",
       f.candidate.kind, fmt::join(f.candidate.nodes, ", "),
       f.candidate.mechanism.empty() ? "" : " (" + f.candidate.mechanism + ")", f.evidence,

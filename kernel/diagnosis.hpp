@@ -2,7 +2,8 @@
 /// Model diagnosis: what the simulation gets wrong, which extension explains it, and the gain
 /// (shared/spec/diagnose.md). The engine measures the baseline, screens every candidate of every
 /// hypothesis plugin on the unexplained heat flows, refits the best by simulation, validates them
-/// on a held-back stretch of every case and ranks them.
+/// on data not used for the fit (leave one case out, or a held-back stretch of time), ranks them
+/// and selects findings greedily (each next one given the ones above).
 
 #include "kernel/hypothesis.hpp"
 #include "lang/model.hpp"
@@ -20,7 +21,7 @@ struct DiagnosisOptions {
   std::size_t top = 5;            ///< most findings reported
   std::size_t refits = 6;         ///< model-side candidates refitted by simulation (plus the
                                   ///< best of each kind)
-  double holdout = 0.3;           ///< fraction of each case's time span held back for validation
+  double holdout = 0.3; ///< with one case: fraction of its time span held back for validation
 };
 
 /// How far the simulation is off for one node (one case or all cases together).
@@ -56,32 +57,35 @@ struct Finding {
   std::string evidence;                ///< the evidence in words
   bool mechanism_identified = true;    ///< missing_link: the data tell linear and radiation apart
   std::string mechanism_note;          ///< e.g. "linear and radiation fit equally; kept linear"
+  double mechanism_z = 0.0;            ///< SSE difference of the mechanisms / its spread
+  int given = 0;                       ///< findings applied before this one (ranks 1..given)
   double rmse_before = 0.0;            ///< K, all data
   double rmse_after = 0.0;             ///< K, all data (fitted)
   double r2_before = 0.0;              ///< all data
   double r2_after = 0.0;               ///< all data
-  double fit_rmse_before = 0.0;        ///< K, fitted stretch of the validation fit
-  double fit_rmse_after = 0.0;         ///< K, fitted stretch of the validation fit
-  double validation_rmse_before = 0.0; ///< K, held-back stretch
-  double validation_rmse_after = 0.0;  ///< K, held-back stretch, with params fitted without it
-  double validation_r2_before = 0.0;   ///< held-back stretch
-  double validation_r2_after = 0.0;    ///< held-back stretch
+  double validation_rmse_before = 0.0; ///< K, held-out data (every fold's held-out points)
+  double validation_rmse_after = 0.0;  ///< K, held-out data, each fold fitted without them
+  double validation_r2_before = 0.0;   ///< held-out data
+  double validation_r2_after = 0.0;    ///< held-out data
   double delta_bic = 0.0;              ///< BIC after - BIC before (negative: better)
   bool significant = false;            ///< passes the significance rule
 };
 
 /// The outcome of a diagnosis.
 struct DiagnosisReport {
-  std::string model;              ///< model path
-  std::vector<std::string> cases; ///< cases used
-  double noise_floor = 0.0;       ///< estimated measurement noise, K
-  bool at_noise_floor = false;    ///< baseline error is measurement noise only
-  FitMetrics baseline;            ///< the model as declared
-  std::vector<Finding> findings;  ///< significant findings, best first
-  std::vector<Finding> rejected;  ///< refitted candidates that were not significant
-  std::size_t screened = 0;       ///< candidates screened
-  std::size_t refitted = 0;       ///< candidates refitted by simulation
-  double wall_s = 0.0;            ///< wall time, s
+  std::string model;                 ///< model path
+  std::vector<std::string> cases;    ///< cases used
+  double noise_floor = 0.0;          ///< estimated measurement noise, K
+  bool at_noise_floor = false;       ///< baseline error is measurement noise only
+  FitMetrics baseline;               ///< the model as declared
+  std::vector<Finding> findings;     ///< significant findings, best first, each given the previous
+  std::vector<Finding> alternatives; ///< significant alone, but explained by a finding above
+  std::vector<Finding> rejected;     ///< refitted candidates that were not significant
+  std::size_t screened = 0;          ///< candidates screened
+  std::size_t refitted = 0;          ///< candidates refitted by simulation
+  std::string validation;            ///< "leave_one_case_out" or "held_back_time"
+  std::size_t folds = 0;             ///< validation folds
+  double wall_s = 0.0;               ///< wall time, s
   /// Per case: times, and per measured node: measured, baseline and best-finding series (K).
   struct Curves {
     std::string case_name;                               ///< case

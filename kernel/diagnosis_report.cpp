@@ -29,6 +29,40 @@ std::vector<std::pair<std::string, NodeMetrics>> worst_nodes(const FitMetrics& m
   return v;
 }
 
+/// One finding as JSON (the spec's fields plus the gain on all and held-out data).
+nlohmann::json finding_json(const Finding& f) {
+  nlohmann::json x;
+  x["rank"] = f.rank;
+  x["kind"] = f.candidate.kind;
+  x["nodes"] = f.candidate.nodes;
+  if (!f.candidate.element.empty()) x["element"] = f.candidate.element;
+  if (f.candidate.kind == "missing_link") {
+    x["mechanism"] = f.candidate.mechanism;
+    x["mechanism_identified"] = f.mechanism_identified;
+    x["mechanism_z"] = f.mechanism_z;
+    if (!f.mechanism_note.empty()) x["mechanism_note"] = f.mechanism_note;
+  }
+  x["values"] = finding_values(f);
+  if (f.candidate.kind == "parameter") x["params"] = finding_values(f);
+  nlohmann::json se = nlohmann::json::object();
+  for (std::size_t k = 0; k < f.std_errors.size() && k < f.candidate.names.size(); ++k)
+    if (std::isfinite(f.std_errors[k])) se[f.candidate.names[k]] = f.std_errors[k];
+  x["std_errors"] = se;
+  x["statement"] = f.statement;
+  x["evidence"] = f.evidence;
+  x["rmse_before"] = f.rmse_before;
+  x["rmse_after"] = f.rmse_after;
+  x["r2_before"] = f.r2_before;
+  x["r2_after"] = f.r2_after;
+  x["validation_rmse_before"] = f.validation_rmse_before;
+  x["validation_rmse_after"] = f.validation_rmse_after;
+  x["validation_r2_before"] = f.validation_r2_before;
+  x["validation_r2_after"] = f.validation_r2_after;
+  x["delta_bic"] = f.delta_bic;
+  if (f.given > 0) x["given"] = f.given;
+  return x;
+}
+
 } // namespace
 
 std::map<std::string, double> finding_values(const Finding& f) {
@@ -59,36 +93,12 @@ nlohmann::json diagnosis_json(const DiagnosisReport& r) {
   }
   j["baseline"] = base;
   j["findings"] = nlohmann::json::array();
-  for (const auto& f : r.findings) {
-    nlohmann::json x;
-    x["rank"] = f.rank;
-    x["kind"] = f.candidate.kind;
-    x["nodes"] = f.candidate.nodes;
-    if (!f.candidate.element.empty()) x["element"] = f.candidate.element;
-    if (f.candidate.kind == "missing_link") {
-      x["mechanism"] = f.candidate.mechanism;
-      x["mechanism_identified"] = f.mechanism_identified;
-      if (!f.mechanism_note.empty()) x["mechanism_note"] = f.mechanism_note;
-    }
-    x["values"] = finding_values(f);
-    if (f.candidate.kind == "parameter") x["params"] = finding_values(f);
-    nlohmann::json se = nlohmann::json::object();
-    for (std::size_t k = 0; k < f.std_errors.size() && k < f.candidate.names.size(); ++k)
-      if (std::isfinite(f.std_errors[k])) se[f.candidate.names[k]] = f.std_errors[k];
-    x["std_errors"] = se;
-    x["statement"] = f.statement;
-    x["evidence"] = f.evidence;
-    x["rmse_before"] = f.rmse_before;
-    x["rmse_after"] = f.rmse_after;
-    x["r2_before"] = f.r2_before;
-    x["r2_after"] = f.r2_after;
-    x["validation_rmse_before"] = f.validation_rmse_before;
-    x["validation_rmse_after"] = f.validation_rmse_after;
-    x["validation_r2_before"] = f.validation_r2_before;
-    x["validation_r2_after"] = f.validation_r2_after;
-    x["delta_bic"] = f.delta_bic;
-    j["findings"].push_back(std::move(x));
-  }
+  for (const auto& f : r.findings)
+    j["findings"].push_back(finding_json(f));
+  j["alternatives"] = nlohmann::json::array();
+  for (const auto& f : r.alternatives)
+    j["alternatives"].push_back(finding_json(f));
+  j["validation"] = {{"method", r.validation}, {"folds", r.folds}};
   j["screened"] = r.screened;
   j["refitted"] = r.refitted;
   j["wall_s"] = r.wall_s;
@@ -118,10 +128,14 @@ std::string diagnosis_text(const DiagnosisReport& r) {
     s += r.at_noise_floor
              ? "\nNo finding: the remaining error is at the measurement noise floor.\n"
              : "\nNo significant finding: no candidate extension explains the error better than "
-               "noise on held-back data.\n";
+               "noise on held-out data.\n";
     return s;
   }
-  s += "\nCauses (ranked):\n";
+  const std::string validation =
+      r.validation == "leave_one_case_out"
+          ? fmt::format("each case predicted by a fit to the other {}", r.folds - 1)
+          : "last part of each case held back";
+  s += "\nCauses (ranked; each given the ones above):\n";
   for (const auto& f : r.findings) {
     std::string what = f.candidate.kind;
     if (!f.candidate.mechanism.empty()) what += " (" + f.candidate.mechanism + ")";
@@ -132,10 +146,13 @@ std::string diagnosis_text(const DiagnosisReport& r) {
     s += fmt::format("  {}. {} [{}]: {}\n", f.rank, what, fmt::join(f.candidate.nodes, ", "), vals);
     s += fmt::format("     evidence: {}\n", f.evidence);
     if (!f.mechanism_note.empty()) s += fmt::format("     mechanism: {}\n", f.mechanism_note);
-    s += fmt::format("     gain: RMSE {:.3g} -> {:.3g} K, R² {:.4f} -> {:.4f}; held-back RMSE "
-                     "{:.3g} -> {:.3g} K\n",
+    if (f.given > 0)
+      s += fmt::format("     given finding{} {} applied\n", f.given > 1 ? "s" : "",
+                       f.given > 1 ? fmt::format("1-{}", f.given) : std::string("1"));
+    s += fmt::format("     gain: RMSE {:.3g} -> {:.3g} K, R² {:.4f} -> {:.4f}; held-out RMSE "
+                     "{:.3g} -> {:.3g} K ({})\n",
                      f.rmse_before, f.rmse_after, f.r2_before, f.r2_after, f.validation_rmse_before,
-                     f.validation_rmse_after);
+                     f.validation_rmse_after, validation);
     s += "     extension:\n";
     std::string line;
     for (char ch : f.statement + "\n") {
@@ -146,6 +163,13 @@ std::string diagnosis_text(const DiagnosisReport& r) {
         line += ch;
       }
     }
+  }
+  if (!r.alternatives.empty()) {
+    s += "\nAlso significant alone, explained by the findings above:\n";
+    for (const auto& f : r.alternatives)
+      s += fmt::format("  {}{} [{}]: RMSE {:.3g} K, held-out {:.3g} K\n", f.candidate.kind,
+                       f.candidate.mechanism.empty() ? "" : " (" + f.candidate.mechanism + ")",
+                       fmt::join(f.candidate.nodes, ", "), f.rmse_after, f.validation_rmse_after);
   }
   return s;
 }

@@ -1,0 +1,95 @@
+#!/usr/bin/env bash
+# The "Done when" of issue 5 on networks and hidden effects thermnet did not make: make_data.py
+# integrates its own hand-written copies of rod.tnet (a chain between a wall and a cold sky, two
+# heater schedules) and star.tnet (a hub with four arms, a pad heater, a cooling air boundary, one
+# case) with scipy's BDF, adds an effect the .tnet files lack plus N(0, 0.05 K) noise. `thermnet
+# diagnose` must name the hidden cause as its top finding (kind and nodes), report and validate
+# the gain (held-out error below the baseline's, near the noise), and --write an extended model
+# that lints clean (and, for a model-side cause, fits the data to the noise); the same data
+# without the effect must give no finding.
+# Usage: run.sh PATH/TO/thermnet
+set -u
+
+TN=${1:?usage: run.sh PATH/TO/thermnet}
+HERE=$(cd "$(dirname "$0")" && pwd)
+PY=/usr/bin/python3
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/thermnet_diagnose_external.XXXXXX")
+trap 'rm -rf "$WORK"' EXIT
+cd "$WORK" || exit 2
+
+pass=0
+fail=0
+ok() { pass=$((pass + 1)); echo "ok   - $1"; }
+bad() { fail=$((fail + 1)); echo "FAIL - $1"; [ $# -gt 1 ] && printf '       %s\n' "$2"; }
+# py FILE EXPR: evaluates a Python expression on the JSON report `r` (true: exit 0)
+py() { "$PY" -c "import json,sys; r=json.load(open('$1')); sys.exit(0 if ($2) else 1)"; }
+
+# scenario EFFECT MODEL KIND NODES...: diagnose data with a hidden effect
+scenario() {
+  local effect=$1 model=$2 kind=$3; shift 3
+  local nodes
+  nodes=$("$PY" -c "import sys; print(sorted(sys.argv[1:]))" "$@")
+  rm -f ./*.csv
+  cp "$HERE/$model.tnet" .
+  if ! "$PY" "$HERE/make_data.py" . "$effect" >err.txt 2>&1; then
+    bad "$effect: make_data.py" "$(cat err.txt)"
+    return
+  fi
+  if ! "$TN" diagnose "$model.tnet" --threads 2 --json "$effect.json" --write "${effect}_ext.tnet" \
+    >"$effect.txt" 2>err.txt; then
+    bad "$effect: diagnose runs" "$(cat err.txt)"
+    return
+  fi
+  local top="r['findings'][0]"
+  if py "$effect.json" "len(r['findings']) > 0 and $top['kind'] == '$kind' and \
+sorted($top['nodes']) == $nodes"; then
+    ok "$effect: top finding is $kind $*"
+  else
+    bad "$effect: top finding is $kind $*" "$(sed -n '/Causes/,/extension/p' "$effect.txt" | head -8)"
+    return
+  fi
+  if py "$effect.json" "$top['rmse_after'] < 0.25 * $top['rmse_before'] and \
+$top['validation_rmse_after'] < 0.5 * $top['validation_rmse_before'] and \
+$top['validation_rmse_after'] < 1.5 * r['noise_floor'] and 0 < $top['r2_after'] <= 1"; then
+    ok "$effect: gain reported and validated on held-out data ($(py "$effect.json" 1 && "$PY" -c "
+import json; r=json.load(open('$effect.json')); f=r['findings'][0]
+print(f\"RMSE {f['rmse_before']:.3g} -> {f['rmse_after']:.3g} K, held-out {f['validation_rmse_before']:.3g} -> {f['validation_rmse_after']:.3g} K, {r['validation']['method']}\")"))"
+  else
+    bad "$effect: gain reported and validated" "$(grep gain: "$effect.txt")"
+  fi
+  if "$TN" lint --werror "${effect}_ext.tnet" >err.txt 2>&1; then
+    ok "$effect: the --write extension lints clean"
+  else
+    bad "$effect: the --write extension lints clean" "$(cat err.txt)"
+  fi
+  if [ "$kind" != sensor_offset ]; then
+    if "$TN" diagnose "${effect}_ext.tnet" --json ext.json >/dev/null 2>err.txt &&
+      py ext.json "r['baseline']['rmse'] < 1.3 * r['noise_floor'] and r['findings'] == []"; then
+      ok "$effect: the extended model fits the data to the noise"
+    else
+      bad "$effect: the extended model fits the data to the noise" "$(cat err.txt)"
+    fi
+  fi
+}
+
+# clean EFFECT MODEL: the same data without a hidden effect gives no finding
+clean() {
+  rm -f ./*.csv
+  cp "$HERE/$2.tnet" .
+  "$PY" "$HERE/make_data.py" . "$1" >err.txt 2>&1 &&
+    "$TN" diagnose "$2.tnet" --threads 2 --json "$1.json" >"$1.txt" 2>>err.txt
+  if py "$1.json" "r['findings'] == []"; then
+    ok "$1: no finding"
+  else
+    bad "$1: no finding" "$(sed -n '/Causes/,$p' "$1.txt" | head -6) $(cat err.txt)"
+  fi
+}
+
+scenario rod_radiation rod missing_link a3 sky
+scenario star_source star missing_source hub
+scenario star_offset star sensor_offset arm3
+clean rod_clean rod
+clean star_clean star
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
