@@ -135,6 +135,13 @@ Quantity Elaborator::value_of(const std::string& name, Span use) {
           report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(decl.file, *decl.range),
                                         fmt::format("the range of param '{}'", name),
                                         describe(*q.dim), describe(*b->dim)));
+      if (lo.dim && hi.dim && !(*lo.dim == *hi.dim))
+        report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(decl.file, *decl.range),
+                                      fmt::format("the upper bound of param '{}'", name),
+                                      describe(*lo.dim), describe(*hi.dim)));
+      // A bare value takes the unit its range gives (temperatures excepted: bare ones are degC).
+      if (const auto& b = lo.dim ? lo.dim : hi.dim; !q.dim && b && !(*b == dim::temperature))
+        q.dim = b;
       if (!(lo.value < hi.value))
         report(DiagnosticEngine::make(DiagId::bad_range, at, span_of(decl.file, *decl.range), name,
                                       fmt::format("{:g}", lo.value),

@@ -220,6 +220,11 @@ private:
       const std::size_t op_pos = pos_;
       const std::size_t len = operator_length();
       if (len == 0) {
+        // A space between two units multiplies them, as the spec writes units: [W/(m K)].
+        if (pos_ > 0 && is_space(t_[pos_ - 1]) && starts_factor()) {
+          combine(v, term(), 1, op_pos);
+          continue;
+        }
         if (starts_factor()) throw UnitError("expected '*' or '/' between units", pos_);
         throw UnitError("unexpected " + describe_byte(peek()) + " in unit", pos_);
       }

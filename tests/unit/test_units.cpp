@@ -243,6 +243,8 @@ TEST_CASE("units: equivalent spellings") {
   same("W/m2/K", "W/(m^2*K)");
   same("W/(m.K)", "W/(m*K)");
   same("W/(m\xC2\xB7K)", "W/(m*K)");
+  same("W/(m K)", "W/(m*K)"); // a space multiplies, as the spec writes units
+  same("W/(m^2 K)", "W/(m^2*K)");
   same("s-1", "1/s");
   same("s^-1", "1/s");
   same("s^(-1)", "1/s");
@@ -298,7 +300,7 @@ TEST_CASE("units: error offsets point at the offending character") {
   check_error("m99999999999", 1, "out of range");
   check_error("m^2^3", 3, "second exponent");
   check_error("m2^3", 2, "second exponent");
-  check_error("m K", 2, "expected '*' or '/'");
+  check_error("m2K", 2, "expected '*' or '/'");
   check_error("W/m2K", 4, "expected '*' or '/'");
   check_error("m-K", 1, "unexpected character '-'");
   check_error("m#", 1, "unexpected character '#'");
