@@ -249,11 +249,12 @@ nlohmann::json json_of(const SourceManager& sm, const Diagnostic& d, const Place
     j["end_line"] = e.line;
     j["end_column"] = e.column;
   } else {
+    // About a whole file (unreadable, ...): its start, so positions stay 1-based (cli.md).
     j["file"] = pl.hint;
-    j["line"] = 0;
-    j["column"] = 0;
-    j["end_line"] = 0;
-    j["end_column"] = 0;
+    j["line"] = 1;
+    j["column"] = 1;
+    j["end_line"] = 1;
+    j["end_column"] = 1;
   }
   j["severity"] = severity_name(d.severity);
   j["code"] = d.code;

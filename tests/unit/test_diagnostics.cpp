@@ -478,8 +478,8 @@ TEST_CASE("render_json: fields, mark end and inherited note locations") {
   CHECK(j[0]["notes"][0]["code"] == "note");
   CHECK(j[0]["notes"][0]["message"] == "did you mean 'lens2'?");
   CHECK(j[1]["file"] == "x.csv");
-  CHECK(j[1]["line"] == 0);
-  CHECK(j[1]["column"] == 0);
+  CHECK(j[1]["line"] == 1); // a whole-file diagnostic sits at the start: positions are 1-based
+  CHECK(j[1]["column"] == 1);
   CHECK(j[1]["severity"] == "error");
   CHECK(j[1]["notes"].empty());
 }
