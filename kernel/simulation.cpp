@@ -20,6 +20,40 @@ std::vector<double> output_times(double duration, double interval) {
   return t;
 }
 
+namespace {
+
+/// The steady state with its switches (thermostats) in states consistent with it: a switch whose
+/// event function changes sign between the guess and the solution is flipped and the state solved
+/// again. A switch that has to flip back has no consistent state: it cycles, with no steady state.
+SolverStats steady_with_switches(Network& net, std::vector<double>& T, const SolverOptions& o) {
+  const int nev = net.event_count();
+  if (nev == 0) return solve_steady(net, T, 0.0, o);
+  net.init_events(0.0, T.data());
+  const auto n = static_cast<std::size_t>(nev);
+  std::vector<double> g_guess(n), g_solution(n);
+  std::vector<int> crossed(n), flips(n, 0);
+  for (;;) {
+    net.events(0.0, T.data(), g_guess.data());
+    SolverStats stats = solve_steady(net, T, 0.0, o);
+    net.events(0.0, T.data(), g_solution.data());
+    bool any = false;
+    for (std::size_t k = 0; k < n; ++k) {
+      const bool changed = (g_solution[k] > 0.0) != (g_guess[k] > 0.0) && g_solution[k] != 0.0;
+      crossed[k] = changed ? (g_solution[k] > 0.0 ? 1 : -1) : 0;
+      if (changed && ++flips[k] > 1)
+        throw SolverError(
+            "there is no steady state: a thermostat (switch) cycles: heating, its sensed "
+            "temperature settles above its switch-off point; off, below its switch-on point. "
+            "Simulate the transient instead",
+            "steady", 0, 0.0, {});
+      any = any || changed;
+    }
+    if (!any || !net.apply_events(0.0, T.data(), crossed)) return stats;
+  }
+}
+
+} // namespace
+
 SimulationResult simulate(Network& net, const SimulationOptions& opt) {
   const auto& settings = net.spec().settings;
   SimulationResult r;
@@ -33,7 +67,7 @@ SimulationResult simulate(Network& net, const SimulationOptions& opt) {
     r.temps.push_back(std::move(all));
   };
   if (opt.steady || settings.initial_steady) {
-    r.stats = solve_steady(net, T, 0.0, opt.solver);
+    r.stats = steady_with_switches(net, T, opt.solver);
     if (opt.steady) {
       record(0.0, T);
       return r;

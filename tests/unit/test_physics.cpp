@@ -402,6 +402,28 @@ case half {
   CHECK(rh.temps[2][a] - kZeroC == doctest::Approx(6.0 * (1.0 - std::exp(-2.0))).epsilon(1e-6));
 }
 
+TEST_CASE("physics: --steady puts thermostats in a consistent state, or says they cycle") {
+  // Heating, the node settles at P/G = 20 degC, inside the band 15..25: on is consistent.
+  const std::string in_band = R"(
+boundary e T = 0
+node a C = 100 T0 = 10
+conductance g a e G = 1
+thermostat t a P = 20 on = 15 off = 25
+)";
+  CHECK(steady_T(in_band, "a") - kZeroC == doctest::Approx(20.0));
+  // Heating it would settle at 40 > off = 22, off at 0 < on = 18: it cycles, no steady state.
+  const std::string cycling = R"(
+boundary e T = 0
+node a C = 1000 T0 = 10
+conductance g a e G = 0.5
+thermostat t a P = 20 on = 18 off = 22
+)";
+  Network net(spec_from(cycling));
+  SimulationOptions o = tight();
+  o.steady = true;
+  CHECK_THROWS_AS(thermnet::simulate(net, o), thermnet::SolverError);
+}
+
 TEST_CASE("physics: a thermostat starts from the temperature of an arithmetic node it senses") {
   // The arithmetic node s sits at (a + e)/2 = 0 degC at t = 0, below 'on' = 5 (its own T0
   // default of 20 degC must not decide): the heater is on from the start, and a approaches
