@@ -7,24 +7,10 @@
 # the plot and a calibrated model (-o, with the included file of unknowns rewritten) that loads
 # clean, declares the fitted values and reproduces the fit's RMSE.
 # Usage: run.sh PATH/TO/thermnet
-set -u
+. "$(dirname "$0")/../lib/harness.sh" "$@"
 
-TN=${1:?usage: run.sh PATH/TO/thermnet}
-HERE=$(cd "$(dirname "$0")" && pwd)
 PY=/usr/bin/python3
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/thermnet_calibration_independent.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-cd "$WORK" || exit 2
-export CI=1 # no progress bar
 
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "ok   - $1"; }
-bad() { fail=$((fail + 1)); echo "FAIL - $1"; [ $# -gt 1 ] && printf '       %s\n' "$2"; }
-check() { # check DESCRIPTION COMMAND...: passes when COMMAND succeeds
-  local what=$1; shift
-  if "$@"; then ok "$what"; else bad "$what" "$(head -c 800 err.txt 2>/dev/null)"; fi
-}
 # py EXPR: evaluates a Python expression with truth (truth.json) and the reports loaded
 py() {
   "$PY" - "$@" <<'PYEOF'
@@ -106,5 +92,4 @@ PYEOF
 check "-o: the calibrated model reproduces the fit's RMSE ($rmse K, within 1 %)" \
   test "$(py "abs($rmse / r['auto']['rmse'] - 1) < 0.01")" = True
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish

@@ -4,24 +4,9 @@
 # failed output writes nothing, --plot, determinism across --threads, usage errors (exit 2),
 # nothing to calibrate (exit 1) and Ctrl-C (SIGINT still writes the best result, exit 1).
 # Usage: calibrate_cli.sh PATH/TO/thermnet
-set -u
+. "$(dirname "$0")/../lib/harness.sh" "$@"
 
-TN=${1:?usage: calibrate_cli.sh PATH/TO/thermnet}
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/thermnet_calibrate_cli.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-cd "$WORK" || exit 2
-export CI=1 # no progress bar
-
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "ok   - $1"; }
-bad() { fail=$((fail + 1)); echo "FAIL - $1"; [ $# -gt 1 ] && printf '       %s\n' "$2"; }
-check() { # check DESCRIPTION COMMAND...: passes when COMMAND succeeds
-  local what=$1; shift
-  if "$@"; then ok "$what"; else bad "$what" "$(head -c 600 err.txt 2>/dev/null)"; fi
-}
 # run CMD...: runs thermnet, stores stdout/stderr/exit status in out.txt/err.txt/$rc
-run() { "$TN" "$@" >out.txt 2>err.txt; rc=$?; }
 # json FILE EXPR: evaluates a Python expression on the parsed JSON `j`, prints the result
 json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
 
@@ -206,7 +191,7 @@ run calibrate nodata.tnet
 check "no case with data: exit 1" test "$rc" -eq 1
 check "  ... with a clear message" grep -q 'no case .* has measured data' err.txt
 run calibrate cal.tnet --case nope
-check "unknown --case: exit 1" test "$rc" -eq 1
+check "unknown --case: a usage error (exit 2)" test "$rc" -eq 2
 
 # Ctrl-C: a long run interrupted by SIGINT still writes the best result, exit 1
 rm -f int.json int.tnet
@@ -220,5 +205,4 @@ check "SIGINT: JSON written with cancelled = true and fewer samples" \
   test "$(json int.json "j['cancelled'] and j['found'] and 0 < j['evaluations'] < 1000000")" = True
 check "SIGINT: -o written" test -s int.tnet
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish

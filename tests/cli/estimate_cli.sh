@@ -1,21 +1,9 @@
 #!/usr/bin/env bash
 # The command-line contract of `thermnet invert` and `thermnet estimate`: CSV in/out, --stream,
 # errors with file:row:column, exit statuses. Usage: estimate_cli.sh PATH/TO/thermnet
-set -u
+. "$(dirname "$0")/../lib/harness.sh" "$@"
 
-TN=${1:?usage: estimate_cli.sh PATH/TO/thermnet}
-HERE=$(cd "$(dirname "$0")" && pwd)
 TWIN="$HERE/../../models/digital_twin"
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/thermnet_est.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-cd "$WORK" || exit 2
-
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "ok   - $1"; }
-bad() { fail=$((fail + 1)); echo "FAIL - $1"; [ $# -gt 1 ] && printf '       %s\n' "$2"; }
-check() { local what=$1; shift; if "$@"; then ok "$what"; else bad "$what"; fi; }
-run() { "$TN" "$@" >out.txt 2>err.txt; rc=$?; }
 
 # Sensor data where the TIM-AB relation holds exactly (tau = 120 s, xi = 0.8), 0.5 s sampling.
 /usr/bin/env awk 'BEGIN {
@@ -82,5 +70,4 @@ check "unknown measured column: exit 1" test "$rc" -eq 1
 run estimate "$TWIN/twin.tnet" --stream --smooth
 check "--smooth with --stream: exit 2" test "$rc" -eq 2
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish

@@ -2,23 +2,9 @@
 # The command-line contract of `thermnet sensitivity` and `thermnet simulate --samples`: table and
 # ranking, --json, --elements, --case, determinism across --threads, bands CSV columns, --plot,
 # and usage errors. Usage: sensitivity_cli.sh PATH/TO/thermnet
-set -u
+. "$(dirname "$0")/../lib/harness.sh" "$@"
 
-TN=${1:?usage: sensitivity_cli.sh PATH/TO/thermnet}
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/thermnet_sens.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-cd "$WORK" || exit 2
-
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "ok   - $1"; }
-bad() { fail=$((fail + 1)); echo "FAIL - $1"; [ $# -gt 1 ] && printf '       %s\n' "$2"; }
-check() { # check DESCRIPTION COMMAND...: passes when COMMAND succeeds
-  local what=$1; shift
-  if "$@"; then ok "$what"; else bad "$what"; fi
-}
 # run CMD...: runs thermnet, stores stdout/stderr/exit status in out.txt/err.txt/$rc
-run() { "$TN" "$@" >out.txt 2>err.txt; rc=$?; }
 
 # ----------------------------------------------------------------------------- models
 # One node cooling through G (dominant, ranged) with a weak ranged heater P; no data.
@@ -86,7 +72,7 @@ check "with data only the measured nodes are outputs" \
   python3 -c 'import json; assert json.load(open("m.json"))["outputs"] == ["a"]'
 
 run sensitivity one.tnet --case nowhere
-check "an unknown case fails (exit 1)" test "$rc" -eq 1
+check "an unknown case is a usage error (exit 2)" test "$rc" -eq 2
 run sensitivity missing.tnet
 check "an unreadable model is a usage error (exit 2)" test "$rc" -eq 2
 run sensitivity one.tnet --json /nonexistent/dir/s.json
@@ -119,5 +105,4 @@ check "a percentile outside (0, 100) is a usage error (exit 2)" test "$rc" -eq 2
 run simulate one.tnet --case run -o plain.csv
 check "without --samples simulate is unchanged" test "$(head -1 plain.csv)" = "time,amb,n,m"
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish

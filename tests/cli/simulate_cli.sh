@@ -1,23 +1,9 @@
 #!/usr/bin/env bash
 # The command-line contract of `thermnet simulate`: output routing, header, --steady, --case,
 # --duration, -o atomicity, --stats and lint failures. Usage: simulate_cli.sh PATH/TO/thermnet
-set -u
+. "$(dirname "$0")/../lib/harness.sh" "$@"
 
-TN=${1:?usage: simulate_cli.sh PATH/TO/thermnet}
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/thermnet_cli.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-cd "$WORK" || exit 2
-
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "ok   - $1"; }
-bad() { fail=$((fail + 1)); echo "FAIL - $1"; [ $# -gt 1 ] && printf '       %s\n' "$2"; }
-check() { # check DESCRIPTION COMMAND...: passes when COMMAND succeeds
-  local what=$1; shift
-  if "$@"; then ok "$what"; else bad "$what"; fi
-}
 # run CMD...: runs thermnet, stores stdout/stderr/exit status in out.txt/err.txt/$rc
-run() { "$TN" "$@" >out.txt 2>err.txt; rc=$?; }
 
 # ----------------------------------------------------------------------------- models
 cat >one.tnet <<'EOF'
@@ -140,5 +126,4 @@ check "--stats keeps the CSV clean (header first, 12 lines, only numeric rows)" 
 run simulate one.tnet --stats -o outdir/stats.csv
 check "--stats with -o: the file equals the plain run's CSV" cmp -s good.ref outdir/stats.csv
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish

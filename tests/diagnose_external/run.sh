@@ -8,19 +8,10 @@
 # that lints clean (and, for a model-side cause, fits the data to the noise); the same data
 # without the effect must give no finding.
 # Usage: run.sh PATH/TO/thermnet
-set -u
+. "$(dirname "$0")/../lib/harness.sh" "$@"
 
-TN=${1:?usage: run.sh PATH/TO/thermnet}
-HERE=$(cd "$(dirname "$0")" && pwd)
 PY=/usr/bin/python3
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/thermnet_diagnose_external.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-cd "$WORK" || exit 2
 
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "ok   - $1"; }
-bad() { fail=$((fail + 1)); echo "FAIL - $1"; [ $# -gt 1 ] && printf '       %s\n' "$2"; }
 # py FILE EXPR: evaluates a Python expression on the JSON report `r` (true: exit 0)
 py() { "$PY" -c "import json,sys; r=json.load(open('$1')); sys.exit(0 if ($2) else 1)"; }
 
@@ -91,5 +82,4 @@ scenario star_offset star sensor_offset arm3
 clean rod_clean rod
 clean star_clean star
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish
