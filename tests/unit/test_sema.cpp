@@ -327,7 +327,8 @@ TEST_CASE("lint: each check reports its code") {
       {"model a\nmodel b\n" + kBase, "duplicate-model"},
       {kBase + "conductance g2 n amb G = 1 G = 2\n", "duplicate-key"},
       {kBase + "conduction g2 n amb k = 1 L = 1\n", "missing-key"},
-      {kBase + "radiation r n amb F = 1\n", "missing-key missing-key missing-key"}, // F: the A/eps form
+      {kBase + "radiation r n amb F = 1\n",
+       "missing-key missing-key missing-key"}, // F: the A/eps form
       {kBase + "node m\nconductance g2 m amb G = 1\n", "missing-key"},
       {kBase + "radiation r n amb GR = 1 A = 1 eps1 = 1 eps2 = 1\n", "conflicting-keys"},
       {kBase + "cylinder_conduction c n amb k = 1 r_in = 2 r_out = 1 L = 1\n", "conflicting-keys"},
