@@ -135,7 +135,7 @@ Quantity Elaborator::value_of(const std::string& name, Span use) {
           report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(decl.file, *decl.range),
                                         fmt::format("the range of param '{}'", name),
                                         describe(*q.dim), describe(*b->dim)));
-      if (lo.dim && hi.dim && !(*lo.dim == *hi.dim))
+      if (!q.dim && lo.dim && hi.dim && !(*lo.dim == *hi.dim)) // (else checked against q above)
         report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(decl.file, *decl.range),
                                       fmt::format("the upper bound of param '{}'", name),
                                       describe(*lo.dim), describe(*hi.dim)));
