@@ -85,32 +85,34 @@ std::string extended_model_text(const lang::Model& model, const Finding& f) {
       f.candidate.kind, fmt::join(f.candidate.nodes, ", "),
       f.candidate.mechanism.empty() ? "" : " (" + f.candidate.mechanism + ")", f.evidence,
       f.rmse_before, f.rmse_after, f.validation_rmse_before, f.validation_rmse_after);
+  std::vector<TextEdit> edits;
+  std::string applied;
   if (f.candidate.kind == "parameter") {
     std::vector<ParamUpdate> updates;
     for (const auto& p : model.params())
       for (std::size_t j = 0; j < f.candidate.names.size(); ++j)
         if (p.name == f.candidate.names[j]) updates.push_back({p, f.values[j]});
-    text = rewrite_params(model.sources(), file, updates).text;
-    if (!text.empty() && text.back() != '\n') text += '\n';
-    return text + "\n" + why +
-           "# (the declared values of the ranged params above were rewritten)\n";
+    edits = param_edits(model.sources(), file, updates);
+    applied = "# (the declared values of the ranged params above were rewritten)\n";
+  } else {
+    applied = f.statement.empty() ? "" : f.statement + "\n";
   }
-  if (f.candidate.kind == "capacity_error") {
-    // A capacity override belongs in every case block of the root file.
-    std::vector<std::uint32_t> ends;
-    for (const auto& c : model.cases())
-      if (c.file == file && c.where.end > 0 && text[c.where.end - 1] == '}')
-        ends.push_back(c.where.end - 1);
-    std::sort(ends.rbegin(), ends.rend());
-    for (std::uint32_t e : ends)
-      text.insert(e, "\n  " + f.statement + " # thermnet diagnose: capacity_error\n");
-    if (!text.empty() && text.back() != '\n') text += '\n';
-    return text + "\n" + why +
-           (ends.empty() ? "# no case block to hold: " + f.statement + "\n"
-                         : "# (applied as a capacity override in every case block above)\n");
+  std::vector<std::string> elsewhere;
+  const auto inserts = case_block_edits(model, file, f.case_statements,
+                                        "# thermnet diagnose: " + f.candidate.kind, elsewhere);
+  edits.insert(edits.end(), inserts.begin(), inserts.end());
+  if (!inserts.empty()) applied += "# (with the lines marked in the case blocks above)\n";
+  for (const auto& name : elsewhere) {
+    applied +=
+        fmt::format("# not applied: case {} is not in this file; add inside its block:\n", name);
+    std::string lines = f.case_statements.at(name);
+    for (auto p = lines.find('\n'); p != std::string::npos; p = lines.find('\n', p + 5))
+      lines.replace(p, 1, "\n#   ");
+    applied += "#   " + lines + "\n";
   }
+  text = apply_edits(std::move(text), std::move(edits));
   if (!text.empty() && text.back() != '\n') text += '\n';
-  return text + "\n" + why + f.statement + "\n";
+  return text + "\n" + why + applied;
 }
 
 std::string diagnosis_svg(const DiagnosisReport& r, std::size_t worst) {

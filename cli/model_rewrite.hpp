@@ -6,6 +6,7 @@
 #include "lang/model.hpp"
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,6 +46,14 @@ std::vector<TextEdit> param_edits(const lang::SourceManager& sources, lang::File
 
 /// Applies non-overlapping edits (in any order) to a text.
 std::string apply_edits(std::string text, std::vector<TextEdit> edits);
+
+/// The edits that insert each named case's lines (one per line, each indented and followed by
+/// `comment`) just before the closing brace of its block (replacing the blanks before it) in file
+/// `file`; the names of the cases whose block is not in that file (or unknown) go to `elsewhere`.
+std::vector<TextEdit> case_block_edits(const lang::Model& model, lang::FileId file,
+                                       const std::map<std::string, std::string>& lines,
+                                       const std::string& comment,
+                                       std::vector<std::string>& elsewhere);
 
 /// Replaces the value expression of each param declared in file `root` by its new value
 /// (format_param_value); params declared in other files are listed in `skipped`.

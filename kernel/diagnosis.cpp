@@ -45,7 +45,14 @@ std::vector<std::string> HypothesisRegistry::names() const {
 }
 
 std::string netlist_number(double v) {
-  return fmt::format("{:.5g}", v);
+  return fmt::format("{:.5g}", v + 0.0); // + 0.0: no "-0"
+}
+
+void merge_case_lines(CaseLines& lines, const CaseLines& more) {
+  for (const auto& [name, text] : more) {
+    std::string& to = lines[name];
+    to += (to.empty() ? "" : "\n") + text;
+  }
 }
 
 lang::ElementSpec make_element(const std::string& kind, const std::string& name,

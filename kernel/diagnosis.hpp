@@ -53,7 +53,8 @@ struct Finding {
   Candidate candidate;                 ///< what it is
   std::vector<double> values;          ///< fitted extra parameters (candidate.names)
   std::vector<double> std_errors;      ///< their standard errors (NaN when unknown)
-  std::string statement;               ///< netlist statements that add it
+  std::string statement;               ///< netlist statements that add it (top level)
+  CaseLines case_statements;           ///< lines that complete it inside case blocks, by case
   std::string evidence;                ///< the evidence in words
   bool mechanism_identified = true;    ///< missing_link: the data tell linear and radiation apart
   std::string mechanism_note;          ///< e.g. "linear and radiation fit equally; kept linear"

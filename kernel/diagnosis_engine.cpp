@@ -7,6 +7,7 @@
 
 #include "kernel/integrator.hpp"
 #include "kernel/network.hpp"
+#include "lang/elaborator.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -94,6 +95,11 @@ std::string Stack::statement(const Candidate&, const std::vector<double>& p,
   return free_ ? free_->statement(*fc_, p, ev) : std::string();
 }
 
+CaseLines Stack::case_statements(const Candidate&, const std::vector<double>& p,
+                                 const Evidence& ev) const {
+  return free_ ? free_->case_statements(*fc_, p, ev) : CaseLines();
+}
+
 Candidate Compose::candidate() const {
   Candidate c;
   c.measurement_side = true;
@@ -144,6 +150,14 @@ std::string Compose::statement(const Candidate&, const std::vector<double>& p,
   return s;
 }
 
+CaseLines Compose::case_statements(const Candidate&, const std::vector<double>& p,
+                                   const Evidence& ev) const {
+  CaseLines lines;
+  for (std::size_t i = 0; i < parts_.size(); ++i)
+    merge_case_lines(lines, parts_[i].h->case_statements(parts_[i].c, slice(p, i), ev));
+  return lines;
+}
+
 Candidate Joint::candidate(const std::vector<double>& ranged) const {
   Candidate c = ic_;
   c.names.insert(c.names.end(), pc_.names.begin(), pc_.names.end());
@@ -175,6 +189,11 @@ std::string Joint::statement(const Candidate&, const std::vector<double>& p,
          par_->statement(pc_, tail(p), ev);
 }
 
+CaseLines Joint::case_statements(const Candidate&, const std::vector<double>& p,
+                                 const Evidence& ev) const {
+  return inner_->case_statements(ic_, head(p), ev);
+}
+
 std::vector<double> Joint::head(const std::vector<double>& p) const {
   return {p.begin(), p.begin() + static_cast<long>(ic_.start.size())};
 }
@@ -187,6 +206,13 @@ std::vector<double> Joint::tail(const std::vector<double>& p) const {
 
 void Engine::collect_evidence() {
   ev_.model = &model_;
+  // What the findings' netlist text is written against: the declarations, and every case block.
+  const lang::Reporter fail = [](lang::Diagnostic d) {
+    if (d.severity == lang::Severity::error) throw lang::ModelError(std::move(d));
+  };
+  ev_.declared.spec = lang::Elaborator(model_, fail, nullptr, {}, false).run();
+  for (const auto& name : model_.case_names())
+    ev_.declared_cases.push_back({name, model_.instantiate(name)});
   std::vector<std::string> names = opt_.cases;
   const bool all = names.empty();
   if (all) {
@@ -711,6 +737,7 @@ Evaluated Engine::evaluate(const Entry& e, const Base& base, bool joint) const {
   f.delta_bic =
       na * std::log((b.sse + floor2 * na) / (base.sse_all + floor2 * na)) + k * std::log(na);
   f.statement = e.h->statement(e.c, b.p, ev_);
+  f.case_statements = e.h->case_statements(e.c, b.p, ev_);
   return out;
 }
 

@@ -48,6 +48,8 @@ public:
                const std::vector<double>& times, std::vector<double>& sim) const override;
   std::string statement(const Candidate&, const std::vector<double>& p,
                         const Evidence& ev) const override;
+  CaseLines case_statements(const Candidate&, const std::vector<double>& p,
+                            const Evidence& ev) const override;
 
 private:
   const std::vector<Applied>* applied_;
@@ -76,6 +78,8 @@ public:
                const std::vector<double>& times, std::vector<double>& sim) const override;
   std::string statement(const Candidate&, const std::vector<double>& p,
                         const Evidence& ev) const override;
+  CaseLines case_statements(const Candidate&, const std::vector<double>& p,
+                            const Evidence& ev) const override;
 
 private:
   std::vector<double> head(const std::vector<double>& p) const;
@@ -104,6 +108,8 @@ public:
                const std::vector<double>& times, std::vector<double>& sim) const override;
   std::string statement(const Candidate&, const std::vector<double>& p,
                         const Evidence& ev) const override;
+  CaseLines case_statements(const Candidate&, const std::vector<double>& p,
+                            const Evidence& ev) const override;
 
 private:
   std::vector<Applied> parts_;

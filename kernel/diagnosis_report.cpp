@@ -29,6 +29,20 @@ std::vector<std::pair<std::string, NodeMetrics>> worst_nodes(const FitMetrics& m
   return v;
 }
 
+/// Each line of `text` after `indent`, each ending with a line break.
+std::string indent_lines(const std::string& text, const std::string& indent) {
+  std::string s, line;
+  for (char ch : text + "\n") {
+    if (ch == '\n') {
+      s += indent + line + "\n";
+      line.clear();
+    } else {
+      line += ch;
+    }
+  }
+  return s;
+}
+
 /// One finding as JSON (the spec's fields plus the gain on all and held-out data).
 nlohmann::json finding_json(const Finding& f) {
   nlohmann::json x;
@@ -49,6 +63,7 @@ nlohmann::json finding_json(const Finding& f) {
     if (std::isfinite(f.std_errors[k])) se[f.candidate.names[k]] = f.std_errors[k];
   x["std_errors"] = se;
   x["statement"] = f.statement;
+  x["case_statements"] = f.case_statements;
   x["evidence"] = f.evidence;
   x["rmse_before"] = f.rmse_before;
   x["rmse_after"] = f.rmse_after;
@@ -154,15 +169,9 @@ std::string diagnosis_text(const DiagnosisReport& r) {
                      f.rmse_before, f.rmse_after, f.r2_before, f.r2_after, f.validation_rmse_before,
                      f.validation_rmse_after, validation);
     s += "     extension:\n";
-    std::string line;
-    for (char ch : f.statement + "\n") {
-      if (ch == '\n') {
-        s += "       " + line + "\n";
-        line.clear();
-      } else {
-        line += ch;
-      }
-    }
+    if (!f.statement.empty()) s += indent_lines(f.statement, "       ");
+    for (const auto& [name, lines] : f.case_statements)
+      s += fmt::format("       in case {}:\n", name) + indent_lines(lines, "         ");
   }
   if (!r.alternatives.empty()) {
     s += "\nAlso significant alone, explained by the findings above:\n";

@@ -445,8 +445,11 @@ DiagnosisReport Engine::run() {
     for (std::size_t i = 0; i < rep.findings.size(); ++i) {
       rep.findings[i].values = applied[i].p;
       rep.findings[i].statement = applied[i].h->statement(applied[i].c, applied[i].p, ev_);
+      rep.findings[i].case_statements =
+          applied[i].h->case_statements(applied[i].c, applied[i].p, ev_);
     }
     f.statement = applied.back().h->statement(applied.back().c, applied.back().p, ev_);
+    f.case_statements = applied.back().h->case_statements(applied.back().c, applied.back().p, ev_);
     rep.findings.push_back(std::move(f));
     base = make_base(applied);
   }

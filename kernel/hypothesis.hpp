@@ -37,12 +37,21 @@ struct ScreenFit {
   double correlation = 0.0; ///< correlation of the term with the unexplained flows
 };
 
+/// A network as written in the model at the declared param values: what a finding's netlist text
+/// is written against.
+struct DeclaredSpec {
+  std::string case_name;  ///< the case block (empty: the declarations without any case)
+  lang::NetworkSpec spec; ///< the elaborated network
+};
+
 /// Everything the hypotheses see: per-case evidence and the noise floor.
 struct Evidence {
-  const lang::Model* model = nullptr; ///< the model under diagnosis
-  std::vector<CaseEvidence> cases;    ///< cases with data
-  double noise_floor = 0.0;           ///< estimated measurement noise, K
-  double screen_total = 0.0;          ///< weighted sum of squares of q over every row
+  const lang::Model* model = nullptr;       ///< the model under diagnosis
+  std::vector<CaseEvidence> cases;          ///< cases with data
+  double noise_floor = 0.0;                 ///< estimated measurement noise, K
+  double screen_total = 0.0;                ///< weighted sum of squares of q over every row
+  DeclaredSpec declared;                    ///< the declarations without any case
+  std::vector<DeclaredSpec> declared_cases; ///< every declared case block, with data or not
 
   /// Fits q ~ c * basis(case, node, k) over every screen row (rows weighted by 1/C, i.e. in K/s);
   /// basis returning 0 contributes nothing.
@@ -70,6 +79,12 @@ struct Candidate {
   std::vector<int> index;         ///< resolved spec indices (nodes, element) for the plugin
 };
 
+/// Netlist lines for inside case blocks, by case name.
+using CaseLines = std::map<std::string, std::string>;
+
+/// Appends `more` to `lines` (a line break between the lines of a case).
+void merge_case_lines(CaseLines& lines, const CaseLines& more);
+
 /// One finding kind: proposes candidates and applies them.
 class Hypothesis {
 public:
@@ -85,9 +100,15 @@ public:
   /// Corrects the simulated series of a spec node at parameters p (measurement-side kinds).
   virtual void correct(const Candidate&, const std::vector<double>&, int /*node*/,
                        const std::vector<double>& /*times*/, std::vector<double>& /*sim*/) const {}
-  /// Netlist statements that add the finding to the model (one per line).
+  /// Netlist statements that add the finding to the model's top level (one per line).
   virtual std::string statement(const Candidate& c, const std::vector<double>& p,
                                 const Evidence& ev) const = 0;
+  /// Lines that complete the finding inside case blocks, by case name (one per line), where the
+  /// top-level statements alone would not reproduce the fit (default: none).
+  virtual CaseLines case_statements(const Candidate&, const std::vector<double>&,
+                                    const Evidence&) const {
+    return {};
+  }
 };
 
 /// A named hypothesis kind with a one-line doc and a factory.

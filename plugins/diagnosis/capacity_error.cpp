@@ -46,10 +46,31 @@ public:
     spec.nodes[static_cast<std::size_t>(c.index[0])].C *= p[0];
   }
 
+  // A node cannot be declared twice: the corrected capacity is a `NODE.C` override in every case
+  // block (each case's own capacity times the factor); without case blocks it is a comment.
   std::string statement(const Candidate& c, const std::vector<double>& p,
                         const Evidence& ev) const override {
-    const double C = ev.cases.front().spec.nodes[static_cast<std::size_t>(c.index[0])].C;
-    return fmt::format("{}.C = {} [J/K]", c.nodes[0], netlist_number(C * p[0]));
+    if (!ev.declared_cases.empty())
+      return fmt::format("# capacity_error: the capacity of {} is {} times the modelled one (set "
+                         "in every case block)",
+                         c.nodes[0], netlist_number(p[0]));
+    return fmt::format("# capacity_error: declare {} with C = {} [J/K] ({} times the modelled one)",
+                       c.nodes[0], netlist_number(capacity(ev.declared, c) * p[0]),
+                       netlist_number(p[0]));
+  }
+
+  CaseLines case_statements(const Candidate& c, const std::vector<double>& p,
+                            const Evidence& ev) const override {
+    CaseLines out;
+    for (const auto& d : ev.declared_cases)
+      out[d.case_name] =
+          fmt::format("{}.C = {} [J/K]", c.nodes[0], netlist_number(capacity(d, c) * p[0]));
+    return out;
+  }
+
+private:
+  static double capacity(const DeclaredSpec& d, const Candidate& c) {
+    return d.spec.nodes.at(static_cast<std::size_t>(d.spec.node_index(c.nodes[0]))).C;
   }
 };
 

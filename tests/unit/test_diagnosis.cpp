@@ -325,6 +325,94 @@ TEST_CASE("diagnose chain: a radiative link over a narrow span is not told apart
 
 namespace {
 
+// --------------------------- network A2: 2 nodes, 2 cases that each override the heater's power
+
+const char* const kTwoCases = R"(model twocases
+boundary amb T = 20
+node a C = 800 [J/K] T0 = 20
+node b C = {CB} [J/K] T0 = 20
+conductance gab a b G = 2 [W/K]
+conductance gba b amb G = 0.8 [W/K]
+heater h a P = {P} [W]
+{EXTRA}
+case run1 { duration = 6000; output = 60; h.P = step(0: {P} [W], 2000: 0 [W]) {DATA:run1} }
+case run2 { duration = 6000; output = 60; h.P = {P2} [W]; b.C = {CB2} [J/K] {DATA:run2} }
+)";
+
+/// The two-case model: heater power P (run1: P until 2000 s; run2: P2 throughout) and the
+/// capacity of b (CB declared, CB2 in run2).
+std::string two_cases(double P, double P2, double CB, double CB2) {
+  std::string t = kTwoCases;
+  for (const auto& [key, v] :
+       {std::pair{"{P}", P}, std::pair{"{P2}", P2}, std::pair{"{CB}", CB}, std::pair{"{CB2}", CB2}})
+    for (auto p = t.find(key); p != std::string::npos; p = t.find(key))
+      t.replace(p, std::string(key).size(), netlist_number(v));
+  return t;
+}
+
+/// Writes the model at `path` extended by `f` (--write), requires it to lint clean, warnings
+/// included, and diagnoses it again.
+DiagnosisReport rediagnose(const TempDir& dir, const std::string& path, const Finding& f,
+                           std::string& text) {
+  Loaded m(path);
+  text = cli::extended_model_text(*m.model, f);
+  Loaded e(dir.write("ext.tnet", text));
+  CHECK(e.diags.warning_count() == 0);
+  return diagnose(*e.model);
+}
+
+/// Every node of every case fits at the noise floor.
+void check_every_case_at_floor(const DiagnosisReport& r) {
+  REQUIRE(r.baseline.cases.size() == 2);
+  for (const auto& [name, nodes] : r.baseline.cases)
+    for (const auto& [node, m] : nodes)
+      CHECK_MESSAGE(m.rmse < 1.5 * r.noise_floor, name, " ", node, " RMSE ", m.rmse);
+  CHECK_MESSAGE(r.findings.empty(), diagnosis_text(r));
+}
+
+} // namespace
+
+TEST_CASE("diagnose two cases: a heater gain is written for every case's own power") {
+  TempDir dir;
+  const Setup s{two_cases(15, 8, 500, 300), {"run1", "run2"}, {"a", "b"}, 0.02};
+  const auto path = make_case(dir, s, "", two_cases(0.7 * 15, 0.7 * 8, 500, 300));
+  const auto r = run(path);
+  const Finding& f = top(r);
+  CHECK(f.candidate.kind == "heater_gain");
+  CHECK(value(f, "factor") == doctest::Approx(0.7).epsilon(0.02));
+  CHECK(f.rmse_after < 1.5 * r.noise_floor);
+  // The declared power gets the top-level correction, each case's own power its override.
+  CHECK(f.statement.find("heater diag_gain_h a P = -4.5") == 0);
+  REQUIRE(f.case_statements.size() == 2);
+  CHECK(f.case_statements.at("run1").find("diag_gain_h.P = step(0: -4.5") == 0);
+  CHECK(f.case_statements.at("run2").find("diag_gain_h.P = -2.4") == 0);
+  std::string text;
+  const auto r2 = rediagnose(dir, path, f, text);
+  // The override sits inside run2's block, above the appended statement.
+  const auto at = text.find("diag_gain_h.P = -2.4");
+  CHECK(text.find("case run2") < at);
+  CHECK(at < text.find("heater diag_gain_h"));
+  check_every_case_at_floor(r2);
+}
+
+TEST_CASE("diagnose two cases: a capacity error is written for every case's own capacity") {
+  TempDir dir;
+  const Setup s{two_cases(15, 8, 500, 300), {"run1", "run2"}, {"a", "b"}, 0.02};
+  const auto path = make_case(dir, s, "", two_cases(15, 8, 1250, 750));
+  const auto r = run(path);
+  const Finding& f = top(r);
+  CHECK(f.candidate.kind == "capacity_error");
+  CHECK(f.candidate.nodes == std::vector<std::string>{"b"});
+  CHECK(value(f, "factor") == doctest::Approx(2.5).epsilon(0.05));
+  REQUIRE(f.case_statements.size() == 2);
+  CHECK(f.case_statements.at("run1").find("b.C = 12") == 0);
+  CHECK(f.case_statements.at("run2").find("b.C = 7") == 0);
+  std::string text;
+  check_every_case_at_floor(rediagnose(dir, path, f, text));
+}
+
+namespace {
+
 // ------------------------------------------- network B: 8-node instrument, radiation, 2 cases
 
 const char* const kInstrument = R"(model instrument
