@@ -178,6 +178,7 @@ public:
     stats.integrator = "cvode-bdf";
     stats.linear_solver = linear_solver_name(kind_);
     add_counters(stats, acc_, ev_.rhs_evals, ev_.jac_evals);
+    stats.prec_setups += ev_.jacobian_storage().ilu_factorizations();
     acc_ = SolverStats{};
   }
 
@@ -200,6 +201,11 @@ private:
     acc_.error_test_fails += netf;
     acc_.nonlinear_iters += nni;
     acc_.nonlinear_fails += ncfn;
+    if (kind_ == LinearSolverKind::krylov) {
+      long nli = 0;
+      CVodeGetNumLinIters(mem, &nli);
+      acc_.linear_iters += nli;
+    }
   }
 
   /// Time reached, and the unknowns with the largest weighted local error estimates.

@@ -52,6 +52,10 @@ public:
   LinearLink(int a, int b, double G) : a_(a), b_(b), G_(G) {}
   /// The conductance, W/K.
   double conductance() const { return G_; }
+  /// First terminal (spec node index).
+  int a() const { return a_; }
+  /// Second terminal (spec node index).
+  int b() const { return b_; }
   void declare(JacobianLayout& layout) override;
   void stamp(double t, const double* T, double* F, double* J) const override;
   double flow(double, const double* T) const override { return G_ * (T[a_] - T[b_]); }

@@ -189,6 +189,7 @@ public:
     stats.integrator = "ida";
     stats.linear_solver = linear_solver_name(kind_);
     add_counters(stats, acc_, ev_.rhs_evals, ev_.jac_evals);
+    stats.prec_setups += ev_.jacobian_storage().ilu_factorizations();
     acc_ = SolverStats{};
   }
 
@@ -218,6 +219,11 @@ private:
     acc_.error_test_fails += netf;
     acc_.nonlinear_iters += nni;
     acc_.nonlinear_fails += ncfn;
+    if (kind_ == LinearSolverKind::krylov) {
+      long nli = 0;
+      IDAGetNumLinIters(mem, &nli);
+      acc_.linear_iters += nli;
+    }
   }
 
   sundials::Diagnosis diagnose() {

@@ -42,6 +42,8 @@ struct SolverStats {
   long linear_setups = 0;    ///< linear solver setups (factorisations)
   long nonlinear_iters = 0;  ///< nonlinear (Newton) iterations
   long nonlinear_fails = 0;  ///< nonlinear convergence failures
+  long linear_iters = 0;     ///< Krylov (GMRES) iterations (0 for direct solvers)
+  long prec_setups = 0;      ///< preconditioner setups: ILU(0) factorisations (Krylov only)
   long error_test_fails = 0; ///< local error test failures
   long events = 0;           ///< events applied (thermostat switches)
   long restarts = 0;         ///< restarts at breakpoints and events

@@ -3,23 +3,25 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <map>
-#include <set>
 
 namespace thermnet {
 namespace {
 
-/// First pass: records which (row, col) node pairs elements touch.
+/// First pass: records which (row, col) pairs of unknowns elements touch.
 class RecordingLayout final : public JacobianLayout {
 public:
-  explicit RecordingLayout(std::set<std::pair<int, int>>& pairs) : pairs_(pairs) {}
+  RecordingLayout(std::vector<std::pair<int, int>>& pairs, const std::vector<int>& unknown_of)
+      : pairs_(pairs), unknown_of_(unknown_of) {}
   int slot(int row, int col) override {
-    pairs_.emplace(row, col);
+    const int r = unknown_of_[static_cast<std::size_t>(row)];
+    const int c = unknown_of_[static_cast<std::size_t>(col)];
+    if (r >= 0 && c >= 0) pairs_.emplace_back(r, c);
     return 0;
   }
 
 private:
-  std::set<std::pair<int, int>>& pairs_;
+  std::vector<std::pair<int, int>>& pairs_;
+  const std::vector<int>& unknown_of_;
 };
 
 /// Second pass: hands out CSR positions; pairs touching a boundary get the scratch slot.
@@ -53,44 +55,59 @@ std::unique_ptr<Element> build(const lang::ElementSpec& e, const ElementRegistry
   return plugin->create(e);
 }
 
+/// Elements ahead of the one being stamped whose memory is requested early: element objects are
+/// scattered over the heap, and large networks would otherwise wait for memory at every one.
+constexpr std::size_t kPrefetchDistance = 8;
+
 } // namespace
 
 Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec_(std::move(spec)) {
   const std::size_t n = spec_.nodes.size();
   unknown_of_.assign(n, -1);
   for (std::size_t i = 0; i < n; ++i) {
-    if (spec_.nodes[i].boundary) continue;
+    if (spec_.nodes[i].boundary) {
+      boundary_nodes_.push_back(static_cast<int>(i));
+      continue;
+    }
     unknown_of_[i] = static_cast<int>(unknown_nodes_.size());
     unknown_nodes_.push_back(static_cast<int>(i));
     capacities_.push_back(spec_.nodes[i].C);
   }
+  const auto add = [&](const lang::ElementSpec& e) {
+    std::unique_ptr<Element> element = build(e, registry);
+    if (const auto* link = dynamic_cast<const LinearLink*>(element.get()))
+      links_.add(link->a(), link->b(), link->conductance());
+    else
+      elements_.push_back(std::move(element));
+  };
   for (const auto& e : spec_.elements) {
     if (e.composite == lang::Composite::parallel)
       for (const auto& part : e.parts)
-        elements_.push_back(build(part, registry));
+        add(part);
     else
-      elements_.push_back(build(e, registry));
+      add(e);
   }
   // Fix the pattern: every unknown's diagonal plus what the elements declare.
-  std::set<std::pair<int, int>> pairs;
-  RecordingLayout recorder(pairs);
+  std::vector<std::pair<int, int>> pairs;
+  RecordingLayout recorder(pairs, unknown_of_);
+  links_.declare(recorder);
   for (auto& e : elements_)
     e->declare(recorder);
-  std::vector<std::set<int>> rows(unknown_nodes_.size());
-  for (std::size_t u = 0; u < rows.size(); ++u)
-    rows[u].insert(static_cast<int>(u));
-  for (const auto& [r, c] : pairs) {
-    int ur = unknown_of_[static_cast<std::size_t>(r)],
-        uc = unknown_of_[static_cast<std::size_t>(c)];
-    if (ur >= 0 && uc >= 0) rows[static_cast<std::size_t>(ur)].insert(uc);
-  }
+  for (int u = 0; u < size(); ++u)
+    pairs.emplace_back(u, u);
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   pattern_.n = size();
-  pattern_.row_ptr.assign(1, 0);
-  for (const auto& row : rows) {
-    pattern_.col_idx.insert(pattern_.col_idx.end(), row.begin(), row.end());
-    pattern_.row_ptr.push_back(static_cast<int>(pattern_.col_idx.size()));
+  pattern_.row_ptr.assign(static_cast<std::size_t>(size()) + 1, 0);
+  pattern_.col_idx.reserve(pairs.size());
+  for (const auto& [r, c] : pairs) {
+    ++pattern_.row_ptr[static_cast<std::size_t>(r) + 1];
+    pattern_.col_idx.push_back(c);
   }
+  for (std::size_t r = 0; r + 1 < pattern_.row_ptr.size(); ++r)
+    pattern_.row_ptr[r + 1] += pattern_.row_ptr[r];
   SlotLayout slots(pattern_, unknown_of_);
+  links_.declare(slots);
   for (auto& e : elements_) {
     e->declare(slots);
     event_offset_.push_back(event_count_);
@@ -98,14 +115,16 @@ Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec
   }
   T_all_.assign(n, 0.0);
   F_all_.assign(n, 0.0);
-  J_all_.assign(static_cast<std::size_t>(pattern_.nnz()) + 1, 0.0);
+  J_links_.assign(static_cast<std::size_t>(pattern_.nnz()) + 1, 0.0);
+  links_.stamp_jacobian(J_links_.data());
+  J_all_ = J_links_;
 }
 
 void Network::expand(double t, const double* T, double* all) const {
-  for (std::size_t i = 0; i < spec_.nodes.size(); ++i) {
-    int u = unknown_of_[i];
-    all[i] = u >= 0 ? T[u] : spec_.nodes[i].T.at(t);
-  }
+  for (std::size_t u = 0; u < unknown_nodes_.size(); ++u)
+    all[unknown_nodes_[u]] = T[u];
+  for (int b : boundary_nodes_)
+    all[b] = spec_.nodes[static_cast<std::size_t>(b)].T.at(t);
 }
 
 void Network::stamp_all(double t, const double* T, bool with_jacobian) {
@@ -114,11 +133,15 @@ void Network::stamp_all(double t, const double* T, bool with_jacobian) {
   // Right-hand sides outnumber Jacobians by ~50 to 1: skip the derivatives when not asked for.
   double* J = nullptr;
   if (with_jacobian) {
-    std::fill(J_all_.begin(), J_all_.end(), 0.0);
+    std::copy(J_links_.begin(), J_links_.end(), J_all_.begin());
     J = J_all_.data();
   }
-  for (const auto& e : elements_)
-    e->stamp(t, T_all_.data(), F_all_.data(), J);
+  links_.stamp_flows(T_all_.data(), F_all_.data());
+  const std::size_t count = elements_.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    if (k + kPrefetchDistance < count) __builtin_prefetch(elements_[k + kPrefetchDistance].get());
+    elements_[k]->stamp(t, T_all_.data(), F_all_.data(), J);
+  }
 }
 
 void Network::heat_balance(double t, const double* T, double* F) {

@@ -4,6 +4,7 @@
 
 #include "kernel/element.hpp"
 #include "kernel/element_registry.hpp"
+#include "kernel/link_batch.hpp"
 #include "kernel/thermal_system.hpp"
 #include "lang/network_spec.hpp"
 
@@ -54,15 +55,18 @@ private:
   void stamp_all(double t, const double* T, bool with_jacobian);
 
   lang::NetworkSpec spec_;
-  std::vector<std::unique_ptr<Element>> elements_;
-  std::vector<int> unknown_nodes_; // unknown -> spec node
-  std::vector<int> unknown_of_;    // spec node -> unknown or -1
+  LinkBatch links_;                                // constant-conductance links, flat
+  std::vector<std::unique_ptr<Element>> elements_; // every other element
+  std::vector<int> boundary_nodes_;                // spec nodes with prescribed temperatures
+  std::vector<int> unknown_nodes_;                 // unknown -> spec node
+  std::vector<int> unknown_of_;                    // spec node -> unknown or -1
   std::vector<double> capacities_;
   SparsityPattern pattern_;
   std::vector<int> event_offset_; // per element: first event index
   int event_count_ = 0;
   // Scratch sized once: temperatures, heat balance and Jacobian values of every node.
   std::vector<double> T_all_, F_all_, J_all_;
+  std::vector<double> J_links_; // the links' constant part of J_all_
 };
 
 } // namespace thermnet

@@ -97,6 +97,7 @@ void SparseJacobian::multiply(const Combination& c, const double* x, double* out
 }
 
 bool SparseJacobian::factor_ilu(const Combination& c) {
+  ++ilu_factorizations_;
   const double* v = values_.data();
   for (int i = 0; i < n_; ++i) {
     const int d = diag_[i];

@@ -49,6 +49,8 @@ public:
   void multiply(const Combination& c, const double* v, double* out) const;
   /// Forms M and factors it in place by ILU(0); false if a pivot vanishes.
   bool factor_ilu(const Combination& c);
+  /// Number of ILU(0) factorisations made so far (preconditioner setups).
+  long ilu_factorizations() const { return ilu_factorizations_; }
   /// Solves (L U) z = r with the last ILU(0) factors.
   void solve_ilu(const double* r, double* z) const;
   /// Diagonal of dF/dT (in W/K), one per row.
@@ -65,6 +67,7 @@ private:
   std::vector<double> lu_;
   std::vector<double> inv_pivot_;
   std::vector<int> work_;
+  long ilu_factorizations_ = 0;
 };
 
 } // namespace thermnet::detail

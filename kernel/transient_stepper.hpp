@@ -64,6 +64,7 @@ inline void add_counters(SolverStats& stats, const SolverStats& segments, long r
   stats.linear_setups += segments.linear_setups;
   stats.nonlinear_iters += segments.nonlinear_iters;
   stats.nonlinear_fails += segments.nonlinear_fails;
+  stats.linear_iters += segments.linear_iters;
   stats.error_test_fails += segments.error_test_fails;
   stats.rhs_evals += rhs_evals;
   stats.jac_evals += jac_evals;

@@ -2,6 +2,7 @@
 
 #include "lang/csv.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -10,16 +11,35 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// A key of a built-in statement: name, dimension, lower bound 0 (exclusive or not), doc.
+KeySchema builtin_key(std::string name, Dimension d, bool min_exclusive, std::string doc) {
+  KeySchema k;
+  k.name = std::move(name);
+  k.dim = d;
+  k.min = 0.0;
+  k.min_exclusive = min_exclusive;
+  k.doc = std::move(doc);
+  return k;
+}
+
+/// A temperature key: bare numbers in degC, above absolute zero.
+KeySchema temperature_key(std::string name, std::string doc) {
+  KeySchema k = builtin_key(std::move(name), dim::temperature, true, std::move(doc));
+  k.absolute_temperature = true;
+  return k;
+}
+
 /// Schemas of the built-in statements, so nodes and boundaries are checked like element keys.
 const ElementSchema& node_schema() {
   static const ElementSchema s = [] {
     ElementSchema e;
     e.kind = "node";
     e.terminals = 0;
-    e.keys.push_back({"C", dim::capacity, KeyType::number, true, std::nullopt, 0.0, std::nullopt,
-                      false, false, false, "heat capacity [J/K]; 0 for an arithmetic node"});
-    e.keys.push_back({"T0", dim::temperature, KeyType::number, false, std::nullopt, 0.0,
-                      std::nullopt, true, false, true, "initial temperature [degC]"});
+    KeySchema c =
+        builtin_key("C", dim::capacity, false, "heat capacity [J/K]; 0 for an arithmetic node");
+    c.required = true;
+    e.keys.push_back(std::move(c));
+    e.keys.push_back(temperature_key("T0", "initial temperature [degC]"));
     return e;
   }();
   return s;
@@ -30,8 +50,10 @@ const ElementSchema& boundary_schema() {
     ElementSchema e;
     e.kind = "boundary";
     e.terminals = 0;
-    e.keys.push_back({"T", dim::temperature, KeyType::signal, true, std::nullopt, 0.0, std::nullopt,
-                      true, false, true, "prescribed temperature [degC], or a signal"});
+    KeySchema t = temperature_key("T", "prescribed temperature [degC], or a signal");
+    t.type = KeyType::signal;
+    t.required = true;
+    e.keys.push_back(std::move(t));
     return e;
   }();
   return s;
@@ -66,10 +88,6 @@ Elaborator::Elaborator(const Model& model, Reporter report, const CaseDecl* c,
       overrides_(overrides.begin(), overrides.end()), check_data_(check_data) {
   for (const auto& v : m_.values())
     value_decls_.emplace(v.name, &v);
-  for (std::size_t i = 0; i < m_.nodes().size(); ++i)
-    node_index_.emplace(m_.nodes()[i].name, static_cast<int>(i));
-  for (const auto& e : m_.elements())
-    element_decls_.emplace(e.name, &e);
 }
 
 void Elaborator::report(Diagnostic d) {
@@ -170,7 +188,7 @@ Quantity Elaborator::value_of(const std::string& name, Span use) {
 
 std::optional<double> Elaborator::to_place(const Quantity& q, const Place& p, Span at, Span mark) {
   if (q.dim && !(*q.dim == p.dim)) {
-    report(DiagnosticEngine::make(DiagId::unit_mismatch, at, mark, p.what, describe(p.dim),
+    report(DiagnosticEngine::make(DiagId::unit_mismatch, at, mark, p.what(), describe(p.dim),
                                   describe(*q.dim)));
     return std::nullopt;
   }
@@ -184,7 +202,7 @@ bool Elaborator::check_range(double v, const Place& p, Span at, Span mark) {
   if (!p.key || p.key->accepts(v)) return true;
   std::string range =
       p.key->absolute_temperature ? "above absolute zero (-273.15 degC)" : p.key->range_text();
-  report(DiagnosticEngine::make(DiagId::out_of_range, at, mark, p.what, range,
+  report(DiagnosticEngine::make(DiagId::out_of_range, at, mark, p.what(), range,
                                 format_value(v, p.dim, p.absolute_temperature)));
   return false;
 }
@@ -209,7 +227,9 @@ std::optional<Signal> Elaborator::signal(const ast::Value& v, FileId f, const Pl
   if (const auto* ps = boost::get<ast::PointSignal>(&v)) {
     Signal s;
     s.kind = ps->kind.name == "step" ? Signal::Kind::step : Signal::Kind::pwl;
-    Place time{fmt::format("a time in the {} signal of {}", ps->kind.name, p.what), dim::time};
+    Place time{
+        [&] { return fmt::format("a time in the {} signal of {}", ps->kind.name, p.what()); },
+        dim::time};
     bool ok = true;
     for (const auto& pt : ps->points) {
       auto t = number(pt.time, f, time, at);
@@ -274,7 +294,7 @@ std::optional<Signal> Elaborator::signal(const ast::Value& v, FileId f, const Pl
 }
 
 std::optional<int> Elaborator::resolve_node(const ast::Identifier& id, FileId f, Span at) {
-  if (auto it = node_index_.find(id.name); it != node_index_.end()) return it->second;
+  if (const int i = m_.node_index(id.name); i >= 0) return i;
   if (m_.declared_by_unparsed(id.name)) return std::nullopt; // its syntax error is reported
   Diagnostic d = DiagnosticEngine::make(DiagId::unknown_node, at, span_of(f, id), id.name);
   std::vector<std::string> names;
@@ -287,9 +307,16 @@ std::optional<int> Elaborator::resolve_node(const ast::Identifier& id, FileId f,
 }
 
 bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::KeyValue>& keys,
-                           FileId f, Span at, const std::string& owner, ElementSpec& out) {
+                           FileId f, Span at, const std::function<std::string()>& owner,
+                           ElementSpec& out) {
   bool ok = true;
-  std::map<std::string, Span> given;
+  // Keys given so far with their spans (a handful per element: a flat list beats a map).
+  std::vector<std::pair<const std::string*, Span>> given;
+  const auto find_given = [&](const std::string& name) -> const Span* {
+    for (const auto& [key, span] : given)
+      if (*key == name) return &span;
+    return nullptr;
+  };
   for (const auto& kv : keys) {
     const KeySchema* ks = schema.key(kv.key.name);
     if (!ks) {
@@ -308,18 +335,19 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
       ok = false;
       continue;
     }
-    if (given.count(kv.key.name)) {
+    if (find_given(kv.key.name)) {
       report(DiagnosticEngine::make(DiagId::duplicate_key, at, span_of(f, kv.key), kv.key.name));
       ok = false;
       continue;
     }
-    given.emplace(kv.key.name, span_of(f, kv.key));
-    Place place{fmt::format("{} of {}", ks->name, owner), ks->dim, ks->absolute_temperature, ks};
+    given.emplace_back(&kv.key.name, span_of(f, kv.key));
+    Place place{[&] { return fmt::format("{} of {}", ks->name, owner()); }, ks->dim,
+                ks->absolute_temperature, ks};
     if (ks->type == KeyType::node) {
       const ast::Identifier* id = as_identifier(kv.value);
       if (!id) {
         report(DiagnosticEngine::make(DiagId::syntax_expected, at, span_of(f, kv),
-                                      fmt::format("expected a node name for {}", place.what)));
+                                      fmt::format("expected a node name for {}", place.what())));
         ok = false;
       } else if (auto n = resolve_node(*id, f, at)) {
         out.node_keys[ks->name] = *n;
@@ -329,7 +357,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
       continue;
     }
     if (ks->type == KeyType::number && !boost::get<ast::Expr>(&kv.value)) {
-      report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, span_of(f, kv), place.what));
+      report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, span_of(f, kv), place.what()));
       ok = false;
       continue;
     }
@@ -340,7 +368,11 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
   }
   std::string kind_word = schema.kind;
   // Exactly one alternative group (e.g. radiation: GR, or A + eps1 + eps2) must be given in full.
-  std::set<std::string> in_groups;
+  const auto in_groups = [&](const std::string& name) {
+    for (const auto& g : schema.alternatives)
+      if (std::find(g.begin(), g.end(), name) != g.end()) return true;
+    return false;
+  };
   if (!schema.alternatives.empty()) {
     std::vector<const std::vector<std::string>*> touched;
     std::string options;
@@ -348,13 +380,12 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
       bool any = false;
       std::string names;
       for (std::size_t i = 0; i < g.size(); ++i) {
-        in_groups.insert(g[i]);
-        any |= given.count(g[i]) != 0;
+        any |= find_given(g[i]) != nullptr;
         names += (i == 0 ? "" : i + 1 == g.size() ? " and " : ", ") + g[i];
       }
       for (const auto& ks : schema.keys) // optional parts of the group (radiation: F)
         any |= !ks.with.empty() && std::find(g.begin(), g.end(), ks.with) != g.end() &&
-               given.count(ks.name) != 0;
+               find_given(ks.name) != nullptr;
       options += (options.empty() ? "" : ", or ") + names;
       if (any) touched.push_back(&g);
     }
@@ -369,7 +400,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
       ok = false;
     } else {
       for (const auto& k : *touched.front())
-        if (!given.count(k)) {
+        if (!find_given(k)) {
           report(DiagnosticEngine::make(DiagId::missing_key, at, std::nullopt, kind_word, out.name,
                                         k));
           ok = false;
@@ -377,21 +408,21 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
     }
   }
   for (const auto& ks : schema.keys) {
-    if (given.count(ks.name)) continue;
+    if (find_given(ks.name)) continue;
     if (ks.default_value)
       out.values[ks.name] = Signal::of(*ks.default_value);
-    else if (ks.required && !in_groups.count(ks.name)) {
+    else if (ks.required && !in_groups(ks.name)) {
       report(DiagnosticEngine::make(DiagId::missing_key, at, std::nullopt, kind_word,
-                                    out.name.empty() ? owner : out.name, ks.name));
+                                    out.name.empty() ? owner() : out.name, ks.name));
       ok = false;
     }
   }
   if (ok && schema.check)
     for (const auto& problem : schema.check(out.key_values())) {
-      auto g = given.find(problem.key);
+      const Span* g = find_given(problem.key);
       report(DiagnosticEngine::make(DiagId::conflicting_keys, at,
-                                    g == given.end() ? std::optional<Span>() : g->second,
-                                    fmt::format("{}: {}", owner, problem.message)));
+                                    g ? std::optional<Span>(*g) : std::nullopt,
+                                    fmt::format("{}: {}", owner(), problem.message)));
       ok = false;
     }
   return ok;
@@ -406,7 +437,9 @@ void Elaborator::elaborate_node(const NodeDecl& d, NodeSpec& out) {
   tmp.name = d.name;
   const ElementSchema& schema = d.boundary ? boundary_schema() : node_schema();
   Span at{d.file, d.where.begin, d.where.begin};
-  fill_keys(schema, *d.keys, d.file, at, fmt::format("{} '{}'", schema.kind, d.name), tmp);
+  fill_keys(
+      schema, *d.keys, d.file, at, [&] { return fmt::format("{} '{}'", schema.kind, d.name); },
+      tmp);
   if (d.boundary) {
     if (tmp.has("T")) out.T = tmp.values["T"];
   } else {
@@ -447,7 +480,8 @@ std::optional<ElementSpec> Elaborator::elaborate_element(const ElementDecl& d) {
     else
       ok = false;
   }
-  ok &= fill_keys(*schema, s.keys, f, at, fmt::format("{} '{}'", e.kind, e.name), e);
+  ok &= fill_keys(
+      *schema, s.keys, f, at, [&] { return fmt::format("{} '{}'", e.kind, e.name); }, e);
   if (!ok) return std::nullopt;
   const auto& decls = m_.nodes();
   if (e.nodes.size() == 2 && e.nodes[0] == e.nodes[1]) {
@@ -516,8 +550,9 @@ std::optional<ElementSpec> Elaborator::elaborate_composite(const ElementDecl& d)
     p.schema = schema;
     p.kind = part.kind.name;
     p.nodes = e.nodes;
-    ok &= fill_keys(*schema, part.keys, f, at,
-                    fmt::format("{} in {} '{}'", part.kind.name, e.kind, e.name), p);
+    ok &= fill_keys(
+        *schema, part.keys, f, at,
+        [&] { return fmt::format("{} in {} '{}'", part.kind.name, e.kind, e.name); }, p);
     e.parts.push_back(std::move(p));
   }
   if (!ok) return std::nullopt;
@@ -601,10 +636,12 @@ NetworkSpec Elaborator::run() {
   net.nodes.resize(m_.nodes().size());
   for (std::size_t i = 0; i < m_.nodes().size(); ++i)
     elaborate_node(m_.nodes()[i], net.nodes[i]);
-  for (const auto& d : m_.elements()) {
+  element_slot_.assign(m_.elements().size(), -1);
+  for (std::size_t i = 0; i < m_.elements().size(); ++i) {
+    const ElementDecl& d = m_.elements()[i];
     auto e = d.element ? elaborate_element(d) : elaborate_composite(d);
     if (!e) continue;
-    element_index_[d.name] = static_cast<int>(net.elements.size());
+    element_slot_[i] = static_cast<int>(net.elements.size());
     net.elements.push_back(std::move(*e));
   }
   if (case_) apply_case(net);
@@ -617,20 +654,8 @@ void Elaborator::apply_case(NetworkSpec& net) {
   s.where = case_->where;
   FileId f = case_->file;
   std::set<std::string> seen;
-  static const KeySchema positive_time{
-      "",   dim::time, KeyType::number, false, std::nullopt, 0.0, std::nullopt,
-      true, false,     false,           ""};
-  static const KeySchema absolute{"",
-                                  dim::temperature,
-                                  KeyType::number,
-                                  false,
-                                  std::nullopt,
-                                  0.0,
-                                  std::nullopt,
-                                  true,
-                                  false,
-                                  true,
-                                  ""};
+  static const KeySchema positive_time = builtin_key("", dim::time, true, "");
+  static const KeySchema absolute = temperature_key("", "");
   for (const auto& item : case_->stmt->items) {
     if (const auto* data = boost::get<ast::CaseData>(&item)) {
       Span at{f, data->begin, data->begin};
@@ -670,15 +695,15 @@ void Elaborator::apply_case(NetworkSpec& net) {
         s.initial_steady = true;
         continue;
       }
-      s.initial = number(
-          *e, f,
-          Place{fmt::format("'initial' of case '{}'", s.name), dim::temperature, true, &absolute},
-          at);
+      s.initial = number(*e, f,
+                         Place{[&] { return fmt::format("'initial' of case '{}'", s.name); },
+                               dim::temperature, true, &absolute},
+                         at);
     } else {
-      auto v = number(
-          *e, f,
-          Place{fmt::format("'{}' of case '{}'", key, s.name), dim::time, false, &positive_time},
-          at);
+      auto v = number(*e, f,
+                      Place{[&] { return fmt::format("'{}' of case '{}'", key, s.name); },
+                            dim::time, false, &positive_time},
+                      at);
       (key == "duration" ? s.duration : s.output) = v;
     }
   }
@@ -692,8 +717,8 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, File
   const std::string& obj = a.target.object.name;
   const std::string& key = a.target.member->name;
   Span key_span = span_of(f, *a.target.member);
-  if (auto n = node_index_.find(obj); n != node_index_.end()) {
-    NodeSpec& node = net.nodes[static_cast<std::size_t>(n->second)];
+  if (const int n = m_.node_index(obj); n >= 0) {
+    NodeSpec& node = net.nodes[static_cast<std::size_t>(n)];
     const ElementSchema& schema = node.boundary ? boundary_schema() : node_schema();
     const KeySchema* ks = schema.key(key);
     if (!ks) {
@@ -708,10 +733,10 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, File
       report(std::move(d));
       return;
     }
-    Place p{fmt::format("{} of {} '{}'", key, schema.kind, obj), ks->dim, ks->absolute_temperature,
-            ks};
+    Place p{[&] { return fmt::format("{} of {} '{}'", key, schema.kind, obj); }, ks->dim,
+            ks->absolute_temperature, ks};
     if (ks->type == KeyType::number && !boost::get<ast::Expr>(&a.value)) {
-      report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what));
+      report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what()));
       return;
     }
     auto v = signal(a.value, f, p, at);
@@ -724,9 +749,9 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, File
       node.T0 = v->constant;
     return;
   }
-  auto decl = element_decls_.find(obj);
-  if (decl == element_decls_.end() && m_.declared_by_unparsed(obj)) return;
-  if (decl == element_decls_.end()) {
+  const int decl = m_.element_index(obj);
+  if (decl < 0 && m_.declared_by_unparsed(obj)) return;
+  if (decl < 0) {
     Diagnostic d =
         DiagnosticEngine::make(DiagId::unknown_element, at, span_of(f, a.target.object), obj);
     std::vector<std::string> names;
@@ -739,17 +764,18 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, File
     report(std::move(d));
     return;
   }
-  if (decl->second->composite) {
+  const ElementDecl& element_decl = m_.elements()[static_cast<std::size_t>(decl)];
+  if (element_decl.composite) {
     report(
         DiagnosticEngine::make(DiagId::override_fixed_only, at, span_of(f, a.target),
                                fmt::format("the keys of {} '{}' belong to its inner elements and "
                                            "cannot be set by a case",
-                                           decl->second->composite->mode.name, obj)));
+                                           element_decl.composite->mode.name, obj)));
     return;
   }
-  auto idx = element_index_.find(obj);
-  if (idx == element_index_.end()) return; // the element itself has errors, already reported
-  ElementSpec& e = net.elements[static_cast<std::size_t>(idx->second)];
+  const int slot = element_slot_[static_cast<std::size_t>(decl)];
+  if (slot < 0) return; // the element itself has errors, already reported
+  ElementSpec& e = net.elements[static_cast<std::size_t>(slot)];
   const KeySchema* ks = e.schema->key(key);
   if (!ks || ks->type == KeyType::node) {
     std::vector<std::string> names;
@@ -770,9 +796,10 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, File
     report(std::move(d));
     return;
   }
-  Place p{fmt::format("{} of {} '{}'", key, e.kind, e.name), ks->dim, ks->absolute_temperature, ks};
+  Place p{[&] { return fmt::format("{} of {} '{}'", key, e.kind, e.name); }, ks->dim,
+          ks->absolute_temperature, ks};
   if (ks->type == KeyType::number && !boost::get<ast::Expr>(&a.value)) {
-    report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what));
+    report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what()));
     return;
   }
   if (auto v = signal(a.value, f, p, at)) e.values[key] = std::move(*v);

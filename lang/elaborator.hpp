@@ -35,10 +35,13 @@ public:
 private:
   /// Where a value goes: what to call it in messages, and what it must be.
   struct Place {
-    std::string what;                  ///< "key 'k' of conduction 'g1'"
+    /// Forms "key 'k' of conduction 'g1'"; called only when a message needs it.
+    std::function<std::string()> describe;
     Dimension dim;                     ///< expected dimension
     bool absolute_temperature = false; ///< bare numbers are degC
     const KeySchema* key = nullptr;    ///< for range checks
+    /// The description of the place for messages.
+    std::string what() const { return describe(); }
   };
 
   Evaluator evaluator(FileId f);
@@ -51,7 +54,7 @@ private:
 
   void elaborate_node(const NodeDecl& d, NodeSpec& out);
   bool fill_keys(const ElementSchema& schema, const std::vector<ast::KeyValue>& keys, FileId f,
-                 Span at, const std::string& owner, ElementSpec& out);
+                 Span at, const std::function<std::string()>& owner, ElementSpec& out);
   std::optional<ElementSpec> elaborate_element(const ElementDecl& d);
   std::optional<ElementSpec> elaborate_composite(const ElementDecl& d);
   void apply_case(NetworkSpec& net);
@@ -69,9 +72,7 @@ private:
   std::map<std::string, double> pending_params_;
   std::vector<std::string> evaluating_;
   std::set<std::string> used_;
-  std::unordered_map<std::string, int> node_index_;
-  std::unordered_map<std::string, const ElementDecl*> element_decls_;
-  std::unordered_map<std::string, int> element_index_;
+  std::vector<int> element_slot_; // per element declaration: index in the network, or -1
 };
 
 } // namespace thermnet::lang

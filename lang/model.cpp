@@ -7,7 +7,6 @@
 #include <numeric>
 #include <set>
 #include <tuple>
-#include <unordered_map>
 
 namespace thermnet::lang {
 namespace {
@@ -35,21 +34,19 @@ Span start_of(const Span& s) {
 void check_topology(const Model& m, const Reporter& report) {
   const auto& decls = m.nodes();
   const std::size_t n = decls.size();
-  std::unordered_map<std::string, int> index;
-  for (std::size_t i = 0; i < n; ++i)
-    index.emplace(decls[i].name, static_cast<int>(i));
   // Index n stands for every unknown name: it counts as a boundary, so no group is called
   // floating because of a name that is already reported (or hidden by a syntax error).
   const int unknown = static_cast<int>(n);
   Components comp(n + 1);
   std::vector<int> degree(n + 1, 0);
+  std::vector<int> ids;
   for (const auto& e : m.elements()) {
     const auto& names = e.element ? e.element->nodes : e.composite->nodes;
     if (names.size() < 2) continue; // a one-terminal source is not a link
-    std::vector<int> ids;
+    ids.clear();
     for (const auto& id : names) {
-      auto it = index.find(id.name);
-      ids.push_back(it == index.end() ? unknown : it->second);
+      const int i = m.node_index(id.name);
+      ids.push_back(i < 0 ? unknown : i);
     }
     for (int id : ids) {
       comp.join(ids.front(), id);

@@ -14,6 +14,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace thermnet::lang {
@@ -147,6 +148,16 @@ public:
   }
   /// Number of syntax errors in the model's files (whole-model warnings are unreliable then).
   std::size_t syntax_errors() const { return syntax_errors_; }
+  /// Index in nodes() of the first node or boundary with this name, or -1.
+  int node_index(const std::string& name) const {
+    auto it = node_index_.find(name);
+    return it == node_index_.end() ? -1 : it->second;
+  }
+  /// Index in elements() of the first element with this name, or -1.
+  int element_index(const std::string& name) const {
+    auto it = element_index_.find(name);
+    return it == element_index_.end() ? -1 : it->second;
+  }
 
 private:
   friend class ModelBuilder;
@@ -161,6 +172,9 @@ private:
   std::vector<CaseDecl> cases_;
   std::set<std::string> unparsed_names_;
   std::size_t syntax_errors_ = 0;
+  // Name -> declaration index, filled while loading; shared by every elaboration.
+  std::unordered_map<std::string, int> node_index_;
+  std::unordered_map<std::string, int> element_index_;
 };
 
 } // namespace thermnet::lang

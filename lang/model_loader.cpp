@@ -102,6 +102,22 @@ private:
     return fresh;
   }
 
+  /// unique() for nodes and elements: the Model's name index records the position in `decls`
+  /// the declaration is about to take, so elaborations need no index of their own.
+  template <typename Decl>
+  bool unique_decl(std::unordered_map<std::string, int>& index, const std::vector<Decl>& decls,
+                   const char* what, const ast::Identifier& id, FileId f, const ast::Tagged& stmt) {
+    if (is_keyword(id.name))
+      diags_.report(DiagId::reserved_name, at(f, stmt), span(f, id), what, id.name);
+    auto [it, fresh] = index.emplace(id.name, static_cast<int>(decls.size()));
+    if (!fresh) {
+      auto& d = diags_.report(DiagId::duplicate_name, at(f, stmt), span(f, id), what, id.name);
+      d.notes.push_back(DiagnosticEngine::note(
+          DiagId::previous_definition, decls[static_cast<std::size_t>(it->second)].name_span));
+    }
+    return fresh;
+  }
+
   struct Collector {
     ModelBuilder& b;
     FileId f;
@@ -143,17 +159,18 @@ private:
     void operator()(const ast::BoundaryStmt& s) const { node(true, s.name, s.keys, s.doc, s); }
     void node(bool boundary, const ast::Identifier& name, const std::vector<ast::KeyValue>& keys,
               const std::optional<ast::String>& doc, const ast::Tagged& s) const {
-      if (!b.unique(b.node_names_, boundary ? "boundary" : "node", name, f, s)) return;
+      if (!b.unique_decl(b.m_.node_index_, b.m_.nodes_, boundary ? "boundary" : "node", name, f, s))
+        return;
       b.m_.nodes_.push_back(NodeDecl{boundary, name.name, &keys, doc ? doc->text : "", f,
                                      b.span(f, s), b.span(f, name)});
     }
     void operator()(const ast::ElementStmt& s) const {
-      if (!b.unique(b.element_names_, "element", s.name, f, s)) return;
+      if (!b.unique_decl(b.m_.element_index_, b.m_.elements_, "element", s.name, f, s)) return;
       b.m_.elements_.push_back(
           ElementDecl{&s, nullptr, s.name.name, f, b.span(f, s), b.span(f, s.name)});
     }
     void operator()(const ast::CompositeStmt& s) const {
-      if (!b.unique(b.element_names_, "element", s.name, f, s)) return;
+      if (!b.unique_decl(b.m_.element_index_, b.m_.elements_, "element", s.name, f, s)) return;
       b.m_.elements_.push_back(
           ElementDecl{nullptr, &s, s.name.name, f, b.span(f, s), b.span(f, s.name)});
     }
@@ -198,7 +215,7 @@ private:
   std::vector<std::string> stack_;
   std::vector<FileId> open_ids_;
   std::set<std::string> loaded_;
-  std::unordered_map<std::string, Span> value_names_, node_names_, element_names_, case_names_;
+  std::unordered_map<std::string, Span> value_names_, case_names_;
   bool model_seen_ = false;
 };
 

@@ -32,8 +32,8 @@ struct KeySchema {
   bool min_exclusive = false;          ///< min itself is invalid
   bool max_exclusive = false;          ///< max itself is invalid
   bool absolute_temperature = false;   ///< bare numbers are degC (converted to K)
+  std::string doc;                     ///< one-line documentation with the unit
   std::string with; ///< an optional part of the alternative group holding this key (F: "A")
-  std::string doc;  ///< one-line documentation with the unit
 
   /// "in (0, 1]", "> 0", ... for messages; empty when unbounded.
   std::string range_text() const;

@@ -15,19 +15,34 @@ constexpr std::array<double, n_points> table_nu = {7.590e-6, 11.44e-6, 15.89e-6,
 constexpr std::array<double, n_points> table_alpha = {10.3e-6, 15.9e-6, 22.5e-6, 29.9e-6, 38.3e-6};
 constexpr std::array<double, n_points> table_Pr = {0.737, 0.720, 0.707, 0.700, 0.690};
 
+/// The barycentric weights 1 / prod_{j != i} (T_i - T_j) of the table points.
+constexpr std::array<double, n_points> barycentric_weights() {
+  std::array<double, n_points> c{};
+  for (int i = 0; i < n_points; ++i) {
+    double prod = 1.0;
+    for (int j = 0; j < n_points; ++j)
+      if (j != i) prod *= table_T[i] - table_T[j];
+    c[i] = 1.0 / prod;
+  }
+  return c;
+}
+constexpr std::array<double, n_points> weights = barycentric_weights();
+
 /// Lagrange basis values w and derivatives dw of the table points at T.
 void lagrange_basis(double T, std::array<double, n_points>& w, std::array<double, n_points>& dw) {
+  std::array<double, n_points> d{};
+  for (int j = 0; j < n_points; ++j)
+    d[j] = T - table_T[j];
   for (int i = 0; i < n_points; ++i) {
     double value = 1.0, slope = 0.0;
     for (int j = 0; j < n_points; ++j) {
       if (j == i) continue;
-      const double denom = table_T[i] - table_T[j];
-      // Product rule on the running product: (value * f)' = slope * f + value * f'.
-      slope = slope * (T - table_T[j]) / denom + value / denom;
-      value *= (T - table_T[j]) / denom;
+      // Product rule on the running product: (value * d_j)' = slope * d_j + value.
+      slope = slope * d[j] + value;
+      value *= d[j];
     }
-    w[i] = value;
-    dw[i] = slope;
+    w[i] = weights[i] * value;
+    dw[i] = weights[i] * slope;
   }
 }
 

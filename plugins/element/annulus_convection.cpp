@@ -16,6 +16,8 @@ constexpr double gravity = 9.80665;
 constexpr double blend_n = 8.0;
 /// Exponent of Ra in the correlation: X grows as Ra^(1/4).
 constexpr double ra_exponent = 0.25;
+static_assert(blend_n == 8.0 && blend_n * ra_exponent == 2.0,
+              "evaluate() squares X^4 and takes the 8th root by three square roots");
 
 /// Q = S k(Tm) R(Tm, dT) dT with R = (1 + X^n)^(1/n), X = c(Tm) |dT|^(1/4) and
 /// c = 0.386 (Pr/(0.861+Pr))^(1/4) (F g delta^3 / (Tm nu alpha))^(1/4), where F is the geometric
@@ -29,7 +31,8 @@ public:
     const double f_geo =
         std::pow(log_ratio, 4.0) /
         (std::pow(delta, 3.0) * std::pow(std::pow(D_in, -0.6) + std::pow(D_out, -0.6), 5.0));
-    K0_ = 0.386 * std::pow(f_geo * gravity * delta * delta * delta, ra_exponent);
+    const double K0 = 0.386 * std::pow(f_geo * gravity * delta * delta * delta, ra_exponent);
+    K0_n_ = std::pow(K0, blend_n);
     S_ = scale * 2.0 * std::numbers::pi * L / log_ratio;
   }
 
@@ -39,15 +42,13 @@ private:
     const double tm = 0.5 * (ta + tb), dt = ta - tb;
     const air::Properties p = air::properties(tm);
     const double pr_b = p.Pr / (0.861 + p.Pr);
-    const double ln_c =
-        std::log(K0_ * std::pow(pr_b, 0.25)) - ra_exponent * std::log(tm * p.nu * p.alpha);
     const double dln_c = p.dPr * 0.25 * (1.0 / p.Pr - 1.0 / (0.861 + p.Pr)) -
                          ra_exponent * (1.0 / tm + p.dnu / p.nu + p.dalpha / p.alpha);
-    // Y = X^n; zero at dT = 0 (pure conduction).
-    const double Y =
-        dt == 0.0 ? 0.0 : std::exp(blend_n * (ln_c + ra_exponent * std::log(std::fabs(dt))));
-    const double R = std::pow(1.0 + Y, 1.0 / blend_n);
-    const double w = Y / (1.0 + Y); // d ln R / d ln Y times n
+    // Y = X^n = K0^n (pr_b |dT| / (Tm nu alpha))^(n/4) with n/4 = 2: no transcendental function.
+    const double base = pr_b * dt / (tm * p.nu * p.alpha);
+    const double Y = K0_n_ * base * base;
+    const double R = std::sqrt(std::sqrt(std::sqrt(1.0 + Y))); // (1 + Y)^(1/8)
+    const double w = Y / (1.0 + Y);                            // d ln R / d ln Y times n
     const double dq_ddt = S_ * p.k * R * (1.0 + ra_exponent * w);
     const double dq_dtm = S_ * dt * R * (p.dk + p.k * w * dln_c);
     dq_da = 0.5 * dq_dtm + dq_ddt;
@@ -55,8 +56,8 @@ private:
     return S_ * p.k * R * dt;
   }
 
-  double K0_ = 0.0; // constant part of c
-  double S_ = 0.0;  // scale * 2 pi L / ln(Do/Di), m
+  double K0_n_ = 0.0; // (constant part of c)^n
+  double S_ = 0.0;    // scale * 2 pi L / ln(Do/Di), m
 };
 
 ElementPlugin make_annulus_convection() {

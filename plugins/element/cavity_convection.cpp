@@ -14,6 +14,7 @@ namespace {
 constexpr double gravity = 9.80665;
 /// Exponent of the blend Nu = (1 + X^n)^(1/n) between conduction (1) and convection (X).
 constexpr double blend_n = 8.0;
+static_assert(blend_n == 8.0, "evaluate() takes the 8th root by three square roots");
 
 /// A correlation Nu_c = K0 Pr^e_pr (Pr/(b+Pr))^e_b (g L^3 dT / (Tm nu alpha))^p, K0 holding the
 /// geometry; chosen by the aspect ratio H/L.
@@ -37,7 +38,8 @@ CavityLaw cavity_law(double gap, double H) {
 /// Q = S k(Tm) Nu(Tm, dT) dT with Nu = (1 + X^n)^(1/n), X = Nu_c of the chosen law, S = A/gap.
 class CavityConvection final : public NonlinearLink {
 public:
-  CavityConvection(int a, int b, double S, CavityLaw law) : NonlinearLink(a, b), S_(S), law_(law) {}
+  CavityConvection(int a, int b, double S, CavityLaw law)
+      : NonlinearLink(a, b), S_(S), law_(law), ln_K0_(std::log(law.K0)) {}
 
 private:
   /// Heat flow a -> b in W, with its partial derivatives in W/K.
@@ -45,14 +47,18 @@ private:
     const double tm = 0.5 * (ta + tb), dt = ta - tb;
     const air::Properties p = air::properties(tm);
     const CavityLaw& l = law_;
-    const double ln_c = std::log(l.K0) + l.e_pr * std::log(p.Pr) +
-                        l.e_b * std::log(p.Pr / (l.b + p.Pr)) - l.p * std::log(tm * p.nu * p.alpha);
     const double dln_c = p.dPr * (l.e_pr / p.Pr + l.e_b * (1.0 / p.Pr - 1.0 / (l.b + p.Pr))) -
                          l.p * (1.0 / tm + p.dnu / p.nu + p.dalpha / p.alpha);
-    // Y = X^n; zero at dT = 0 (pure conduction).
-    const double Y = dt == 0.0 ? 0.0 : std::exp(blend_n * (ln_c + l.p * std::log(std::fabs(dt))));
-    const double Nu = std::pow(1.0 + Y, 1.0 / blend_n);
-    const double w = Y / (1.0 + Y); // d ln Nu / d ln X
+    // Y = X^n; zero at dT = 0 (pure conduction). Terms with a zero exponent are skipped.
+    double Y = 0.0;
+    if (dt != 0.0) {
+      double ln_x = ln_K0_ + l.p * std::log(std::fabs(dt) / (tm * p.nu * p.alpha));
+      if (l.e_pr != 0.0) ln_x += l.e_pr * std::log(p.Pr);
+      if (l.e_b != 0.0) ln_x += l.e_b * std::log(p.Pr / (l.b + p.Pr));
+      Y = std::exp(blend_n * ln_x);
+    }
+    const double Nu = std::sqrt(std::sqrt(std::sqrt(1.0 + Y))); // (1 + Y)^(1/n), n = 8
+    const double w = Y / (1.0 + Y);                             // d ln Nu / d ln X
     const double dq_ddt = S_ * p.k * Nu * (1.0 + l.p * w);
     const double dq_dtm = S_ * dt * Nu * (p.dk + p.k * w * dln_c);
     dq_da = 0.5 * dq_dtm + dq_ddt;
@@ -62,6 +68,7 @@ private:
 
   double S_; // scale * A / gap, m
   CavityLaw law_;
+  double ln_K0_; // log(law_.K0)
 };
 
 ElementPlugin make_cavity_convection() {
