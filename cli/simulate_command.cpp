@@ -70,10 +70,11 @@ LinearSolverKind solver_kind(const std::string& s) {
 void print_stats(const SolverStats& s, double wall) {
   std::cerr << fmt::format(
       "thermnet: {} with {} linear solver: {} steps, {} rhs evaluations, {} Jacobians, "
-      "{} linear setups, {} Newton iterations ({} failed), {} error test failures, "
-      "{} events, {} restarts, {:.3f} s wall\n",
+      "{} linear setups, {} Newton iterations ({} failed), {} linear iterations, "
+      "{} preconditioner setups, {} error test failures, {} events, {} restarts, {:.3f} s wall\n",
       s.integrator, s.linear_solver, s.steps, s.rhs_evals, s.jac_evals, s.linear_setups,
-      s.nonlinear_iters, s.nonlinear_fails, s.error_test_fails, s.events, s.restarts, wall);
+      s.nonlinear_iters, s.nonlinear_fails, s.linear_iters, s.prec_setups, s.error_test_fails,
+      s.events, s.restarts, wall);
 }
 
 int run_simulate(const SimulateOptions& o) {
@@ -114,8 +115,7 @@ int run_simulate(const SimulateOptions& o) {
       write_file_atomically(o.out, csv);
     if (!svg.empty()) write_file_atomically(o.plot, svg);
   } catch (const lang::ModelError& e) {
-    print_diagnostic(e.diag, sources);
-    return exit_failure;
+    return report_model_error(e, sources);
   } catch (const SolverError& e) {
     std::cerr << "thermnet simulate: error: " << e.what() << "\n";
     return exit_failure;

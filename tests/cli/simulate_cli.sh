@@ -64,12 +64,12 @@ check "--case picks the named case (exit 0, ends at its duration 30)" \
   bash -c "test $rc -eq 0 && tail -1 out.txt | grep -q '^30,' && test \$(wc -l <out.txt) -eq 5"
 
 run simulate multi.tnet --case nonesuch
-check "unknown --case exits 1" test "$rc" -eq 1
+check "unknown --case is a usage error (exit 2)" test "$rc" -eq 2
 check "unknown --case names the case in the message" grep -q "nonesuch" err.txt
 check "unknown --case writes nothing to stdout" test ! -s out.txt
 
 run simulate multi.tnet
-check "several cases and no --case exits 1" test "$rc" -eq 1
+check "several cases and no --case is a usage error (exit 2)" test "$rc" -eq 2
 check "several cases and no --case: the message lists the cases and asks for --case" \
   bash -c "grep -q -- '--case' err.txt && grep -q first err.txt && grep -q second_case err.txt"
 
@@ -107,7 +107,7 @@ check "a lint error is reported with its code" grep -q "unknown node 'nowhere'" 
 check "a failed run (lint error) leaves an existing -o file unchanged" cmp -s good.ref outdir/good.csv
 run simulate one.tnet --case nonesuch -o outdir/good.csv
 check "a failed run (unknown case) leaves an existing -o file unchanged" \
-  bash -c "test $rc -eq 1 && cmp -s good.ref outdir/good.csv"
+  bash -c "test $rc -eq 2 && cmp -s good.ref outdir/good.csv"
 run simulate one.tnet --duration abc -o outdir/good.csv
 check "a failed run (bad --duration) leaves an existing -o file unchanged" \
   bash -c "test $rc -eq 2 && cmp -s good.ref outdir/good.csv"

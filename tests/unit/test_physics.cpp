@@ -10,6 +10,7 @@
 #include "lang/model.hpp"
 
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -176,8 +177,11 @@ double slab_error(int N) {
   int i = static_cast<int>(std::floor(xm / dx - 0.5));
   double xi = (i + 0.5) * dx;
   double w = (xm - xi) / dx;
-  double Ta = row[static_cast<std::size_t>(col(r, "c" + std::to_string(i)))];
-  double Tb = (w > 1e-12) ? row[static_cast<std::size_t>(col(r, "c" + std::to_string(i + 1)))] : Ta;
+  const auto cell = [&](int k) {
+    return row[static_cast<std::size_t>(col(r, fmt::format("c{}", k)))];
+  };
+  double Ta = cell(i);
+  double Tb = (w > 1e-12) ? cell(i + 1) : Ta;
   double Tnum = (1 - w) * Ta + w * Tb;
   double exact = slab_exact(xm, 1000.0, 0.1, 1e-6, kZeroC, kZeroC + 100);
   return std::abs(Tnum - exact);
