@@ -28,6 +28,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "loaded_model.hpp"
 #include "temp_dir.hpp"
 
 using thermnet::test::TempDir;
@@ -62,16 +63,7 @@ case pulse {
 }
 )";
 
-/// A loaded model (sources kept alive).
-struct Loaded {
-  lang::SourceManager sources;
-  lang::DiagnosticEngine diags{sources};
-  std::unique_ptr<lang::Model> model;
-  explicit Loaded(const std::string& path) {
-    model = lang::Model::load(path, ElementRegistry::global(), sources, diags);
-    REQUIRE(model);
-  }
-};
+using Loaded = test::LoadedModel;
 
 /// Simulates a case at `truth` and writes its data file: nodes a and b in degC plus N(0, sigma)
 /// noise from a fixed seed; every 7th value of b is missing.

@@ -26,6 +26,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "loaded_model.hpp"
 #include "temp_dir.hpp"
 
 using thermnet::test::TempDir;
@@ -37,17 +38,9 @@ using namespace thermnet;
 
 constexpr double kZeroCelsius = 273.15;
 
-/// A loaded model (sources kept alive).
-struct Loaded {
-  lang::SourceManager sources;
-  lang::DiagnosticEngine diags{sources};
-  std::unique_ptr<lang::Model> model;
-  explicit Loaded(const std::string& path) {
-    model = lang::Model::load(path, ElementRegistry::global(), sources, diags);
-    REQUIRE(model);
-    model->lint(diags);
-    REQUIRE(diags.error_count() == 0);
-  }
+/// A model loaded and linted clean.
+struct Loaded : test::LoadedModel {
+  explicit Loaded(const std::string& path) : LoadedModel(path, test::Lint::clean) {}
 };
 
 /// Measurement-side effects applied when making data.

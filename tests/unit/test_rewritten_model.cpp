@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "loaded_model.hpp"
 #include "temp_dir.hpp"
 
 using thermnet::test::TempDir;
@@ -25,15 +26,10 @@ namespace {
 namespace fs = std::filesystem;
 using namespace thermnet;
 
-/// A loaded model (sources kept alive).
-struct Loaded {
-  lang::SourceManager sources;
-  lang::DiagnosticEngine diags{sources};
-  std::unique_ptr<lang::Model> model;
-  explicit Loaded(const std::string& path) {
-    model = lang::Model::load(path, ElementRegistry::global(), sources, diags);
-    REQUIRE(model);
-  }
+/// A loaded model and its root file.
+struct Loaded : test::LoadedModel {
+  using LoadedModel::LoadedModel;
+  /// The model's own file (not an included one).
   lang::FileId root() const {
     const long id = sources.find(model->path());
     REQUIRE(id >= 0);
