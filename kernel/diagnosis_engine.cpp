@@ -146,7 +146,7 @@ std::string Compose::statement(const Candidate&, const std::vector<double>& p,
                                const Evidence& ev) const {
   std::string s;
   for (std::size_t i = 0; i < parts_.size(); ++i)
-    s += (i ? "\n" : "") + parts_[i].h->statement(parts_[i].c, slice(p, i), ev);
+    s.append(i ? "\n" : "").append(parts_[i].h->statement(parts_[i].c, slice(p, i), ev));
   return s;
 }
 

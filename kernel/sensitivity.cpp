@@ -90,7 +90,7 @@ void add_element_factors(const lang::NetworkSpec& spec, double rel,
     for (std::size_t k = 0; k < e.parts.size(); ++k) {
       const std::string& kind = e.parts[k].kind;
       std::string label = e.name + "." + kind;
-      if (seen[kind] > 1) label += "#" + std::to_string(++count[kind]);
+      if (seen[kind] > 1) label += fmt::format("#{}", ++count[kind]);
       add_element_keys(e.parts[k], label, i, static_cast<int>(k), rel, factors, perturbs);
     }
   }

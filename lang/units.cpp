@@ -2,6 +2,8 @@
 
 #include "lang/units.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <utility>
@@ -453,12 +455,12 @@ std::string describe(const Dimension& d) {
     std::string& out = e > 0 ? num : den;
     if (!out.empty()) out += '*';
     out += kBaseNames[i];
-    if (std::abs(e) != 1) out += "^" + std::to_string(std::abs(e));
+    if (std::abs(e) != 1) out += fmt::format("^{}", std::abs(e));
     if (e < 0) ++den_factors;
   }
-  if (num.empty()) num = "1";
+  if (num.empty()) num.push_back('1'); // dimensionless numerator, as in 1/s
   if (den.empty()) return num;
-  return num + "/" + (den_factors > 1 ? "(" + den + ")" : den);
+  return den_factors > 1 ? fmt::format("{}/({})", num, den) : fmt::format("{}/{}", num, den);
 }
 
 const std::vector<std::string>& known_unit_symbols() {
