@@ -24,7 +24,7 @@ std::string stage(const std::string& path, const std::string& content) {
   if (fs::is_directory(target, ec))
     throw OutputError(fmt::format("cannot write '{}': it is a directory", path));
   fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  std::string tmpl = (dir / ("." + target.filename().string() + ".tmp.XXXXXX")).string();
+  std::string tmpl = (dir / fmt::format(".{}.tmp.XXXXXX", target.filename().string())).string();
   int fd = ::mkstemp(tmpl.data());
   if (fd < 0) throw OutputError(fmt::format("cannot write '{}': {}", path, std::strerror(errno)));
   auto fail = [&](const char* what) {

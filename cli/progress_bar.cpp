@@ -60,7 +60,7 @@ void ProgressBar::update(const Progress& p) {
   last_ = now;
   drawn_ = true;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
-  std::string line = "\r" + format_progress(p, elapsed) + "\033[K";
+  const std::string line = fmt::format("\r{}\033[K", format_progress(p, elapsed));
   std::fwrite(line.data(), 1, line.size(), stderr);
   std::fflush(stderr);
 }

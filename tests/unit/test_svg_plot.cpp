@@ -1,6 +1,7 @@
 #include "cli/svg_plot.hpp"
 
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include <cmath>
 #include <cstddef>
@@ -593,7 +594,7 @@ TEST_CASE("svg_plot: palette and dash cycling keep 20+ series distinguishable") 
   CHECK(palette_color(-1) == palette_color(palette_size() - 1));
   Panel p;
   for (int k = 0; k < 30; ++k)
-    p.series.push_back(make_series("s" + std::to_string(k), {0, 1}, {0, 1.0 * k}));
+    p.series.push_back(make_series(fmt::format("s{}", k), {0, 1}, {0, 1.0 * k}));
   const std::string svg = render_svg(one_panel(p));
   const auto strokes = attributes(svg, "class=\"series\"", "stroke");
   const auto dashes = attributes(svg, "class=\"series\"", "stroke-dasharray");
