@@ -1,6 +1,7 @@
 #include "cli/kinds_command.hpp"
 
 #include "cli/exit_status.hpp"
+#include "cli/lsp/schema_text.hpp"
 #include "kernel/element_registry.hpp"
 #include "lang/diagnostics.hpp"
 
@@ -17,45 +18,22 @@ struct KindsOptions {
   std::string format = "text";
 };
 
-std::string default_text(const lang::KeySchema& k) {
-  if (k.default_value) return fmt::format("{:g}", *k.default_value);
-  if (k.required) return "required";
-  return "optional";
-}
-
-std::string unit_text(const lang::KeySchema& k) {
-  if (k.type == lang::KeyType::node) return "node";
-  if (k.absolute_temperature) return "degC";
-  return lang::describe(k.dim);
-}
-
 std::string describe_kind(const lang::ElementSchema& s, bool markdown) {
   std::string out;
   if (markdown) {
     out += fmt::format("## `{}`\n\n{} ({} terminal{}).\n\n", s.kind, s.doc, s.terminals,
                        s.terminals == 1 ? "" : "s");
-    out += "| key | unit | default | valid | description |\n|---|---|---|---|---|\n";
-    for (const auto& k : s.keys)
-      out += fmt::format("| `{}` | {} | {} | {} | {} |\n", k.name, unit_text(k), default_text(k),
-                         k.range_text(), k.doc);
+    out += lsp::key_table_markdown(s);
   } else {
     out += fmt::format("{} ({} terminal{}): {}\n", s.kind, s.terminals, s.terminals == 1 ? "" : "s",
                        s.doc);
     for (const auto& k : s.keys)
-      out += fmt::format("  {:<8} [{}] {}{}: {}\n", k.name, unit_text(k), default_text(k),
+      out += fmt::format("  {:<8} [{}] {}{}: {}\n", k.name, lsp::key_unit(k), lsp::key_default(k),
                          k.range_text().empty() ? "" : ", " + k.range_text(), k.doc);
   }
-  if (!s.alternatives.empty()) {
-    std::string groups;
-    for (const auto& g : s.alternatives) {
-      std::string names;
-      for (const auto& n : g)
-        names += (names.empty() ? "" : " + ") + n;
-      groups += (groups.empty() ? "" : ", or ") + names;
-    }
+  if (const std::string groups = lsp::alternatives_text(s); !groups.empty())
     out += markdown ? fmt::format("\nGive exactly one of: {}.\n", groups)
                     : fmt::format("  give exactly one of: {}\n", groups);
-  }
   out += "\n";
   return out;
 }

@@ -3,15 +3,31 @@
 #include <fmt/format.h>
 
 namespace thermnet::cli::lsp {
-namespace {
 
-std::string default_text(const lang::KeySchema& k) {
+std::string key_default(const lang::KeySchema& k) {
   if (k.default_value) return fmt::format("{:g}", *k.default_value);
   if (k.required) return "required";
   return "optional";
 }
 
-} // namespace
+std::string key_table_markdown(const lang::ElementSchema& s) {
+  std::string out = "| key | unit | default | valid | description |\n|---|---|---|---|---|\n";
+  for (const auto& k : s.keys)
+    out += fmt::format("| `{}` | {} | {} | {} | {} |\n", k.name, key_unit(k), key_default(k),
+                       k.range_text(), k.doc);
+  return out;
+}
+
+std::string alternatives_text(const lang::ElementSchema& s) {
+  std::string groups;
+  for (const auto& g : s.alternatives) {
+    std::string names;
+    for (const auto& n : g)
+      names += (names.empty() ? "" : " + ") + n;
+    groups += (groups.empty() ? "" : ", or ") + names;
+  }
+  return groups;
+}
 
 std::string key_unit(const lang::KeySchema& k) {
   if (k.type == lang::KeyType::node) return "node";
@@ -22,26 +38,15 @@ std::string key_unit(const lang::KeySchema& k) {
 std::string kind_markdown(const lang::ElementSchema& s) {
   std::string out = fmt::format("**{}** — element kind, {} terminal{}\n\n{}\n\n", s.kind,
                                 s.terminals, s.terminals == 1 ? "" : "s", s.doc);
-  out += "| key | unit | default | valid | description |\n|---|---|---|---|---|\n";
-  for (const auto& k : s.keys)
-    out += fmt::format("| `{}` | {} | {} | {} | {} |\n", k.name, key_unit(k), default_text(k),
-                       k.range_text(), k.doc);
-  if (!s.alternatives.empty()) {
-    std::string groups;
-    for (const auto& g : s.alternatives) {
-      std::string names;
-      for (const auto& n : g)
-        names += (names.empty() ? "" : " + ") + n;
-      groups += (groups.empty() ? "" : ", or ") + names;
-    }
-    out += fmt::format("\nGive exactly one of: {}.\n", groups);
-  }
+  out += key_table_markdown(s);
+  if (!s.alternatives.empty())
+    out += fmt::format("\nGive exactly one of: {}.\n", alternatives_text(s));
   return out;
 }
 
 std::string key_markdown(const lang::ElementSchema& s, const lang::KeySchema& k) {
   std::string out = fmt::format("**{}** — key of `{}`\n\n{}\n\nunit: `{}`; {}", k.name, s.kind,
-                                k.doc, key_unit(k), default_text(k));
+                                k.doc, key_unit(k), key_default(k));
   if (!k.range_text().empty()) out += fmt::format("; valid {}", k.range_text());
   if (k.type == lang::KeyType::signal) out += "; accepts a signal (step, pwl, table)";
   return out;

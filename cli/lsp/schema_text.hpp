@@ -20,6 +20,15 @@ std::string key_markdown(const lang::ElementSchema& s, const lang::KeySchema& k)
 /// The unit of a key as `thermnet kinds` prints it ("W/K", "degC", "node", ...).
 std::string key_unit(const lang::KeySchema& k);
 
+/// A key's default value, or "required" / "optional".
+std::string key_default(const lang::KeySchema& k);
+
+/// The markdown table of a kind's keys: unit, default, valid range, description.
+std::string key_table_markdown(const lang::ElementSchema& s);
+
+/// A kind's alternative key groups as text ("GR, or A + eps1 + eps2"); empty when it has none.
+std::string alternatives_text(const lang::ElementSchema& s);
+
 /// Keys of the built-in statements "node", "boundary" and "case": (name, one-line doc).
 const std::vector<std::pair<std::string, std::string>>& builtin_keys(std::string_view statement);
 
