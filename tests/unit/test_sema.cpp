@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "spec_example.hpp"
 #include "temp_dir.hpp"
 
 using thermnet::test::TempDir;
@@ -78,22 +79,6 @@ const NodeSpec& node(const NetworkSpec& net, const std::string& name) {
   return net.nodes[static_cast<std::size_t>(i)];
 }
 
-const char* const kSpecExample = R"(model two_plates
-param h_gap = 4 [W/(m^2*K)] range 1 .. 10 "gas gap convection"
-boundary ambient T = pwl(0: 20, 2750: -35)
-node plate1 C = 450 [J/K]
-node plate2 C = 300 [J/K] T0 = 20
-convection gap plate1 plate2 h = h_gap A = 0.02
-radiation rad plate1 plate2 A = 0.02 eps1 = 0.85 eps2 = 0.1
-series mount plate2 ambient { contact h = 2500 A = 30e-4 ; conduction k = 0.25 L = 3 [mm] A = 54.8 [mm^2] }
-heater film plate1 P = 10
-case warmup {
-  duration = 3 [h]
-  film.P = step(0: 10, 2500: 0)
-  data "warmup.csv"
-}
-)";
-
 /// A small valid model to which each lint test adds one problem.
 const std::string kBase = "boundary amb T = 20\nnode n C = 1\nconductance g n amb G = 1\n";
 
@@ -107,8 +92,8 @@ TEST_CASE("sema: the spec's example instantiates with every value in SI") {
   dir.write("warmup.csv", "time,plate1,plate2,ambient\n0,20,20,20\n60,21,20.5,\n");
   SourceManager sources;
   DiagnosticEngine diags(sources);
-  auto model =
-      Model::load(dir.write("ex.tnet", kSpecExample), ElementRegistry::global(), sources, diags);
+  auto model = Model::load(dir.write("ex.tnet", test::spec_example), ElementRegistry::global(),
+                           sources, diags);
   REQUIRE(model);
   model->lint(diags);
   CHECK(diags.all().empty());
