@@ -179,6 +179,16 @@ std::string chain(double C2 = 600, double P = 20) {
   return t;
 }
 
+/// The chain with g12 and g34 sharing one ranged param Gc declared at `value` W/K.
+std::string chain_with_param(double value) {
+  std::string t = chain();
+  t.replace(
+      t.find("conductance g12 n1 n2 G = 2 [W/K]"), 33,
+      fmt::format("param Gc = {} [W/K] range 0.2 .. 10\nconductance g12 n1 n2 G = Gc", value));
+  t.replace(t.find("conductance g34 n3 n4 G = 1 [W/K]"), 33, "conductance g34 n3 n4 G = Gc");
+  return t;
+}
+
 Setup chain_setup(double C2 = 600, double P = 20) {
   return {chain(C2, P), {"run"}, {"n1", "n2", "n3", "n4"}, 0.05};
 }
@@ -484,17 +494,9 @@ TEST_CASE("diagnose instrument: hidden sink in lens and offset on window") {
 
 TEST_CASE("diagnose chain: a shared ranged param is recalibrated") {
   TempDir dir;
-  auto with_param = [](double value) {
-    std::string t = chain();
-    t.replace(
-        t.find("conductance g12 n1 n2 G = 2 [W/K]"), 33,
-        fmt::format("param Gc = {} [W/K] range 0.2 .. 10\nconductance g12 n1 n2 G = Gc", value));
-    t.replace(t.find("conductance g34 n3 n4 G = 1 [W/K]"), 33, "conductance g34 n3 n4 G = Gc");
-    return t;
-  };
   Setup s = chain_setup();
-  s.text = with_param(1.0);
-  const auto path = make_case(dir, s, "", with_param(2.0));
+  s.text = chain_with_param(1.0);
+  const auto path = make_case(dir, s, "", chain_with_param(2.0));
   const auto r = run(path);
   const Finding& f = top(r);
   CHECK_MESSAGE(f.candidate.kind == "parameter", explain(r));
@@ -511,17 +513,9 @@ TEST_CASE("diagnose chain: hidden link n1-n4 while a ranged param is also wrong 
   // recalibration alone cannot explain the link: the joint refit must name the link, with both G
   // and Gc close to the truth.
   TempDir dir;
-  auto with_param = [](double value) {
-    std::string t = chain();
-    t.replace(
-        t.find("conductance g12 n1 n2 G = 2 [W/K]"), 33,
-        fmt::format("param Gc = {} [W/K] range 0.2 .. 10\nconductance g12 n1 n2 G = Gc", value));
-    t.replace(t.find("conductance g34 n3 n4 G = 1 [W/K]"), 33, "conductance g34 n3 n4 G = Gc");
-    return t;
-  };
   Setup s = chain_setup();
-  s.text = with_param(1.0);
-  const auto path = make_case(dir, s, "conductance hid n1 n4 G = 0.5 [W/K]", with_param(2.0));
+  s.text = chain_with_param(1.0);
+  const auto path = make_case(dir, s, "conductance hid n1 n4 G = 0.5 [W/K]", chain_with_param(2.0));
   const auto r = run(path);
   const Finding& f = top(r);
   CHECK_MESSAGE(f.candidate.kind == "missing_link", explain(r));
