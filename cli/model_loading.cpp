@@ -56,11 +56,18 @@ std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceMan
   return lang::Model::load(path, ElementRegistry::global(), sources, diags, load_options());
 }
 
+namespace {
+
+/// True for the codes of a file that could not be read (the model, an include, data, a table).
+bool is_unreadable_code(const std::string& code) {
+  return code == "file-unreadable" || code == "include-unreadable" || code == "data-unreadable";
+}
+
+} // namespace
+
 bool reports_unreadable_file(const lang::DiagnosticEngine& diags) {
   return std::any_of(diags.all().begin(), diags.all().end(), [](const lang::Diagnostic& d) {
-    return d.severity == lang::Severity::error &&
-           (d.code == "file-unreadable" || d.code == "include-unreadable" ||
-            d.code == "data-unreadable");
+    return d.severity == lang::Severity::error && is_unreadable_code(d.code);
   });
 }
 
@@ -87,8 +94,7 @@ std::unique_ptr<lang::Model> load_checked_model(const std::string& path,
 int report_model_error(const lang::ModelError& e, const lang::SourceManager& sources) {
   print_diagnostic(e.diag, sources);
   const std::string& c = e.diag.code;
-  const bool usage = c == "choose-case" || c == "unknown-case" || c == "file-unreadable" ||
-                     c == "include-unreadable" || c == "data-unreadable";
+  const bool usage = c == "choose-case" || c == "unknown-case" || is_unreadable_code(c);
   return usage ? exit_usage : exit_failure;
 }
 
