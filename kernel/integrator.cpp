@@ -71,9 +71,8 @@ SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, dou
   validate(sys, T, t0, t1, output_times, opt);
   detail::SystemEvaluator ev(sys);
   const int n = ev.size();
-  const LinearSolverKind kind =
-      detail::resolve_linear_solver(opt.linear_solver, n, opt.dense_threshold,
-                                                       opt.krylov_threshold);
+  const LinearSolverKind kind = detail::resolve_linear_solver(
+      opt.linear_solver, n, opt.dense_threshold, opt.krylov_threshold);
 
   SolverStats stats;
   stats.integrator = ev.has_algebraic() ? "ida" : "cvode-bdf";
@@ -129,13 +128,7 @@ SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, dou
       for (int pass = 0; pass < 4; ++pass) {
         ev.events(t0, guess.data(), g_guess.data());
         ev.events(t0, y, g_ic.data());
-        bool any = false;
-        for (std::size_t k = 0; k < crossed.size(); ++k) {
-          const int s = sign_of(g_ic[k]);
-          crossed[k] = (s != 0 && s != sign_of(g_guess[k])) ? s : 0;
-          any = any || crossed[k] != 0;
-        }
-        if (!any || !sys.apply_events(t0, y, crossed)) break;
+        if (!events_crossed(g_guess, g_ic, crossed) || !sys.apply_events(t0, y, crossed)) break;
         std::copy(y, y + n, guess.begin());
         stepper->restart(t0, stops[seg]);
       }

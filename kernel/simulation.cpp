@@ -36,19 +36,15 @@ SolverStats steady_with_switches(Network& net, std::vector<double>& T, const Sol
     net.events(0.0, T.data(), g_guess.data());
     SolverStats stats = solve_steady(net, T, 0.0, o);
     net.events(0.0, T.data(), g_solution.data());
-    bool any = false;
-    for (std::size_t k = 0; k < n; ++k) {
-      const bool changed = (g_solution[k] > 0.0) != (g_guess[k] > 0.0) && g_solution[k] != 0.0;
-      crossed[k] = changed ? (g_solution[k] > 0.0 ? 1 : -1) : 0;
-      if (changed && ++flips[k] > 1)
+    if (!events_crossed(g_guess, g_solution, crossed)) return stats;
+    for (std::size_t k = 0; k < n; ++k)
+      if (crossed[k] != 0 && ++flips[k] > 1)
         throw SolverError(
             "there is no steady state: a thermostat (switch) cycles: heating, its sensed "
             "temperature settles above its switch-off point; off, below its switch-on point. "
             "Simulate the transient instead",
             "steady", 0, 0.0, {});
-      any = any || changed;
-    }
-    if (!any || !net.apply_events(0.0, T.data(), crossed)) return stats;
+    if (!net.apply_events(0.0, T.data(), crossed)) return stats;
   }
 }
 

@@ -54,4 +54,18 @@ public:
   virtual std::string unknown_name(int i) const { return "#" + std::to_string(i); }
 };
 
+/// Flags in `crossed` the event functions whose sign changed from `before` to `after` (+1 rising,
+/// -1 falling, 0 not), as a step between the two states would fire them; true when any did.
+inline bool events_crossed(const std::vector<double>& before, const std::vector<double>& after,
+                           std::vector<int>& crossed) {
+  const auto sign = [](double x) { return (x > 0.0) - (x < 0.0); };
+  bool any = false;
+  for (std::size_t k = 0; k < crossed.size(); ++k) {
+    const int s = sign(after[k]);
+    crossed[k] = (s != 0 && s != sign(before[k])) ? s : 0;
+    any = any || crossed[k] != 0;
+  }
+  return any;
+}
+
 } // namespace thermnet
