@@ -89,16 +89,22 @@ private:
   Span span(FileId f, const ast::Tagged& t) const { return Span{f, t.begin, t.end}; }
   Span at(FileId f, const ast::Tagged& t) const { return Span{f, t.begin, t.begin}; }
 
-  /// Registers a name in a namespace, reporting a duplicate with a note at the first definition.
+  /// Reports a reserved name, and a duplicate with a note at the first definition (`previous`).
+  /// A reserved name is reported, then kept: its uses must not cascade into more errors.
+  void check_name(const char* what, const ast::Identifier& id, FileId f, const ast::Tagged& stmt,
+                  const Span* previous) {
+    if (is_keyword(id.name))
+      diags_.report(DiagId::reserved_name, at(f, stmt), span(f, id), what, id.name);
+    if (!previous) return;
+    auto& d = diags_.report(DiagId::duplicate_name, at(f, stmt), span(f, id), what, id.name);
+    d.notes.push_back(DiagnosticEngine::note(DiagId::previous_definition, *previous));
+  }
+
+  /// Registers a name in a namespace; false (and reported) when it is already defined.
   bool unique(std::unordered_map<std::string, Span>& names, const char* what,
               const ast::Identifier& id, FileId f, const ast::Tagged& stmt) {
-    if (is_keyword(id.name)) // reported, then kept: its uses must not cascade into more errors
-      diags_.report(DiagId::reserved_name, at(f, stmt), span(f, id), what, id.name);
     auto [it, fresh] = names.emplace(id.name, span(f, id));
-    if (!fresh) {
-      auto& d = diags_.report(DiagId::duplicate_name, at(f, stmt), span(f, id), what, id.name);
-      d.notes.push_back(DiagnosticEngine::note(DiagId::previous_definition, it->second));
-    }
+    check_name(what, id, f, stmt, fresh ? nullptr : &it->second);
     return fresh;
   }
 
@@ -107,14 +113,9 @@ private:
   template <typename Decl>
   bool unique_decl(std::unordered_map<std::string, int>& index, const std::vector<Decl>& decls,
                    const char* what, const ast::Identifier& id, FileId f, const ast::Tagged& stmt) {
-    if (is_keyword(id.name))
-      diags_.report(DiagId::reserved_name, at(f, stmt), span(f, id), what, id.name);
     auto [it, fresh] = index.emplace(id.name, static_cast<int>(decls.size()));
-    if (!fresh) {
-      auto& d = diags_.report(DiagId::duplicate_name, at(f, stmt), span(f, id), what, id.name);
-      d.notes.push_back(DiagnosticEngine::note(
-          DiagId::previous_definition, decls[static_cast<std::size_t>(it->second)].name_span));
-    }
+    check_name(what, id, f, stmt,
+               fresh ? nullptr : &decls[static_cast<std::size_t>(it->second)].name_span);
     return fresh;
   }
 
