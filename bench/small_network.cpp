@@ -6,9 +6,9 @@
 // the ladder 1e-4, 1e-5, ... whose final temperatures are all within 0.01 K of a run at 1e-10;
 // then it also times thermnet's default (1e-6). Prints the mean, median and minimum time per run
 // in ms (Network build included), the solver stats of one run and its final temperatures in K.
-#include "kernel/element_registry.hpp"
-#include "kernel/network.hpp"
-#include "kernel/simulation.hpp"
+#include "kernel/core/element_registry.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/core/simulation.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/model.hpp"
 #include "lang/source.hpp"
@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
 
   lang::SourceManager sources;
   lang::DiagnosticEngine diags(sources);
-  auto model = lang::Model::load(path, ElementRegistry::global(), sources, diags);
+  auto model = lang::Model::load(path, thermnet::element_catalog(), sources, diags);
   if (!model || diags.error_count() > 0) {
     std::fprintf(stderr, "cannot load %s (%zu errors)\n", path.c_str(), diags.error_count());
     return 1;

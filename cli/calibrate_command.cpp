@@ -14,7 +14,7 @@
 #include "cli/model_rewrite.hpp"
 #include "cli/progress_bar.hpp"
 #include "cli/rewritten_model.hpp"
-#include "kernel/optimizer.hpp"
+#include "kernel/calibration/optimizer.hpp"
 #include "lang/csv.hpp"
 
 #include <fmt/format.h>

@@ -3,7 +3,7 @@
 /// the JSON report and the measured-vs-simulated figure.
 
 #include "cli/svg_plot.hpp"
-#include "kernel/optimizer.hpp"
+#include "kernel/calibration/optimizer.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -8,7 +8,7 @@
 #include "cli/model_loading.hpp"
 #include "cli/model_rewrite.hpp"
 #include "cli/svg_plot.hpp"
-#include "kernel/diagnosis_report.hpp"
+#include "kernel/diagnosis/report.hpp"
 #include "lang/csv.hpp"
 
 #include <fmt/format.h>

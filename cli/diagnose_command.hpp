@@ -1,7 +1,7 @@
 #pragma once
 /// `thermnet diagnose`: what the simulation gets wrong, the cause, the extension and the gain.
 
-#include "kernel/diagnosis.hpp"
+#include "kernel/diagnosis/diagnosis.hpp"
 
 #include <CLI/CLI.hpp>
 

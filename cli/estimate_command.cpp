@@ -4,9 +4,9 @@
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/svg_plot.hpp"
-#include "kernel/estimator.hpp"
-#include "kernel/integrator.hpp"
-#include "kernel/network.hpp"
+#include "kernel/core/integrator.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/estimation/estimator.hpp"
 #include "lang/csv.hpp"
 
 #include <fmt/format.h>

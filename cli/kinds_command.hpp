@@ -1,5 +1,5 @@
 #pragma once
-/// `thermnet kinds [KIND...] [--format text|markdown]`: the element kinds and their key schemas.
+/// `thermnet kinds [KIND...] [--family F] [--format text|markdown]`: every plugin family's kinds.
 
 #include <CLI/CLI.hpp>
 

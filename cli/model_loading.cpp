@@ -1,8 +1,8 @@
 #include "cli/model_loading.hpp"
 
 #include "cli/exit_status.hpp"
-#include "kernel/element_registry.hpp"
-#include "kernel/plugin_loader.hpp"
+#include "kernel/core/element_registry.hpp"
+#include "kernel/plugin_host/plugin_loader.hpp"
 #include "lang/units.hpp"
 
 #include <CLI/CLI.hpp>
@@ -53,7 +53,7 @@ void add_plugin_option(CLI::App& app) {
 
 std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceManager& sources,
                                         lang::DiagnosticEngine& diags) {
-  return lang::Model::load(path, ElementRegistry::global(), sources, diags, load_options());
+  return lang::Model::load(path, element_catalog(), sources, diags, load_options());
 }
 
 namespace {

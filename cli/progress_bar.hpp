@@ -2,7 +2,7 @@
 /// A one-line progress bar on standard error for long runs (calibrate): percent, evaluations, ETA
 /// and best RMSE so far.
 
-#include "kernel/optimizer.hpp"
+#include "kernel/calibration/optimizer.hpp"
 
 #include <chrono>
 #include <mutex>

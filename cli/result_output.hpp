@@ -1,7 +1,7 @@
 #pragma once
 /// Simulation results as CSV (degC, the data-file format of language.md) and as an SVG plot.
 
-#include "kernel/simulation.hpp"
+#include "kernel/core/simulation.hpp"
 
 #include <string>
 #include <vector>

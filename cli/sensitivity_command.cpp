@@ -3,8 +3,8 @@
 #include "cli/atomic_file.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
-#include "kernel/sensitivity.hpp"
-#include "kernel/simulation.hpp"
+#include "kernel/calibration/sensitivity.hpp"
+#include "kernel/core/simulation.hpp"
 #include "lang/csv.hpp"
 
 #include <fmt/format.h>

@@ -5,7 +5,7 @@
 #include "cli/model_loading.hpp"
 #include "cli/result_output.hpp"
 #include "cli/uncertainty.hpp"
-#include "kernel/simulation.hpp"
+#include "kernel/core/simulation.hpp"
 
 #include <fmt/format.h>
 

@@ -8,8 +8,8 @@
 #include "cli/uncertainty.hpp"
 
 #include "cli/svg_plot.hpp"
-#include "kernel/network.hpp"
-#include "kernel/optimizer.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/core/parallel.hpp"
 #include "lang/diagnostics.hpp"
 
 #include <fmt/format.h>

@@ -2,7 +2,7 @@
 /// Uncertainty bands: the ranged params drawn uniformly, one simulation per sample, and per node
 /// the min, chosen percentiles and max of the temperature at every output time.
 
-#include "kernel/simulation.hpp"
+#include "kernel/core/simulation.hpp"
 #include "lang/model.hpp"
 
 #include <cstdint>

@@ -2,7 +2,7 @@
 
 #include "cli/lsp/schema_text.hpp"
 #include "cli/lsp/text_context.hpp"
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 #include "lang/keywords.hpp"
 
 #include <algorithm>
@@ -38,7 +38,7 @@ private:
 };
 
 void add_kinds(Items& items, bool linear_only) {
-  const auto& registry = ElementRegistry::global();
+  const auto& registry = element_catalog();
   for (const auto& kind : registry.kinds()) {
     const lang::ElementSchema* s = registry.find(kind);
     if (linear_only && !s->conductance) continue;
@@ -61,7 +61,7 @@ void add_keys(Items& items, const std::string& kind, const std::vector<std::stri
   auto fresh = [&](const std::string& k) {
     return std::find(given.begin(), given.end(), k) == given.end();
   };
-  if (const lang::ElementSchema* s = ElementRegistry::global().find(kind)) {
+  if (const lang::ElementSchema* s = element_catalog().find(kind)) {
     for (const auto& k : s->keys)
       if (fresh(k.name)) items.add(k.name, item_property, key_unit(k), key_markdown(*s, k));
     return;
@@ -73,7 +73,7 @@ void add_keys(Items& items, const std::string& kind, const std::vector<std::stri
 /// Completions inside a value: node names for node keys, else params and consts.
 void add_value_items(Items& items, const lang::Model& m, const std::string& kind,
                      const std::string& key) {
-  if (const lang::ElementSchema* s = ElementRegistry::global().find(kind))
+  if (const lang::ElementSchema* s = element_catalog().find(kind))
     if (const lang::KeySchema* k = s->key(key); k && k->type == lang::KeyType::node) {
       add_nodes(items, m);
       return;
@@ -134,7 +134,7 @@ nlohmann::json completion(const Document& doc, std::size_t at) {
   }
   const std::size_t positional = ctx.positional_count();
   const bool keys_started = positional < ctx.tokens.size();
-  if (const lang::ElementSchema* s = ElementRegistry::global().find(first)) {
+  if (const lang::ElementSchema* s = element_catalog().find(first)) {
     // KIND NAME NODE... key = value ...; inside a block: KIND key = value ...
     const std::size_t terminals_end = ctx.inner ? 1 : 2 + static_cast<std::size_t>(s->terminals);
     if (!keys_started && !ctx.inner && positional >= 2 && positional < terminals_end)

@@ -2,7 +2,7 @@
 
 #include "cli/lsp/uri.hpp"
 #include "cli/model_loading.hpp"
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 
 #include <exception>
 
@@ -25,8 +25,8 @@ void Document::analyse() {
   diags_.reset();
   sources_ = std::make_unique<lang::SourceManager>();
   diags_ = std::make_unique<lang::DiagnosticEngine>(*sources_);
-  model_ = lang::Model::from_text(path_, text_, ElementRegistry::global(), *sources_, *diags_,
-                                  load_options());
+  model_ =
+      lang::Model::from_text(path_, text_, element_catalog(), *sources_, *diags_, load_options());
   try {
     model_->lint(*diags_);
   } catch (const std::exception& e) {

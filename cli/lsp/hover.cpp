@@ -3,7 +3,7 @@
 #include "cli/lsp/position.hpp"
 #include "cli/lsp/schema_text.hpp"
 #include "cli/lsp/text_context.hpp"
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 
 #include <fmt/format.h>
 
@@ -14,7 +14,7 @@ namespace {
 
 /// The markdown of a key named by `cw`, owned by the statement or object around it.
 std::optional<std::string> key_hover(const Document& doc, const CodeWord& cw) {
-  const auto& registry = ElementRegistry::global();
+  const auto& registry = element_catalog();
   const std::string& text = doc.text();
   const Word& w = cw.word;
   const StatementContext& ctx = cw.where;
@@ -67,7 +67,7 @@ nlohmann::json hover(const Document& doc, std::size_t at) {
   const Word* w = &cw->word;
   const StatementContext& ctx = cw->where;
   std::optional<std::string> md;
-  const lang::ElementSchema* kind = ElementRegistry::global().find(w->text);
+  const lang::ElementSchema* kind = element_catalog().find(w->text);
   if (followed_by_assignment(text, *w)) md = key_hover(doc, *cw);
   if (!md && kind && ctx.tokens.empty() && ctx.object.empty()) md = kind_markdown(*kind);
   if (!md) md = declaration_hover(doc, w->text);

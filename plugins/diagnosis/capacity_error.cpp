@@ -1,6 +1,6 @@
 // Hypothesis 'capacity_error': a node's heat capacity is wrong by a factor. Screen: the unexplained
 // heat flow regressed on -C dT/dt (its coefficient is factor - 1).
-#include "kernel/hypothesis.hpp"
+#include "kernel/diagnosis/hypothesis.hpp"
 
 #include <fmt/format.h>
 
@@ -75,10 +75,15 @@ private:
 };
 
 HypothesisPlugin make_capacity_error() {
-  return {"capacity_error", "a node's heat capacity is wrong by a factor",
-          [] { return std::make_unique<CapacityError>(); }};
+  return {.name = "capacity_error",
+          .doc = "a node's heat capacity is wrong by a factor",
+          .create = [] { return std::make_unique<CapacityError>(); },
+          .screen = "-C dT/dt",
+          .fitted = "factor (true C / model C)",
+          .writes = "a.C = ... [J/K] in each case block (that case's C times the factor); without "
+                    "case blocks a comment giving the corrected C"};
 }
 
 } // namespace
-THERMNET_REGISTER_HYPOTHESIS(make_capacity_error);
+THERMNET_REGISTER(HypothesisPlugin, make_capacity_error);
 } // namespace thermnet

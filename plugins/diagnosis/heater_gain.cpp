@@ -1,6 +1,6 @@
 // Hypothesis 'heater_gain': a heater delivers a different power than modelled (a factor). Screen:
 // the unexplained heat flow of its node regressed on its power signal (coefficient factor - 1).
-#include "kernel/hypothesis.hpp"
+#include "kernel/diagnosis/hypothesis.hpp"
 
 #include <fmt/format.h>
 
@@ -98,10 +98,15 @@ private:
 };
 
 HypothesisPlugin make_heater_gain() {
-  return {"heater_gain", "a heater delivers a different power than modelled (a factor)",
-          [] { return std::make_unique<HeaterGain>(); }};
+  return {.name = "heater_gain",
+          .doc = "a heater delivers a different power than modelled (a factor)",
+          .create = [] { return std::make_unique<HeaterGain>(); },
+          .screen = "the heater's P(t)",
+          .fitted = "factor",
+          .writes = "an extra heater diag_gain_h on the node with (factor - 1) P(t), plus "
+                    "diag_gain_h.P = (factor - 1) P_case(t) in each case block whose P differs"};
 }
 
 } // namespace
-THERMNET_REGISTER_HYPOTHESIS(make_heater_gain);
+THERMNET_REGISTER(HypothesisPlugin, make_heater_gain);
 } // namespace thermnet

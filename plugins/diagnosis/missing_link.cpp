@@ -1,7 +1,7 @@
 // Hypothesis 'missing_link': a linear (conduction, contact, convection) or radiative path between
 // two nodes, or a node and a boundary, that the model lacks. Screen: the unexplained heat flow of
 // each end regressed on T_b - T_a (linear) or sigma (T_b^4 - T_a^4) (radiation).
-#include "kernel/hypothesis.hpp"
+#include "kernel/diagnosis/hypothesis.hpp"
 
 #include <fmt/format.h>
 
@@ -87,10 +87,14 @@ private:
 };
 
 HypothesisPlugin make_missing_link() {
-  return {"missing_link", "a linear or radiative path between two nodes (or a node and a boundary)",
-          [] { return std::make_unique<MissingLink>(); }};
+  return {.name = "missing_link",
+          .doc = "a linear or radiative path between two nodes (or a node and a boundary)",
+          .create = [] { return std::make_unique<MissingLink>(); },
+          .screen = "T_b - T_a, or sigma (T_b^4 - T_a^4), at both ends",
+          .fitted = "G [W/K] (linear) or GR [m^2] (radiation)",
+          .writes = "conductance diag_a_b a b G = ..., or radiation diag_a_b a b GR = ..."};
 }
 
 } // namespace
-THERMNET_REGISTER_HYPOTHESIS(make_missing_link);
+THERMNET_REGISTER(HypothesisPlugin, make_missing_link);
 } // namespace thermnet

@@ -1,6 +1,6 @@
 // Hypothesis 'missing_source': a node gains (or loses) a constant heat flow the model does not
 // know of. Screen: each measured node's unexplained heat flow regressed on a constant.
-#include "kernel/hypothesis.hpp"
+#include "kernel/diagnosis/hypothesis.hpp"
 
 #include <fmt/format.h>
 
@@ -48,10 +48,14 @@ public:
 };
 
 HypothesisPlugin make_missing_source() {
-  return {"missing_source", "a constant heat gain or loss at a node",
-          [] { return std::make_unique<MissingSource>(); }};
+  return {.name = "missing_source",
+          .doc = "a constant heat gain or loss at a node",
+          .create = [] { return std::make_unique<MissingSource>(); },
+          .screen = "a constant",
+          .fitted = "P [W] (negative: a sink)",
+          .writes = "heater diag_source_a a P = ... [W]"};
 }
 
 } // namespace
-THERMNET_REGISTER_HYPOTHESIS(make_missing_source);
+THERMNET_REGISTER(HypothesisPlugin, make_missing_source);
 } // namespace thermnet

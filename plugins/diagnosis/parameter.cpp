@@ -1,6 +1,6 @@
 // Hypothesis 'parameter': recalibrating the model's ranged params within their ranges explains the
 // data. One candidate holding every ranged param, refitted by simulation.
-#include "kernel/hypothesis.hpp"
+#include "kernel/diagnosis/hypothesis.hpp"
 
 #include <fmt/format.h>
 
@@ -42,10 +42,14 @@ public:
 };
 
 HypothesisPlugin make_parameter() {
-  return {"parameter", "recalibrating existing ranged params within their ranges",
-          [] { return std::make_unique<Parameter>(); }};
+  return {.name = "parameter",
+          .doc = "recalibrating existing ranged params within their ranges",
+          .create = [] { return std::make_unique<Parameter>(); },
+          .screen = "none (always refitted when ranged params exist)",
+          .fitted = "params {name: value}",
+          .writes = "the declared values of the params, rewritten"};
 }
 
 } // namespace
-THERMNET_REGISTER_HYPOTHESIS(make_parameter);
+THERMNET_REGISTER(HypothesisPlugin, make_parameter);
 } // namespace thermnet

@@ -1,8 +1,8 @@
 // Hypothesis 'sensor_lag': a sensor reads its node through a first-order lag (time constant tau).
 // Measurement-side: the simulated series is passed through the lag; the start comes from the
 // residual regressed on the simulated slope (T_meas ~ T_sim - tau dT_sim/dt).
-#include "kernel/diagnosis.hpp"
-#include "kernel/hypothesis.hpp"
+#include "kernel/diagnosis/diagnosis.hpp"
+#include "kernel/diagnosis/hypothesis.hpp"
 
 #include <fmt/format.h>
 
@@ -78,10 +78,14 @@ public:
 };
 
 HypothesisPlugin make_sensor_lag() {
-  return {"sensor_lag", "a sensor reads its node through a first-order lag (s)",
-          [] { return std::make_unique<SensorLag>(); }};
+  return {.name = "sensor_lag",
+          .doc = "a sensor reads its node through a first-order lag (s)",
+          .create = [] { return std::make_unique<SensorLag>(); },
+          .screen = "the residual against the simulated slope",
+          .fitted = "tau [s]",
+          .writes = "a comment (measurement side)"};
 }
 
 } // namespace
-THERMNET_REGISTER_HYPOTHESIS(make_sensor_lag);
+THERMNET_REGISTER(HypothesisPlugin, make_sensor_lag);
 } // namespace thermnet

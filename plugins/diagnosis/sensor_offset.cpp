@@ -1,6 +1,6 @@
 // Hypothesis 'sensor_offset': a sensor reads its node with a constant bias. Measurement-side: the
 // correction is added to the simulated series; the start is the mean residual.
-#include "kernel/hypothesis.hpp"
+#include "kernel/diagnosis/hypothesis.hpp"
 
 #include <fmt/format.h>
 
@@ -61,10 +61,14 @@ public:
 };
 
 HypothesisPlugin make_sensor_offset() {
-  return {"sensor_offset", "a sensor reads with a constant bias (K)",
-          [] { return std::make_unique<SensorOffset>(); }};
+  return {.name = "sensor_offset",
+          .doc = "a sensor reads with a constant bias (K)",
+          .create = [] { return std::make_unique<SensorOffset>(); },
+          .screen = "the mean residual (fitted directly)",
+          .fitted = "offset [K]",
+          .writes = "a comment (measurement side)"};
 }
 
 } // namespace
-THERMNET_REGISTER_HYPOTHESIS(make_sensor_offset);
+THERMNET_REGISTER(HypothesisPlugin, make_sensor_offset);
 } // namespace thermnet

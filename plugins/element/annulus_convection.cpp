@@ -2,7 +2,7 @@
 // concentric cylinders (Raithby & Hollands; Incropera et al., eq. 9.58-9.60), with the
 // conduction limit as a smooth floor. Q flows from terminal a to terminal b; either may be the
 // inner cylinder (the correlation is symmetric in the sign of the temperature difference).
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 #include "plugins/element/air_properties.hpp"
 
 #include <cmath>
@@ -91,5 +91,5 @@ ElementPlugin make_annulus_convection() {
 }
 
 } // namespace
-THERMNET_REGISTER_ELEMENT(make_annulus_convection);
+THERMNET_REGISTER(ElementPlugin, make_annulus_convection);
 } // namespace thermnet

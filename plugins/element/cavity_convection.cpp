@@ -2,7 +2,7 @@
 // (Catton; MacGregor & Emery; Incropera et al., eq. 9.50, 9.52, 9.53), with the conduction limit
 // Nu = 1 as a smooth floor. The two walls are vertical, so the flow is symmetric in the sign of
 // Ta - Tb and Q(Ta, Tb) = -Q(Tb, Ta).
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 #include "plugins/element/air_properties.hpp"
 
 #include <cmath>
@@ -96,5 +96,5 @@ ElementPlugin make_cavity_convection() {
 }
 
 } // namespace
-THERMNET_REGISTER_ELEMENT(make_cavity_convection);
+THERMNET_REGISTER(ElementPlugin, make_cavity_convection);
 } // namespace thermnet

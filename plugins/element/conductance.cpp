@@ -1,5 +1,5 @@
 // Element plugin 'conductance': linear link, Q = G (T_a - T_b)
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 
 namespace thermnet {
 namespace {
@@ -15,5 +15,5 @@ ElementPlugin make_conductance() {
 }
 
 } // namespace
-THERMNET_REGISTER_ELEMENT(make_conductance);
+THERMNET_REGISTER(ElementPlugin, make_conductance);
 } // namespace thermnet

@@ -1,5 +1,5 @@
 // Element plugin 'conduction': plane conduction, G = k A / L
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 
 namespace thermnet {
 namespace {
@@ -18,5 +18,5 @@ ElementPlugin make_conduction() {
 }
 
 } // namespace
-THERMNET_REGISTER_ELEMENT(make_conduction);
+THERMNET_REGISTER(ElementPlugin, make_conduction);
 } // namespace thermnet

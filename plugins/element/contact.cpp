@@ -1,5 +1,5 @@
 // Element plugin 'contact': contact conductance, G = h A
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 
 namespace thermnet {
 namespace {
@@ -19,5 +19,5 @@ ElementPlugin make_contact() {
 }
 
 } // namespace
-THERMNET_REGISTER_ELEMENT(make_contact);
+THERMNET_REGISTER(ElementPlugin, make_contact);
 } // namespace thermnet

@@ -1,5 +1,5 @@
 // Element plugin 'convection': convection with a given coefficient, G = h A
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 
 namespace thermnet {
 namespace {
@@ -18,5 +18,5 @@ ElementPlugin make_convection() {
 }
 
 } // namespace
-THERMNET_REGISTER_ELEMENT(make_convection);
+THERMNET_REGISTER(ElementPlugin, make_convection);
 } // namespace thermnet

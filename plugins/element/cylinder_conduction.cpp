@@ -1,5 +1,5 @@
 // Element plugin 'cylinder_conduction': radial conduction through a cylindrical shell.
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -29,5 +29,5 @@ ElementPlugin make_cylinder_conduction() {
 }
 
 } // namespace
-THERMNET_REGISTER_ELEMENT(make_cylinder_conduction);
+THERMNET_REGISTER(ElementPlugin, make_cylinder_conduction);
 } // namespace thermnet

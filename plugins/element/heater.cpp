@@ -1,5 +1,5 @@
 // Element plugin 'heater': a prescribed heat input P(t) into a node.
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 
 namespace thermnet {
 namespace {
@@ -34,5 +34,5 @@ ElementPlugin make_heater() {
 }
 
 } // namespace
-THERMNET_REGISTER_ELEMENT(make_heater);
+THERMNET_REGISTER(ElementPlugin, make_heater);
 } // namespace thermnet

@@ -1,5 +1,5 @@
 // Element plugin 'radiation': grey-body exchange Q = sigma GR (T_a^4 - T_b^4), in kelvin.
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 
 namespace thermnet {
 namespace {
@@ -50,5 +50,5 @@ ElementPlugin make_radiation() {
 }
 
 } // namespace
-THERMNET_REGISTER_ELEMENT(make_radiation);
+THERMNET_REGISTER(ElementPlugin, make_radiation);
 } // namespace thermnet

@@ -1,5 +1,5 @@
 // Element plugin 'resistor': linear link given by its thermal resistance, G = 1/R
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 
 namespace thermnet {
 namespace {
@@ -16,5 +16,5 @@ ElementPlugin make_resistor() {
 }
 
 } // namespace
-THERMNET_REGISTER_ELEMENT(make_resistor);
+THERMNET_REGISTER(ElementPlugin, make_resistor);
 } // namespace thermnet

@@ -1,5 +1,5 @@
 // Element plugin 'thermostat': an on/off heater with hysteresis, switched by root-finding.
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 
 namespace thermnet {
 namespace {
@@ -70,5 +70,5 @@ ElementPlugin make_thermostat() {
 }
 
 } // namespace
-THERMNET_REGISTER_ELEMENT(make_thermostat);
+THERMNET_REGISTER(ElementPlugin, make_thermostat);
 } // namespace thermnet

@@ -17,9 +17,9 @@
 // form. Smoother (`smooth`): RTS backward pass over the stored filter steps, batch only.
 // Algebraic (C = 0) nodes are not supported by the covariance propagation and are rejected.
 
-#include "kernel/estimator.hpp"
-#include "kernel/integrator.hpp"
-#include "kernel/network.hpp"
+#include "kernel/core/integrator.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/estimation/estimator.hpp"
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -358,6 +358,6 @@ EstimatorPlugin ekf_plugin() {
 
 } // namespace
 
-THERMNET_REGISTER_ESTIMATOR(ekf_plugin);
+THERMNET_REGISTER(EstimatorPlugin, ekf_plugin);
 
 } // namespace thermnet

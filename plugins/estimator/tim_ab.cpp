@@ -15,7 +15,7 @@
 // Savitzky-Golay (analytic derivative of the local polynomial, window gamma N, order `order`),
 // Gaussian or moving average (then second-order differences), or none.
 
-#include "kernel/estimator.hpp"
+#include "kernel/estimation/estimator.hpp"
 #include "plugins/estimator/arx_fit.hpp"
 #include "plugins/estimator/filters.hpp"
 #include "plugins/estimator/savgol_kernel.hpp"
@@ -376,6 +376,6 @@ EstimatorPlugin tim_ab_plugin() {
 
 } // namespace
 
-THERMNET_REGISTER_ESTIMATOR(tim_ab_plugin);
+THERMNET_REGISTER(EstimatorPlugin, tim_ab_plugin);
 
 } // namespace thermnet

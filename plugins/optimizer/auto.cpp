@@ -8,7 +8,7 @@
 // lm's point and statistics; evaluations, simulations and wall time add up both stages, and
 // the notes of both stages are kept. Deterministic because both stages are.
 
-#include "kernel/optimizer.hpp"
+#include "kernel/calibration/optimizer.hpp"
 
 #include <fmt/format.h>
 
@@ -72,10 +72,14 @@ public:
 };
 
 OptimizerPlugin make_auto() {
-  return {"auto", "global start by Latin hypercube sampling (20 per param), then lm from the best",
-          [] { return std::make_unique<AutoOptimizer>(); }};
+  return {.name = "auto",
+          .doc = "lhs with 20 samples per param (no tolerance rejection) as a global start, then "
+                 "lm from the "
+                 "best sample",
+          .create = [] { return std::make_unique<AutoOptimizer>(); },
+          .budget = "split: lhs min(20 p, N/2), lm the rest"};
 }
 
 } // namespace
-THERMNET_REGISTER_OPTIMIZER(make_auto);
+THERMNET_REGISTER(OptimizerPlugin, make_auto);
 } // namespace thermnet

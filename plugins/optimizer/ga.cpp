@@ -19,7 +19,8 @@
 // parallel with parallel_for (results stored by index). sga's own generator is seeded from
 // `seed`. Hence the same seed gives the same result whatever the number of threads.
 
-#include "kernel/optimizer.hpp"
+#include "kernel/calibration/optimizer.hpp"
+#include "kernel/core/parallel.hpp"
 
 #include <fmt/format.h>
 #include <pagmo/algorithms/sga.hpp>
@@ -167,12 +168,15 @@ OptimizerResult GeneticAlgorithm::run(const CalibrationProblem& problem,
 }
 
 OptimizerPlugin make_ga() {
-  return {"ga",
-          "genetic algorithm (pagmo2 sga: SBX crossover, polynomial mutation, elitism) in the "
-          "ranges",
-          [] { return std::make_unique<GeneticAlgorithm>(); }};
+  return {
+      .name = "ga",
+      .doc =
+          "pagmo2's simple genetic algorithm (sga): SBX crossover, polynomial mutation, tournament "
+          "selection, elitism, in the unit box of the ranges",
+      .create = [] { return std::make_unique<GeneticAlgorithm>(); },
+      .budget = "evaluations (>= 200): population 10 (p + 1) <= 100, then generations"};
 }
 
 } // namespace
-THERMNET_REGISTER_OPTIMIZER(make_ga);
+THERMNET_REGISTER(OptimizerPlugin, make_ga);
 } // namespace thermnet

@@ -1,7 +1,7 @@
 // Optimizer plugin 'lhs': the study's Monte Carlo selection over a Latin hypercube design.
 
-#include "kernel/optimizer.hpp"
-#include "kernel/sample_search.hpp"
+#include "kernel/calibration/optimizer.hpp"
+#include "kernel/calibration/sample_search.hpp"
 
 namespace thermnet {
 namespace {
@@ -18,12 +18,14 @@ public:
 };
 
 OptimizerPlugin make_lhs() {
-  return {"lhs", "Latin hypercube samples, kept within --tolerance, best RMSE (like mc)",
-          [] { return std::make_unique<LatinHypercube>(); }};
+  return {.name = "lhs",
+          .doc = "the same as mc with Latin hypercube samples",
+          .create = [] { return std::make_unique<LatinHypercube>(); },
+          .budget = "samples (3000)"};
 }
 
 } // namespace
 
-THERMNET_REGISTER_OPTIMIZER(make_lhs);
+THERMNET_REGISTER(OptimizerPlugin, make_lhs);
 
 } // namespace thermnet

@@ -24,7 +24,8 @@
 // combination the data cannot determine shows as a huge standard error and a correlation of
 // +-1 (its direction dominates the covariance) instead of a failure.
 
-#include "kernel/optimizer.hpp"
+#include "kernel/calibration/optimizer.hpp"
+#include "kernel/core/parallel.hpp"
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -339,12 +340,14 @@ OptimizerResult LevenbergMarquardt::run(const CalibrationProblem& problem,
 }
 
 OptimizerPlugin make_lm() {
-  return {"lm",
-          "Levenberg-Marquardt least squares from the declared values (bounded, FD Jacobian; "
-          "standard errors and correlations)",
-          [] { return std::make_unique<LevenbergMarquardt>(); }};
+  return {.name = "lm",
+          .doc = "Levenberg-Marquardt least squares from the declared values (or a given start), "
+                 "bounded by "
+                 "the ranges; standard errors and correlations",
+          .create = [] { return std::make_unique<LevenbergMarquardt>(); },
+          .budget = "most evaluations (30 (p + 1)), finite-difference evaluations included"};
 }
 
 } // namespace
-THERMNET_REGISTER_OPTIMIZER(make_lm);
+THERMNET_REGISTER(OptimizerPlugin, make_lm);
 } // namespace thermnet

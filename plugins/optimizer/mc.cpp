@@ -1,8 +1,8 @@
 // Optimizer plugin 'mc': the aerial-camera study's Monte Carlo parameter correction — uniform
 // samples in the ranges, kept only within the tolerance everywhere, lowest RMSE wins.
 
-#include "kernel/optimizer.hpp"
-#include "kernel/sample_search.hpp"
+#include "kernel/calibration/optimizer.hpp"
+#include "kernel/calibration/sample_search.hpp"
 
 namespace thermnet {
 namespace {
@@ -20,13 +20,16 @@ public:
 };
 
 OptimizerPlugin make_mc() {
-  return {"mc",
-          "Monte Carlo (the study's method): uniform samples, kept within --tolerance, best RMSE",
-          [] { return std::make_unique<MonteCarlo>(); }};
+  return {.name = "mc",
+          .doc = "the study's Monte Carlo: uniform samples, a sample is kept only if every point "
+                 "is within "
+                 "--tolerance (5 K), the kept one with the lowest RMSE wins",
+          .create = [] { return std::make_unique<MonteCarlo>(); },
+          .budget = "samples (3000)"};
 }
 
 } // namespace
 
-THERMNET_REGISTER_OPTIMIZER(make_mc);
+THERMNET_REGISTER(OptimizerPlugin, make_mc);
 
 } // namespace thermnet

@@ -2,7 +2,7 @@
 /// loaded, linted, instantiated and rendered like `thermnet lint` would, against the element
 /// registry. Any crash, sanitizer report, hang or unbounded memory use is a bug.
 
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/model.hpp"
 #include "lang/parser.hpp"
@@ -30,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   lang::SourceManager sources;
   lang::DiagnosticEngine diags(sources);
   auto model = lang::Model::from_text("/nonexistent-thermnet-fuzz/fuzz.tnet", text,
-                                      ElementRegistry::global(), sources, diags);
+                                      thermnet::element_catalog(), sources, diags);
   model->lint(diags);
   diags.sort();
   (void)lang::render_text(diags);

@@ -29,7 +29,7 @@ fi
 
 flags=(-std=c++20 -O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined
   -fno-omit-frame-pointer -I"$root" -DTHERMNET_VERSION=\"fuzz\")
-sources=("$root"/lang/*.cpp "$root"/kernel/element_registry.cpp "$root"/kernel/linear_link.cpp
+sources=("$root"/lang/*.cpp "$root"/kernel/core/element_registry.cpp "$root"/kernel/core/linear_link.cpp
   "$root"/plugins/element/*.cpp "$here"/fuzz_parser.cpp)
 
 # Compile each source into its own object (two at a time; the X3 grammar is slow to compile),

@@ -41,7 +41,7 @@ configure_and_build() { # SOURCE BINARY: builds a project against the installed 
 "$CMAKE" --install "$BUILD" --prefix "$WORK/prefix" >install.log 2>&1
 check "cmake --install succeeds" test $? -eq 0
 check "the package installs thermnetConfig.cmake, headers and the executable" \
-  test -f prefix/lib/cmake/thermnet/thermnetConfig.cmake -a -f prefix/include/thermnet/kernel/plugin_api.hpp \
+  test -f prefix/lib/cmake/thermnet/thermnetConfig.cmake -a -f prefix/include/thermnet/kernel/plugin_host/plugin_api.hpp \
   -a -x prefix/bin/thermnet
 TN=$WORK/prefix/bin/thermnet
 
@@ -96,13 +96,14 @@ run --plugin missing/libnope.so kinds
 check "--plugin with a missing file fails with a clear message" \
   bash -c "test $rc -ne 0 && grep -q \"cannot load plugin 'missing/libnope.so': no such file\" err.txt"
 
+ABI=$(sed -n 's/^#define THERMNET_PLUGIN_ABI \([0-9]*\)$/\1/p' "$SRC/kernel/plugin_host/plugin_api.hpp")
 run --plugin broken/libwrongabi.so kinds
 check "a wrong ABI version is refused before registration runs, naming both versions" \
-  bash -c "test $rc -eq 1 && grep -q 'built for plugin ABI 1001, but this thermnet has plugin ABI 1' err.txt"
+  bash -c "test $rc -eq 1 && grep -q 'built for plugin ABI $((ABI + 1000)), but this thermnet has plugin ABI $ABI' err.txt"
 printf 'plugin "broken/libwrongabi.so"\nnode n C = 1\n' >abi.tnet
 run lint abi.tnet
 check "a wrong ABI in a model is a plugin-error diagnostic" \
-  bash -c "test $rc -eq 1 && grep -q 'abi.tnet:1:1: error: cannot load plugin.*plugin ABI 1001.*\[plugin-error\]' out.txt err.txt"
+  bash -c "test $rc -eq 1 && grep -q 'abi.tnet:1:1: error: cannot load plugin.*plugin ABI $((ABI + 1000)).*\[plugin-error\]' out.txt err.txt"
 
 printf 'plugin "broken/libdupkind.so"\nboundary a T = 0\nnode n C = 1\nconductance g n a G = 1\n' >dup.tnet
 run lint dup.tnet

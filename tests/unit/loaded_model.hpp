@@ -1,7 +1,7 @@
 #pragma once
 /// A model loaded from a file for tests, with the sources and diagnostics it needs kept alive.
 
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/model.hpp"
 #include "lang/source.hpp"
@@ -24,7 +24,7 @@ struct LoadedModel {
 
   /// Loads the model; with Lint::clean also lints it and requires no error.
   explicit LoadedModel(const std::string& path, Lint lint = Lint::skip) {
-    model = lang::Model::load(path, ElementRegistry::global(), sources, diags);
+    model = lang::Model::load(path, thermnet::element_catalog(), sources, diags);
     REQUIRE(model);
     if (lint == Lint::skip) return;
     model->lint(diags);

@@ -6,12 +6,13 @@
 #include "cli/calibration_report.hpp"
 #include "cli/model_rewrite.hpp"
 #include "cli/progress_bar.hpp"
-#include "kernel/calibration_problem.hpp"
-#include "kernel/element_registry.hpp"
-#include "kernel/network.hpp"
-#include "kernel/optimizer.hpp"
-#include "kernel/sample_search.hpp"
-#include "kernel/simulation.hpp"
+#include "kernel/calibration/calibration_problem.hpp"
+#include "kernel/calibration/optimizer.hpp"
+#include "kernel/calibration/sample_search.hpp"
+#include "kernel/core/element_registry.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/core/parallel.hpp"
+#include "kernel/core/simulation.hpp"
 
 #include <doctest/doctest.h>
 #include <fmt/format.h>
@@ -172,15 +173,27 @@ TEST_CASE("latin_hypercube: one point per stratum in every dimension, from the s
   CHECK(latin_hypercube(50, lo, hi, 100) != pts);
 }
 
-TEST_CASE("optimizer registry: mc and lhs are registered; duplicates are refused") {
+TEST_CASE("optimizer registry: mc and lhs are registered; duplicates and missing factories are "
+          "refused") {
   CHECK(OptimizerRegistry::global().find("mc"));
   CHECK(OptimizerRegistry::global().find("lhs"));
   CHECK_FALSE(OptimizerRegistry::global().find("nope"));
   auto names = OptimizerRegistry::global().names();
   CHECK(std::is_sorted(names.begin(), names.end()));
   OptimizerRegistry local;
-  local.add({"x", "doc", nullptr});
-  CHECK_THROWS_AS(local.add({"x", "doc", nullptr}), std::invalid_argument);
+  const auto factory = [] { return OptimizerRegistry::global().find("mc")->create(); };
+  const auto plugin = [](std::string name, std::function<std::unique_ptr<Optimizer>()> create) {
+    OptimizerPlugin p;
+    p.name = std::move(name);
+    p.create = std::move(create);
+    return p;
+  };
+  local.add(plugin("x", factory));
+  CHECK_THROWS_AS(local.add(plugin("x", factory)), RegistryError);
+  CHECK_THROWS_AS(local.add(plugin("y", nullptr)), RegistryError);
+  CHECK_THROWS_AS(local.add(plugin("", factory)), RegistryError);
+  CHECK_THROWS_AS(local.add(plugin("a b", factory)), RegistryError);
+  CHECK(local.names() == std::vector<std::string>{"x"});
 }
 
 // ---------------------------------------------------------------------------------- data

@@ -1,9 +1,9 @@
 // Unit tests of the temperature-dependent convection plugins (annulus_convection,
 // cavity_convection) and of the air property fit they use.
 
-#include "kernel/element_registry.hpp"
-#include "kernel/network.hpp"
-#include "kernel/simulation.hpp"
+#include "kernel/core/element_registry.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/core/simulation.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/model.hpp"
 #include "lang/source.hpp"
@@ -36,7 +36,7 @@ public:
 /// Builds an element of a registered kind on nodes 0 and 1 from SI key values.
 std::unique_ptr<Element> make_element(const std::string& kind,
                                       const std::map<std::string, double>& keys) {
-  const thermnet::ElementPlugin* plugin = thermnet::ElementRegistry::global().plugin(kind);
+  const thermnet::ElementPlugin* plugin = thermnet::ElementRegistry::global().find(kind);
   REQUIRE(plugin != nullptr);
   thermnet::lang::ElementSpec spec;
   spec.schema = &plugin->schema;
@@ -140,7 +140,7 @@ TEST_CASE("annulus_convection conductance for the aerial camera geometry") {
   auto s = make_element("annulus_convection", scaled);
   CHECK(stamp(*s, 280.0, 270.0).q == doctest::Approx(3.0 * stamp(*barrel, 280.0, 270.0).q));
   // D_out must exceed D_in.
-  const auto* plugin = thermnet::ElementRegistry::global().plugin("annulus_convection");
+  const auto* plugin = thermnet::ElementRegistry::global().find("annulus_convection");
   CHECK(plugin->schema.check({{"D_in", 0.1}, {"D_out", 0.05}, {"L", 0.1}}).size() == 1);
   CHECK(plugin->schema.check({{"D_in", 0.1}, {"D_out", 0.1}, {"L", 0.1}}).size() == 1);
   CHECK(plugin->schema.check({{"D_in", 0.07}, {"D_out", 0.114}, {"L", 0.15}, {"scale", 1.0}})
@@ -261,8 +261,8 @@ TEST_CASE("a model with both kinds simulates to the steady state") {
   }
   thermnet::lang::SourceManager sources;
   thermnet::lang::DiagnosticEngine diags(sources);
-  auto model = thermnet::lang::Model::load(path.string(), thermnet::ElementRegistry::global(),
-                                           sources, diags);
+  auto model =
+      thermnet::lang::Model::load(path.string(), thermnet::element_catalog(), sources, diags);
   REQUIRE(model != nullptr);
   model->lint(diags);
   CHECK(diags.error_count() == 0);

@@ -6,12 +6,12 @@
 // plate for the speed check.
 
 #include "cli/diagnose_command.hpp"
-#include "kernel/diagnosis.hpp"
-#include "kernel/diagnosis_report.hpp"
-#include "kernel/diagnosis_stats.hpp"
-#include "kernel/element_registry.hpp"
-#include "kernel/network.hpp"
-#include "kernel/simulation.hpp"
+#include "kernel/core/element_registry.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/core/simulation.hpp"
+#include "kernel/diagnosis/diagnosis.hpp"
+#include "kernel/diagnosis/report.hpp"
+#include "kernel/diagnosis/statistics.hpp"
 
 #include <doctest/doctest.h>
 #include <fmt/format.h>

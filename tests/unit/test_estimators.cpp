@@ -2,10 +2,10 @@
 // Kalman filter's steady-state covariance, and error bounds on synthetic experiments built from
 // the bundled models (models/slab_tim_ab, models/digital_twin).
 
-#include "kernel/element_registry.hpp"
-#include "kernel/estimator.hpp"
-#include "kernel/network.hpp"
-#include "kernel/simulation.hpp"
+#include "kernel/core/element_registry.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/core/simulation.hpp"
+#include "kernel/estimation/estimator.hpp"
 #include "lang/csv.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/model.hpp"
@@ -45,7 +45,7 @@ std::unique_ptr<Estimator> make(const std::string& method, std::vector<std::stri
 std::unique_ptr<lang::Model> load(const std::string& path) {
   static lang::SourceManager sources;
   lang::DiagnosticEngine diags(sources);
-  auto m = lang::Model::load(path, ElementRegistry::global(), sources, diags);
+  auto m = lang::Model::load(path, thermnet::element_catalog(), sources, diags);
   REQUIRE(m != nullptr);
   REQUIRE(diags.error_count() == 0);
   return m;
@@ -54,7 +54,7 @@ std::unique_ptr<lang::Model> load(const std::string& path) {
 std::unique_ptr<lang::Model> from_text(const std::string& text) {
   static lang::SourceManager sources;
   lang::DiagnosticEngine diags(sources);
-  auto m = lang::Model::from_text("mem.tnet", text, ElementRegistry::global(), sources, diags);
+  auto m = lang::Model::from_text("mem.tnet", text, thermnet::element_catalog(), sources, diags);
   REQUIRE(diags.error_count() == 0);
   return m;
 }

@@ -1,6 +1,6 @@
 // Unit tests of integrate() and solve_steady() on small hand-written thermal systems.
 
-#include "kernel/integrator.hpp"
+#include "kernel/core/integrator.hpp"
 
 #include <doctest/doctest.h>
 
@@ -604,7 +604,8 @@ TEST_CASE("integrate: a 20,000-node chain gives the same answer with KLU and SPG
     CHECK(std::abs(probes[0][i] - probes[1][i]) < 1e-3);
 }
 
-TEST_CASE("integrate: automatic picks dense for small, KLU for medium and Krylov for large systems") {
+TEST_CASE(
+    "integrate: automatic picks dense for small, KLU for medium and Krylov for large systems") {
   TestNetwork small = make_chain(10);
   std::vector<double> T(10, 300.0);
   CHECK(thermnet::integrate(small, T, 0.0, 10.0, {}, nullptr).linear_solver == "dense");

@@ -2,12 +2,13 @@
 // small models whose "measurements" are thermnet's own simulation of known params plus noise.
 
 #include "cli/uncertainty.hpp"
-#include "kernel/calibration_problem.hpp"
-#include "kernel/element_registry.hpp"
-#include "kernel/network.hpp"
-#include "kernel/optimizer.hpp"
-#include "kernel/sensitivity.hpp"
-#include "kernel/simulation.hpp"
+#include "kernel/calibration/calibration_problem.hpp"
+#include "kernel/calibration/optimizer.hpp"
+#include "kernel/calibration/sensitivity.hpp"
+#include "kernel/core/element_registry.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/core/parallel.hpp"
+#include "kernel/core/simulation.hpp"
 
 #include <doctest/doctest.h>
 #include <fmt/format.h>
@@ -38,7 +39,7 @@ struct Loaded {
   std::unique_ptr<lang::Model> model;
   /// Loads (and, unless the data are still to be written, lints) a model.
   explicit Loaded(const std::string& path, bool lint = true) {
-    model = lang::Model::load(path, ElementRegistry::global(), sources, diags);
+    model = lang::Model::load(path, thermnet::element_catalog(), sources, diags);
     REQUIRE(model);
     if (lint) model->lint(diags);
     for (const auto& d : diags.all())

@@ -1,9 +1,9 @@
 // Unit tests of the network assembly: constant-conductance links stamped in flat arrays
 // (LinkBatch) and the Network's analytic Jacobian against finite differences of its heat balance.
 
-#include "kernel/element_registry.hpp"
-#include "kernel/link_batch.hpp"
-#include "kernel/network.hpp"
+#include "kernel/core/element_registry.hpp"
+#include "kernel/core/link_batch.hpp"
+#include "kernel/core/network.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/model.hpp"
 #include "lang/source.hpp"
@@ -72,8 +72,8 @@ TEST_CASE("LinkBatch: flows conserve heat and the Jacobian is the negative Lapla
 TEST_CASE("Network: analytic Jacobian matches finite differences of the heat balance") {
   thermnet::lang::SourceManager sources;
   thermnet::lang::DiagnosticEngine diags(sources);
-  auto model = thermnet::lang::Model::from_text(
-      "mixed.tnet", kMixedModel, thermnet::ElementRegistry::global(), sources, diags);
+  auto model = thermnet::lang::Model::from_text("mixed.tnet", kMixedModel,
+                                                thermnet::element_catalog(), sources, diags);
   REQUIRE(diags.error_count() == 0);
   Network net(model->instantiate());
   const int n = net.size();
@@ -112,4 +112,32 @@ TEST_CASE("Network: analytic Jacobian matches finite differences of the heat bal
     CHECK(gain == doctest::Approx(net.source_power(t, T.data()) - net.boundary_loss(t, T.data()))
                       .epsilon(1e-9));
   }
+}
+
+TEST_CASE("ElementRegistry: a kind must be a writable name, not a keyword, with 1 or 2 terminals") {
+  using thermnet::ElementPlugin;
+  using thermnet::RegistryError;
+  const ElementPlugin* conductance = thermnet::ElementRegistry::global().find("conductance");
+  REQUIRE(conductance);
+  const auto kind = [&](std::string name, int terminals = 2) {
+    ElementPlugin p = *conductance;
+    p.schema.kind = std::move(name);
+    p.schema.terminals = terminals;
+    return p;
+  };
+  thermnet::ElementRegistry local;
+  local.add(kind("my_link"));
+  CHECK_THROWS_AS(local.add(kind("my_link")), RegistryError);
+  CHECK_THROWS_AS(local.add(kind("2link")), RegistryError);
+  CHECK_THROWS_AS(local.add(kind("my-link")), RegistryError);
+  CHECK_THROWS_AS(local.add(kind("node")), RegistryError);
+  CHECK_THROWS_AS(local.add(kind("three", 3)), RegistryError);
+  ElementPlugin no_factory = kind("empty");
+  no_factory.create = nullptr;
+  CHECK_THROWS_AS(local.add(no_factory), RegistryError);
+  CHECK(local.names() == std::vector<std::string>{"my_link"});
+  const thermnet::ElementCatalogView view(local);
+  REQUIRE(view.find("my_link"));
+  CHECK(view.find("my_link")->terminals == 2);
+  CHECK_FALSE(view.find("conductance"));
 }

@@ -2,10 +2,10 @@
 // analytic solutions (RC decay, radiative equilibrium, a 1-D slab, energy balance, thermostat
 // switching, arithmetic nodes, composite and geometric conductances, signals, initial = steady).
 
-#include "kernel/element_registry.hpp"
-#include "kernel/integrator.hpp"
-#include "kernel/network.hpp"
-#include "kernel/simulation.hpp"
+#include "kernel/core/element_registry.hpp"
+#include "kernel/core/integrator.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/core/simulation.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/model.hpp"
 
@@ -44,8 +44,7 @@ thermnet::lang::NetworkSpec spec_from(const TempDir& dir, const std::string& tex
   fs::path f = dir.write("model.tnet", text);
   thermnet::lang::SourceManager sources;
   thermnet::lang::DiagnosticEngine diags(sources);
-  auto model =
-      thermnet::lang::Model::load(f.string(), thermnet::ElementRegistry::global(), sources, diags);
+  auto model = thermnet::lang::Model::load(f.string(), thermnet::element_catalog(), sources, diags);
   REQUIRE(model != nullptr);
   model->lint(diags);
   INFO(thermnet::lang::render_text(diags));

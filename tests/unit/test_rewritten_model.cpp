@@ -4,7 +4,7 @@
 
 #include "cli/atomic_file.hpp"
 #include "cli/rewritten_model.hpp"
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 
 #include <doctest/doctest.h>
 

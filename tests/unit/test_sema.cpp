@@ -1,7 +1,7 @@
 /// Unit tests of the semantic pass: every statement of the spec through Model::from_text/load and
 /// instantiate() (values in SI, defaults, composites, cases), and every lint check by its code.
 
-#include "kernel/element_registry.hpp"
+#include "kernel/core/element_registry.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/model.hpp"
 
@@ -33,7 +33,7 @@ struct Loaded {
   std::unique_ptr<Model> model;
 
   Loaded(const std::string& text, const std::string& path) {
-    model = Model::from_text(path, text, ElementRegistry::global(), sources, diags);
+    model = Model::from_text(path, text, thermnet::element_catalog(), sources, diags);
   }
   Loaded(const Loaded&) = delete;
 
@@ -92,7 +92,7 @@ TEST_CASE("sema: the spec's example instantiates with every value in SI") {
   dir.write("warmup.csv", "time,plate1,plate2,ambient\n0,20,20,20\n60,21,20.5,\n");
   SourceManager sources;
   DiagnosticEngine diags(sources);
-  auto model = Model::load(dir.write("ex.tnet", test::spec_example), ElementRegistry::global(),
+  auto model = Model::load(dir.write("ex.tnet", test::spec_example), thermnet::element_catalog(),
                            sources, diags);
   REQUIRE(model);
   model->lint(diags);
@@ -230,7 +230,7 @@ TEST_CASE("sema: parallel blocks, radiation by GR, thermostat sense, table signa
                                          "conductance g a b G = 1\n");
   SourceManager sources;
   DiagnosticEngine diags(sources);
-  auto model = Model::load(path, ElementRegistry::global(), sources, diags);
+  auto model = Model::load(path, thermnet::element_catalog(), sources, diags);
   REQUIRE(model);
   model->lint(diags);
   CHECK(diags.all().empty());
@@ -255,7 +255,7 @@ TEST_CASE("sema: includes are relative to the including file and read once") {
                                          "boundary amb T = 20\nconductance g plate amb G = k\n");
   SourceManager sources;
   DiagnosticEngine diags(sources);
-  auto model = Model::load(path, ElementRegistry::global(), sources, diags);
+  auto model = Model::load(path, thermnet::element_catalog(), sources, diags);
   REQUIRE(model);
   model->lint(diags);
   CHECK(diags.all().empty());
@@ -391,7 +391,8 @@ TEST_CASE("lint: data files: unknown columns, format errors, a bad table column"
   auto run = [&](const std::string& text) {
     SourceManager sources;
     DiagnosticEngine diags(sources);
-    auto model = Model::load(dir.write("m.tnet", text), ElementRegistry::global(), sources, diags);
+    auto model =
+        Model::load(dir.write("m.tnet", text), thermnet::element_catalog(), sources, diags);
     REQUIRE(model);
     model->lint(diags);
     std::string out;
@@ -412,7 +413,7 @@ TEST_CASE("lint: include cycles and errors inside included files") {
   dir.write("b.tnet", "include \"a.tnet\"\nnode x C = [\n");
   SourceManager sources;
   DiagnosticEngine diags(sources);
-  auto model = Model::load(dir.write("a.tnet", "include \"b.tnet\"\n"), ElementRegistry::global(),
+  auto model = Model::load(dir.write("a.tnet", "include \"b.tnet\"\n"), thermnet::element_catalog(),
                            sources, diags);
   REQUIRE(model);
   model->lint(diags);

@@ -4,7 +4,7 @@
 //   heat taken from the cold node    Qc = S I Tc - I^2 R / 2 - K (Th - Tc)
 //   heat delivered to the hot node   Qh = S I Th + I^2 R / 2 - K (Th - Tc)
 // The difference Qh - Qc = S I (Th - Tc) + I^2 R is the electrical power it consumes.
-#include "kernel/plugin_api.hpp"
+#include "kernel/plugin_host/plugin_api.hpp"
 
 namespace {
 

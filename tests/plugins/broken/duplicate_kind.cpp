@@ -1,5 +1,5 @@
 // A plugin that registers a kind thermnet already has.
-#include "kernel/plugin_api.hpp"
+#include "kernel/plugin_host/plugin_api.hpp"
 
 namespace {
 thermnet::ElementPlugin make_conductance() {

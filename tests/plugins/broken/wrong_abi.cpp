@@ -1,5 +1,5 @@
 // A plugin built for another plugin ABI: its registration must never run.
-#include "kernel/plugin_api.hpp"
+#include "kernel/plugin_host/plugin_api.hpp"
 
 #include <cstdlib>
 

@@ -1,0 +1,46 @@
+// load_measured(): a case's CSV data file matched to the network's nodes, degC -> K.
+
+#include "kernel/core/measured_data.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace thermnet {
+
+namespace {
+constexpr double kZeroCelsius = 273.15;
+} // namespace
+
+std::size_t MeasuredData::points() const {
+  std::size_t n = 0;
+  for (const auto& s : series)
+    for (double v : s.values)
+      if (!std::isnan(v)) ++n;
+  return n;
+}
+
+MeasuredData load_measured(const std::string& path, const lang::NetworkSpec& spec) {
+  lang::CsvTable table = lang::read_csv(path);
+  lang::check_measured(table);
+  MeasuredData data;
+  data.path = path;
+  data.times = table.time();
+  for (std::size_t c = 1; c < table.columns.size(); ++c) {
+    const std::string& name = table.columns[c];
+    int index = spec.node_index(name);
+    if (index < 0)
+      throw lang::CsvError(path, 1, c + 1,
+                           fmt::format("column '{}' names no node or boundary of the model", name));
+    MeasuredSeries s;
+    s.node = name;
+    s.node_index = index;
+    s.values = table.cells[c];
+    for (double& v : s.values)
+      if (!std::isnan(v)) v += kZeroCelsius;
+    data.series.push_back(std::move(s));
+  }
+  return data;
+}
+
+} // namespace thermnet

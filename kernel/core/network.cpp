@@ -1,0 +1,224 @@
+#include "kernel/core/network.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace thermnet {
+namespace {
+
+/// First pass: records which (row, col) pairs of unknowns elements touch.
+class RecordingLayout final : public JacobianLayout {
+public:
+  RecordingLayout(std::vector<std::pair<int, int>>& pairs, const std::vector<int>& unknown_of)
+      : pairs_(pairs), unknown_of_(unknown_of) {}
+  int slot(int row, int col) override {
+    const int r = unknown_of_[static_cast<std::size_t>(row)];
+    const int c = unknown_of_[static_cast<std::size_t>(col)];
+    if (r >= 0 && c >= 0) pairs_.emplace_back(r, c);
+    return 0;
+  }
+
+private:
+  std::vector<std::pair<int, int>>& pairs_;
+  const std::vector<int>& unknown_of_;
+};
+
+/// Second pass: hands out CSR positions; pairs touching a boundary get the scratch slot.
+class SlotLayout final : public JacobianLayout {
+public:
+  SlotLayout(const SparsityPattern& p, const std::vector<int>& unknown_of)
+      : p_(p), unknown_of_(unknown_of) {}
+  int slot(int row, int col) override {
+    int r = unknown_of_[static_cast<std::size_t>(row)];
+    int c = unknown_of_[static_cast<std::size_t>(col)];
+    if (r < 0 || c < 0) return p_.nnz(); // scratch: boundaries are not unknowns
+    auto begin = p_.col_idx.begin() + p_.row_ptr[static_cast<std::size_t>(r)];
+    auto end = p_.col_idx.begin() + p_.row_ptr[static_cast<std::size_t>(r) + 1];
+    return static_cast<int>(std::lower_bound(begin, end, c) - p_.col_idx.begin());
+  }
+
+private:
+  const SparsityPattern& p_;
+  const std::vector<int>& unknown_of_;
+};
+
+std::unique_ptr<Element> build(const lang::ElementSpec& e, const ElementRegistry& registry) {
+  if (e.composite == lang::Composite::series) {
+    double R = 0.0;
+    for (const auto& part : e.parts)
+      R += 1.0 / part.schema->conductance(part.key_values());
+    return std::make_unique<LinearLink>(e.nodes.at(0), e.nodes.at(1), 1.0 / R);
+  }
+  const ElementPlugin* plugin = registry.find(e.kind);
+  if (!plugin) throw NetworkError(fmt::format("no plugin provides element kind '{}'", e.kind));
+  return plugin->create(e);
+}
+
+/// Elements ahead of the one being stamped whose memory is requested early: element objects are
+/// scattered over the heap, and large networks would otherwise wait for memory at every one.
+constexpr std::size_t kPrefetchDistance = 8;
+
+} // namespace
+
+Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec_(std::move(spec)) {
+  const std::size_t n = spec_.nodes.size();
+  unknown_of_.assign(n, -1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (spec_.nodes[i].boundary) {
+      boundary_nodes_.push_back(static_cast<int>(i));
+      continue;
+    }
+    unknown_of_[i] = static_cast<int>(unknown_nodes_.size());
+    unknown_nodes_.push_back(static_cast<int>(i));
+    capacities_.push_back(spec_.nodes[i].C);
+  }
+  const auto add = [&](const lang::ElementSpec& e) {
+    std::unique_ptr<Element> element = build(e, registry);
+    if (const auto* link = dynamic_cast<const LinearLink*>(element.get()))
+      links_.add(link->a(), link->b(), link->conductance());
+    else
+      elements_.push_back(std::move(element));
+  };
+  for (const auto& e : spec_.elements) {
+    if (e.composite == lang::Composite::parallel)
+      for (const auto& part : e.parts)
+        add(part);
+    else
+      add(e);
+  }
+  // Fix the pattern: every unknown's diagonal plus what the elements declare.
+  std::vector<std::pair<int, int>> pairs;
+  RecordingLayout recorder(pairs, unknown_of_);
+  links_.declare(recorder);
+  for (auto& e : elements_)
+    e->declare(recorder);
+  for (int u = 0; u < size(); ++u)
+    pairs.emplace_back(u, u);
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  pattern_.n = size();
+  pattern_.row_ptr.assign(static_cast<std::size_t>(size()) + 1, 0);
+  pattern_.col_idx.reserve(pairs.size());
+  for (const auto& [r, c] : pairs) {
+    ++pattern_.row_ptr[static_cast<std::size_t>(r) + 1];
+    pattern_.col_idx.push_back(c);
+  }
+  for (std::size_t r = 0; r + 1 < pattern_.row_ptr.size(); ++r)
+    pattern_.row_ptr[r + 1] += pattern_.row_ptr[r];
+  SlotLayout slots(pattern_, unknown_of_);
+  links_.declare(slots);
+  for (auto& e : elements_) {
+    e->declare(slots);
+    event_offset_.push_back(event_count_);
+    event_count_ += e->event_count();
+  }
+  T_all_.assign(n, 0.0);
+  F_all_.assign(n, 0.0);
+  J_links_.assign(static_cast<std::size_t>(pattern_.nnz()) + 1, 0.0);
+  links_.stamp_jacobian(J_links_.data());
+  J_all_ = J_links_;
+}
+
+void Network::expand(double t, const double* T, double* all) const {
+  for (std::size_t u = 0; u < unknown_nodes_.size(); ++u)
+    all[unknown_nodes_[u]] = T[u];
+  for (int b : boundary_nodes_)
+    all[b] = spec_.nodes[static_cast<std::size_t>(b)].T.at(t);
+}
+
+void Network::stamp_all(double t, const double* T, bool with_jacobian) {
+  expand(t, T, T_all_.data());
+  std::fill(F_all_.begin(), F_all_.end(), 0.0);
+  // Right-hand sides outnumber Jacobians by ~50 to 1: skip the derivatives when not asked for.
+  double* J = nullptr;
+  if (with_jacobian) {
+    std::copy(J_links_.begin(), J_links_.end(), J_all_.begin());
+    J = J_all_.data();
+  }
+  links_.stamp_flows(T_all_.data(), F_all_.data());
+  const std::size_t count = elements_.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    if (k + kPrefetchDistance < count) __builtin_prefetch(elements_[k + kPrefetchDistance].get());
+    elements_[k]->stamp(t, T_all_.data(), F_all_.data(), J);
+  }
+}
+
+void Network::heat_balance(double t, const double* T, double* F) {
+  stamp_all(t, T, false);
+  for (std::size_t u = 0; u < unknown_nodes_.size(); ++u)
+    F[u] = F_all_[static_cast<std::size_t>(unknown_nodes_[u])];
+}
+
+void Network::jacobian(double t, const double* T, double* values) {
+  stamp_all(t, T, true);
+  std::copy(J_all_.begin(), J_all_.end() - 1, values);
+}
+
+void Network::events(double t, const double* T, double* g) {
+  expand(t, T, T_all_.data());
+  for (std::size_t k = 0; k < elements_.size(); ++k)
+    if (elements_[k]->event_count() > 0)
+      elements_[k]->events(t, T_all_.data(), g + event_offset_[k]);
+}
+
+bool Network::apply_events(double t, const double* T, const std::vector<int>& fired) {
+  expand(t, T, T_all_.data());
+  bool changed = false;
+  for (std::size_t k = 0; k < elements_.size(); ++k)
+    for (int j = 0; j < elements_[k]->event_count(); ++j)
+      if (fired[static_cast<std::size_t>(event_offset_[k] + j)])
+        changed |= elements_[k]->apply_event(j, t, T_all_.data());
+  return changed;
+}
+
+void Network::init_events(double t, const double* T) {
+  expand(t, T, T_all_.data());
+  for (auto& e : elements_)
+    e->init_events(t, T_all_.data());
+}
+
+std::vector<double> Network::breakpoints(double t0, double t1) const {
+  std::vector<double> all;
+  for (const auto& e : elements_)
+    e->breakpoints(all);
+  for (const auto& node : spec_.nodes)
+    if (node.boundary) all.insert(all.end(), node.T.corners().begin(), node.T.corners().end());
+  std::vector<double> out;
+  for (double b : all)
+    if (b > t0 && b <= t1) out.push_back(b);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::string Network::unknown_name(int i) const {
+  return spec_.nodes.at(static_cast<std::size_t>(unknown_nodes_.at(static_cast<std::size_t>(i))))
+      .name;
+}
+
+std::vector<double> Network::initial_state() const {
+  std::vector<double> T0;
+  T0.reserve(unknown_nodes_.size());
+  for (int i : unknown_nodes_)
+    T0.push_back(spec_.nodes[static_cast<std::size_t>(i)].T0.value_or(spec_.default_initial()));
+  return T0;
+}
+
+double Network::source_power(double t, const double* T) {
+  expand(t, T, T_all_.data());
+  double P = 0.0;
+  for (const auto& e : elements_)
+    P += e->power_in(t, T_all_.data());
+  return P;
+}
+
+double Network::boundary_loss(double t, const double* T) {
+  stamp_all(t, T, false);
+  double loss = 0.0;
+  for (std::size_t i = 0; i < spec_.nodes.size(); ++i)
+    if (unknown_of_[i] < 0) loss += F_all_[i];
+  return loss;
+}
+
+} // namespace thermnet

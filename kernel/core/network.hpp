@@ -1,0 +1,72 @@
+#pragma once
+/// A thermal network built from a NetworkSpec: unknowns, boundaries, element physics, fixed
+/// pattern.
+
+#include "kernel/core/element.hpp"
+#include "kernel/core/element_registry.hpp"
+#include "kernel/core/link_batch.hpp"
+#include "kernel/core/thermal_system.hpp"
+#include "lang/network_spec.hpp"
+
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace thermnet {
+
+/// A spec that cannot be turned into a network (e.g. an element kind no plugin provides).
+struct NetworkError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// The network the integrators solve: unknown temperatures are the non-boundary nodes.
+class Network final : public ThermalSystem {
+public:
+  /// Builds the elements from their plugins and fixes the Jacobian pattern.
+  explicit Network(lang::NetworkSpec spec,
+                   const ElementRegistry& registry = ElementRegistry::global());
+
+  int size() const override { return static_cast<int>(unknown_nodes_.size()); }
+  const std::vector<double>& capacities() const override { return capacities_; }
+  void heat_balance(double t, const double* T, double* F) override;
+  const SparsityPattern& jacobian_pattern() const override { return pattern_; }
+  void jacobian(double t, const double* T, double* values) override;
+  int event_count() const override { return event_count_; }
+  void events(double t, const double* T, double* g) override;
+  bool apply_events(double t, const double* T, const std::vector<int>& fired) override;
+  void init_events(double t, const double* T) override;
+  std::vector<double> breakpoints(double t0, double t1) const override;
+  std::string unknown_name(int i) const override;
+
+  /// The spec it was built from.
+  const lang::NetworkSpec& spec() const { return spec_; }
+  /// Spec node index of each unknown.
+  const std::vector<int>& unknown_nodes() const { return unknown_nodes_; }
+  /// Initial temperatures of the unknowns (T0, else the case's initial, else 20 degC), K.
+  std::vector<double> initial_state() const;
+  /// Temperatures of every node (unknowns from T, boundaries from their signals at t), K.
+  void expand(double t, const double* T, double* all) const;
+  /// Heat entering the network from sources at t, W.
+  double source_power(double t, const double* T);
+  /// Heat leaving the network into boundaries at t, W.
+  double boundary_loss(double t, const double* T);
+
+private:
+  void stamp_all(double t, const double* T, bool with_jacobian);
+
+  lang::NetworkSpec spec_;
+  LinkBatch links_;                                // constant-conductance links, flat
+  std::vector<std::unique_ptr<Element>> elements_; // every other element
+  std::vector<int> boundary_nodes_;                // spec nodes with prescribed temperatures
+  std::vector<int> unknown_nodes_;                 // unknown -> spec node
+  std::vector<int> unknown_of_;                    // spec node -> unknown or -1
+  std::vector<double> capacities_;
+  SparsityPattern pattern_;
+  std::vector<int> event_offset_; // per element: first event index
+  int event_count_ = 0;
+  // Scratch sized once: temperatures, heat balance and Jacobian values of every node.
+  std::vector<double> T_all_, F_all_, J_all_;
+  std::vector<double> J_links_; // the links' constant part of J_all_
+};
+
+} // namespace thermnet

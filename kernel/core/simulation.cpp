@@ -1,0 +1,91 @@
+#include "kernel/core/simulation.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace thermnet {
+
+std::vector<double> output_times(double duration, double interval) {
+  std::vector<double> t;
+  auto n = static_cast<long>(std::floor(duration / interval * (1 + 1e-12)));
+  t.reserve(static_cast<std::size_t>(n) + 2);
+  for (long k = 0; k <= n; ++k)
+    t.push_back(static_cast<double>(k) * interval);
+  if (duration - t.back() > 1e-9 * duration)
+    t.push_back(duration);
+  else
+    t.back() = duration;
+  return t;
+}
+
+namespace {
+
+/// The steady state with its switches (thermostats) in states consistent with it: a switch whose
+/// event function changes sign between the guess and the solution is flipped and the state solved
+/// again. A switch that has to flip back has no consistent state: it cycles, with no steady state.
+SolverStats steady_with_switches(Network& net, std::vector<double>& T, const SolverOptions& o) {
+  const int nev = net.event_count();
+  if (nev == 0) return solve_steady(net, T, 0.0, o);
+  net.init_events(0.0, T.data());
+  const auto n = static_cast<std::size_t>(nev);
+  std::vector<double> g_guess(n), g_solution(n);
+  std::vector<int> crossed(n), flips(n, 0);
+  for (;;) {
+    net.events(0.0, T.data(), g_guess.data());
+    SolverStats stats = solve_steady(net, T, 0.0, o);
+    net.events(0.0, T.data(), g_solution.data());
+    if (!events_crossed(g_guess, g_solution, crossed)) return stats;
+    for (std::size_t k = 0; k < n; ++k)
+      if (crossed[k] != 0 && ++flips[k] > 1)
+        throw SolverError(
+            "there is no steady state: a thermostat (switch) cycles: heating, its sensed "
+            "temperature settles above its switch-off point; off, below its switch-on point. "
+            "Simulate the transient instead",
+            "steady", 0, 0.0, {});
+    if (!net.apply_events(0.0, T.data(), crossed)) return stats;
+  }
+}
+
+} // namespace
+
+SimulationResult simulate(Network& net, const SimulationOptions& opt) {
+  const auto& settings = net.spec().settings;
+  SimulationResult r;
+  for (const auto& n : net.spec().nodes)
+    r.names.push_back(n.name);
+  std::vector<double> T = net.initial_state();
+  auto record = [&](double t, const std::vector<double>& x) {
+    std::vector<double> all(net.spec().nodes.size());
+    net.expand(t, x.data(), all.data());
+    r.times.push_back(t);
+    r.temps.push_back(std::move(all));
+  };
+  if (opt.steady || settings.initial_steady) {
+    r.stats = steady_with_switches(net, T, opt.solver);
+    if (opt.steady) {
+      record(0.0, T);
+      return r;
+    }
+  }
+  std::optional<double> duration = opt.duration ? opt.duration : settings.duration;
+  if (!duration)
+    throw std::invalid_argument(
+        fmt::format("case '{}' has no duration; give one with --duration", settings.name));
+  if (!(*duration > 0)) throw std::invalid_argument("the duration must be positive");
+  double interval = opt.output.value_or(settings.output.value_or(*duration / 1000.0));
+  if (!(interval > 0)) throw std::invalid_argument("the output interval must be positive");
+  if (*duration / interval > 1e7)
+    throw std::invalid_argument(fmt::format(
+        "{:g} output rows requested; use a longer output interval", *duration / interval));
+  std::vector<double> times = output_times(*duration, interval);
+  r.times.reserve(times.size());
+  r.temps.reserve(times.size());
+  SolverStats s = integrate(net, T, 0.0, *duration, times, record, opt.solver);
+  if (settings.initial_steady) s.steps += r.stats.steps;
+  r.stats = s;
+  return r;
+}
+
+} // namespace thermnet

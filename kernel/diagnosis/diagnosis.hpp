@@ -1,0 +1,119 @@
+#pragma once
+/// Model diagnosis: what the simulation gets wrong, which extension explains it, and the gain
+/// (shared/spec/diagnose.md). The engine measures the baseline, screens every candidate of every
+/// hypothesis plugin on the unexplained heat flows, refits the best by simulation, validates them
+/// on data not used for the fit (leave one case out, or a held-back stretch of time), ranks them
+/// and selects findings greedily (each next one given the ones above).
+
+#include "kernel/diagnosis/hypothesis.hpp"
+#include "lang/model.hpp"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace thermnet {
+
+/// How to diagnose.
+struct DiagnosisOptions {
+  std::vector<std::string> cases; ///< cases to use (empty: every case with data)
+  int threads = 0;                ///< worker threads (0: all cores)
+  std::size_t top = 5;            ///< most findings reported
+  std::size_t refits = 6;         ///< model-side candidates refitted by simulation (plus the
+                                  ///< best of each kind)
+  double holdout = 0.3; ///< with one case: fraction of its time span held back for validation
+};
+
+/// How far the simulation is off for one node (one case or all cases together).
+struct NodeMetrics {
+  double rmse = 0.0;                   ///< K
+  double bias = 0.0;                   ///< mean(sim - meas), K
+  double max_error = 0.0;              ///< largest |sim - meas|, K (signed: sim - meas)
+  double max_error_time = 0.0;         ///< when, s
+  std::string max_error_case;          ///< in which case
+  double trend_mismatch_s = 0.0;       ///< time where measured and simulated slopes disagree, s
+  double longest_mismatch_s = 0.0;     ///< longest such stretch, s
+  double longest_mismatch_start = 0.0; ///< its start, s
+  std::string longest_mismatch_case;   ///< its case
+  bool measured_rising = false;        ///< over that stretch: measured rises (and simulated falls)
+  std::size_t points = 0;              ///< compared points
+};
+
+/// Fit of a whole model to the data.
+struct FitMetrics {
+  double rmse = 0.0;                                               ///< K
+  double r2 = 0.0;                                                 ///< 1 - SSE / SST
+  std::map<std::string, NodeMetrics> nodes;                        ///< per node, every case
+  std::map<std::string, std::map<std::string, NodeMetrics>> cases; ///< per case, per node
+};
+
+/// One ranked finding.
+struct Finding {
+  int rank = 0;                        ///< 1 = best
+  Candidate candidate;                 ///< what it is
+  std::vector<double> values;          ///< fitted extra parameters (candidate.names)
+  std::vector<double> std_errors;      ///< their standard errors (NaN when unknown)
+  std::string statement;               ///< netlist statements that add it (top level)
+  CaseLines case_statements;           ///< lines that complete it inside case blocks, by case
+  std::string evidence;                ///< the evidence in words
+  bool mechanism_identified = true;    ///< missing_link: the data tell linear and radiation apart
+  std::string mechanism_note;          ///< e.g. "linear and radiation fit equally; kept linear"
+  double mechanism_z = 0.0;            ///< SSE difference of the mechanisms / its spread
+  int given = 0;                       ///< findings applied before this one (ranks 1..given)
+  double rmse_before = 0.0;            ///< K, all data
+  double rmse_after = 0.0;             ///< K, all data (fitted)
+  double r2_before = 0.0;              ///< all data
+  double r2_after = 0.0;               ///< all data
+  double validation_rmse_before = 0.0; ///< K, held-out data (every fold's held-out points)
+  double validation_rmse_after = 0.0;  ///< K, held-out data, each fold fitted without them
+  double validation_r2_before = 0.0;   ///< held-out data
+  double validation_r2_after = 0.0;    ///< held-out data
+  double delta_bic = 0.0;              ///< BIC after - BIC before (negative: better)
+  bool significant = false;            ///< passes the significance rule
+};
+
+/// The outcome of a diagnosis.
+struct DiagnosisReport {
+  std::string model;                 ///< model path
+  std::vector<std::string> cases;    ///< cases used
+  double noise_floor = 0.0;          ///< estimated measurement noise, K
+  bool at_noise_floor = false;       ///< baseline error is measurement noise only
+  FitMetrics baseline;               ///< the model as declared
+  std::vector<Finding> findings;     ///< significant findings, best first, each given the previous
+  std::vector<Finding> alternatives; ///< significant alone, but explained by a finding above
+  std::vector<Finding> rejected;     ///< refitted candidates that were not significant
+  std::size_t screened = 0;          ///< candidates screened
+  std::size_t refitted = 0;          ///< candidates refitted by simulation
+  std::string validation;            ///< "leave_one_case_out" or "held_back_time"
+  std::size_t folds = 0;             ///< validation folds
+  double wall_s = 0.0;               ///< wall time, s
+  /// Per case: times, and per measured node: measured, baseline and best-finding series (K).
+  struct Curves {
+    std::string case_name;                               ///< case
+    std::vector<double> times;                           ///< s
+    std::map<std::string, std::vector<double>> measured; ///< node -> K
+    std::map<std::string, std::vector<double>> before;   ///< node -> K
+    std::map<std::string, std::vector<double>> after; ///< node -> K (best finding; empty if none)
+  };
+  std::vector<Curves> curves; ///< for plots
+};
+
+/// A diagnosis that cannot run (no case with data, unknown case).
+struct DiagnosisError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Diagnoses a model against the measured data of its cases; throws DiagnosisError,
+/// lang::ModelError or lang::CsvError on bad input.
+DiagnosisReport diagnose(const lang::Model& model, const DiagnosisOptions& options = {});
+
+/// Noise standard deviation of one series from its second differences (robust: median absolute
+/// deviation), K; NaN values are skipped; 0 when too short.
+double estimate_noise(const std::vector<double>& values);
+
+/// Local quadratic (Savitzky-Golay-like) smoothing on possibly uneven times: value and slope at
+/// every sample from the 2*half+1 neighbours; NaN samples are skipped.
+void smooth_series(const std::vector<double>& times, const std::vector<double>& values, int half,
+                   std::vector<double>& smoothed, std::vector<double>& slope);
+
+} // namespace thermnet

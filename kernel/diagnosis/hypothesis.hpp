@@ -1,0 +1,140 @@
+#pragma once
+/// Diagnosis hypothesis plugins: each finding kind proposes candidate model extensions from the
+/// evidence (the fast screen), says how its extra parameters change a simulation, and writes the
+/// netlist statements that add it (in the manner of kernel/calibration/optimizer.hpp).
+
+#include "kernel/core/measured_data.hpp"
+#include "kernel/core/registry.hpp"
+#include "lang/model.hpp"
+#include "lang/network_spec.hpp"
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace thermnet {
+
+/// What one case tells the screen: the measured and baseline-simulated temperatures and each
+/// measured node's unexplained heat flow q = C dT/dt - (sum of flows + sources), in W.
+struct CaseEvidence {
+  std::string name;                           ///< case name
+  lang::NetworkSpec spec;                     ///< the case at the declared param values
+  MeasuredData measured;                      ///< its data (K)
+  std::vector<std::vector<double>> simulated; ///< baseline, per measured series, at the times
+  std::vector<std::vector<double>> T;         ///< T[k][node]: smoothed measured, else simulated
+  std::vector<std::vector<double>> dTdt;      ///< dTdt[k][node]: smoothed slope, K/s
+  std::vector<std::vector<double>> q;         ///< q[k][node]: unexplained heat flow, W
+  std::vector<int> rows;                      ///< spec nodes with q (measured unknown nodes)
+  /// Times (measured times) of the case, s.
+  const std::vector<double>& times() const { return measured.times; }
+};
+
+/// A least-squares fit of the unexplained heat flows to one candidate term.
+struct ScreenFit {
+  double coefficient = 0.0; ///< fitted coefficient of the term
+  double reduction = 0.0;   ///< drop of the weighted sum of squares ((K/s)^2 summed)
+  double correlation = 0.0; ///< correlation of the term with the unexplained flows
+};
+
+/// A network as written in the model at the declared param values: what a finding's netlist text
+/// is written against.
+struct DeclaredSpec {
+  std::string case_name;  ///< the case block (empty: the declarations without any case)
+  lang::NetworkSpec spec; ///< the elaborated network
+};
+
+/// Everything the hypotheses see: per-case evidence and the noise floor.
+struct Evidence {
+  const lang::Model* model = nullptr;       ///< the model under diagnosis
+  std::vector<CaseEvidence> cases;          ///< cases with data
+  double noise_floor = 0.0;                 ///< estimated measurement noise, K
+  double screen_total = 0.0;                ///< weighted sum of squares of q over every row
+  DeclaredSpec declared;                    ///< the declarations without any case
+  std::vector<DeclaredSpec> declared_cases; ///< every declared case block, with data or not
+
+  /// Fits q ~ c * basis(case, node, k) over every screen row (rows weighted by 1/C, i.e. in K/s);
+  /// basis returning 0 contributes nothing.
+  ScreenFit
+  regress(const std::function<double(std::size_t c, int node, std::size_t k)>& basis) const;
+  /// Spec index of a node by name in the first case (-1 if absent).
+  int node_index(const std::string& name) const;
+  /// True when a spec node is measured (has q) in some case.
+  bool measured(int node) const;
+};
+
+/// A proposed extension: kind, where, its extra parameters and the screen's score.
+struct Candidate {
+  std::string kind;               ///< finding kind (the plugin's name)
+  std::vector<std::string> nodes; ///< nodes it concerns
+  std::string element;            ///< element it concerns (heater_gain)
+  std::string mechanism;          ///< missing_link: "linear" or "radiation"
+  std::vector<std::string> names; ///< names of the extra parameters (e.g. "G")
+  std::vector<double> start;      ///< starting values
+  std::vector<double> lo;         ///< lower bounds
+  std::vector<double> hi;         ///< upper bounds
+  bool measurement_side = false;  ///< acts on the simulated series, not the model
+  double screen = 0.0;            ///< screen score (larger is better; model-side comparable)
+  std::string evidence;           ///< what the screen saw, in words
+  std::vector<int> index;         ///< resolved spec indices (nodes, element) for the plugin
+};
+
+/// Netlist lines for inside case blocks, by case name.
+using CaseLines = std::map<std::string, std::string>;
+
+/// Appends `more` to `lines` (a line break between the lines of a case).
+void merge_case_lines(CaseLines& lines, const CaseLines& more);
+
+/// One finding kind: proposes candidates and applies them.
+class Hypothesis {
+public:
+  virtual ~Hypothesis() = default;
+  /// Candidates from the evidence (scored by the screen where the kind allows).
+  virtual std::vector<Candidate> propose(const Evidence& ev) const = 0;
+  /// Param overrides for Model::instantiate at parameters p (default: none).
+  virtual lang::ParamValues overrides(const Candidate&, const std::vector<double>&) const {
+    return {};
+  }
+  /// Extends an instantiated case at parameters p (default: nothing).
+  virtual void extend(const Candidate&, const std::vector<double>&, lang::NetworkSpec&) const {}
+  /// Corrects the simulated series of a spec node at parameters p (measurement-side kinds).
+  virtual void correct(const Candidate&, const std::vector<double>&, int /*node*/,
+                       const std::vector<double>& /*times*/, std::vector<double>& /*sim*/) const {}
+  /// Netlist statements that add the finding to the model's top level (one per line).
+  virtual std::string statement(const Candidate& c, const std::vector<double>& p,
+                                const Evidence& ev) const = 0;
+  /// Lines that complete the finding inside case blocks, by case name (one per line), where the
+  /// top-level statements alone would not reproduce the fit (default: none).
+  virtual CaseLines case_statements(const Candidate&, const std::vector<double>&,
+                                    const Evidence&) const {
+    return {};
+  }
+};
+
+/// A named hypothesis kind with a one-line doc and a factory.
+struct HypothesisPlugin {
+  static constexpr const char* family = "hypothesis";  ///< registry family name
+  std::string name;                                    ///< finding kind, e.g. "missing_link"
+  std::string doc;                                     ///< one line for docs and --help
+  std::function<std::unique_ptr<Hypothesis>()> create; ///< factory
+  std::string screen; ///< the term the screen fits to the unexplained heat flows (docs)
+  std::string fitted; ///< the fitted size of the effect and its unit (docs)
+  std::string writes; ///< what --write adds to the model for it (docs)
+};
+
+/// All hypothesis kinds.
+using HypothesisRegistry = Registry<HypothesisPlugin>;
+
+/// A number as netlist text (enough digits to round-trip a fitted value usefully).
+std::string netlist_number(double v);
+
+/// A plugin element of `kind` between `nodes` (spec indices) with constant key values (SI);
+/// throws std::invalid_argument when no plugin provides the kind.
+lang::ElementSpec make_element(const std::string& kind, const std::string& name,
+                               std::vector<int> nodes, const std::map<std::string, double>& keys);
+
+/// `base`, or `base_2`, `base_3`... whichever names no element or node of the spec.
+std::string unique_name(const lang::NetworkSpec& spec, const std::string& base);
+
+} // namespace thermnet

@@ -1,0 +1,186 @@
+// JSON and text rendering of a DiagnosisReport.
+
+#include "kernel/diagnosis/report.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace thermnet {
+
+namespace {
+
+nlohmann::json node_json(const NodeMetrics& m) {
+  nlohmann::json j;
+  j["rmse"] = m.rmse;
+  j["bias"] = m.bias;
+  j["max_error"] = m.max_error;
+  j["max_error_time"] = m.max_error_time;
+  j["trend_mismatch_s"] = m.trend_mismatch_s;
+  return j;
+}
+
+/// Nodes by falling RMSE.
+std::vector<std::pair<std::string, NodeMetrics>> worst_nodes(const FitMetrics& m) {
+  std::vector<std::pair<std::string, NodeMetrics>> v(m.nodes.begin(), m.nodes.end());
+  std::stable_sort(v.begin(), v.end(),
+                   [](const auto& a, const auto& b) { return a.second.rmse > b.second.rmse; });
+  return v;
+}
+
+/// Each line of `text` after `indent`, each ending with a line break.
+std::string indent_lines(const std::string& text, const std::string& indent) {
+  std::string s, line;
+  for (char ch : text + "\n") {
+    if (ch == '\n') {
+      s += indent + line + "\n";
+      line.clear();
+    } else {
+      line += ch;
+    }
+  }
+  return s;
+}
+
+/// One finding as JSON (the spec's fields plus the gain on all and held-out data).
+nlohmann::json finding_json(const Finding& f) {
+  nlohmann::json x;
+  x["rank"] = f.rank;
+  x["kind"] = f.candidate.kind;
+  x["nodes"] = f.candidate.nodes;
+  if (!f.candidate.element.empty()) x["element"] = f.candidate.element;
+  if (f.candidate.kind == "missing_link") {
+    x["mechanism"] = f.candidate.mechanism;
+    x["mechanism_identified"] = f.mechanism_identified;
+    x["mechanism_z"] = f.mechanism_z;
+    if (!f.mechanism_note.empty()) x["mechanism_note"] = f.mechanism_note;
+  }
+  x["values"] = finding_values(f);
+  if (f.candidate.kind == "parameter") x["params"] = finding_values(f);
+  nlohmann::json se = nlohmann::json::object();
+  for (std::size_t k = 0; k < f.std_errors.size() && k < f.candidate.names.size(); ++k)
+    if (std::isfinite(f.std_errors[k])) se[f.candidate.names[k]] = f.std_errors[k];
+  x["std_errors"] = se;
+  x["statement"] = f.statement;
+  x["case_statements"] = f.case_statements;
+  x["evidence"] = f.evidence;
+  x["rmse_before"] = f.rmse_before;
+  x["rmse_after"] = f.rmse_after;
+  x["r2_before"] = f.r2_before;
+  x["r2_after"] = f.r2_after;
+  x["validation_rmse_before"] = f.validation_rmse_before;
+  x["validation_rmse_after"] = f.validation_rmse_after;
+  x["validation_r2_before"] = f.validation_r2_before;
+  x["validation_r2_after"] = f.validation_r2_after;
+  x["delta_bic"] = f.delta_bic;
+  if (f.given > 0) x["given"] = f.given;
+  return x;
+}
+
+} // namespace
+
+std::map<std::string, double> finding_values(const Finding& f) {
+  std::map<std::string, double> v;
+  for (std::size_t j = 0; j < f.values.size() && j < f.candidate.names.size(); ++j)
+    v[f.candidate.names[j]] = f.values[j];
+  return v;
+}
+
+nlohmann::json diagnosis_json(const DiagnosisReport& r) {
+  nlohmann::json j;
+  j["model"] = r.model;
+  j["cases"] = r.cases;
+  j["noise_floor"] = r.noise_floor;
+  j["at_noise_floor"] = r.at_noise_floor;
+  nlohmann::json base;
+  base["rmse"] = r.baseline.rmse;
+  base["r2"] = r.baseline.r2;
+  base["nodes"] = nlohmann::json::object();
+  for (const auto& [name, m] : r.baseline.nodes)
+    base["nodes"][name] = node_json(m);
+  base["cases"] = nlohmann::json::object();
+  for (const auto& [cname, nodes] : r.baseline.cases) {
+    nlohmann::json c = nlohmann::json::object();
+    for (const auto& [name, m] : nodes)
+      c[name] = node_json(m);
+    base["cases"][cname] = {{"nodes", c}};
+  }
+  j["baseline"] = base;
+  j["findings"] = nlohmann::json::array();
+  for (const auto& f : r.findings)
+    j["findings"].push_back(finding_json(f));
+  j["alternatives"] = nlohmann::json::array();
+  for (const auto& f : r.alternatives)
+    j["alternatives"].push_back(finding_json(f));
+  j["validation"] = {{"method", r.validation}, {"folds", r.folds}};
+  j["screened"] = r.screened;
+  j["refitted"] = r.refitted;
+  j["wall_s"] = r.wall_s;
+  return j;
+}
+
+std::string diagnosis_text(const DiagnosisReport& r) {
+  std::string s;
+  s += fmt::format("Diagnosis of {} ({} case{}: {})\n", r.model, r.cases.size(),
+                   r.cases.size() == 1 ? "" : "s", fmt::join(r.cases, ", "));
+  s += fmt::format("Baseline: RMSE {:.3g} K, R² {:.4f}; measurement noise about {:.3g} K\n",
+                   r.baseline.rmse, r.baseline.r2, r.noise_floor);
+  s += "\nWhat the simulation gets wrong (worst nodes):\n";
+  auto worst = worst_nodes(r.baseline);
+  for (std::size_t i = 0; i < worst.size() && i < 3; ++i) {
+    const auto& [name, m] = worst[i];
+    s += fmt::format("  {:<14} RMSE {:.3g} K, bias {:+.3g} K, largest error {:+.3g} K at t = "
+                     "{:.0f} s (case {})",
+                     name, m.rmse, m.bias, m.max_error, m.max_error_time, m.max_error_case);
+    if (m.longest_mismatch_s > 0)
+      s += fmt::format("; measured {} for {:.0f} s from t = {:.0f} s while simulated {}",
+                       m.measured_rising ? "rises" : "falls", m.longest_mismatch_s,
+                       m.longest_mismatch_start, m.measured_rising ? "falls" : "rises");
+    s += "\n";
+  }
+  if (r.findings.empty()) {
+    s += r.at_noise_floor
+             ? "\nNo finding: the remaining error is at the measurement noise floor.\n"
+             : "\nNo significant finding: no candidate extension explains the error better than "
+               "noise on held-out data.\n";
+    return s;
+  }
+  const std::string validation =
+      r.validation == "leave_one_case_out"
+          ? fmt::format("each case predicted by a fit to the other {}", r.folds - 1)
+          : "last part of each case held back";
+  s += "\nCauses (ranked; each given the ones above):\n";
+  for (const auto& f : r.findings) {
+    std::string what = f.candidate.kind;
+    if (!f.candidate.mechanism.empty()) what += " (" + f.candidate.mechanism + ")";
+    if (!f.candidate.element.empty()) what += " " + f.candidate.element;
+    std::string vals;
+    for (const auto& [k, v] : finding_values(f))
+      vals += fmt::format("{}{} = {:.4g}", vals.empty() ? "" : ", ", k, v);
+    s += fmt::format("  {}. {} [{}]: {}\n", f.rank, what, fmt::join(f.candidate.nodes, ", "), vals);
+    s += fmt::format("     evidence: {}\n", f.evidence);
+    if (!f.mechanism_note.empty()) s += fmt::format("     mechanism: {}\n", f.mechanism_note);
+    if (f.given > 0)
+      s += fmt::format("     given finding{} {} applied\n", f.given > 1 ? "s" : "",
+                       f.given > 1 ? fmt::format("1-{}", f.given) : std::string("1"));
+    s += fmt::format("     gain: RMSE {:.3g} -> {:.3g} K, R² {:.4f} -> {:.4f}; held-out RMSE "
+                     "{:.3g} -> {:.3g} K ({})\n",
+                     f.rmse_before, f.rmse_after, f.r2_before, f.r2_after, f.validation_rmse_before,
+                     f.validation_rmse_after, validation);
+    s += "     extension:\n";
+    if (!f.statement.empty()) s += indent_lines(f.statement, "       ");
+    for (const auto& [name, lines] : f.case_statements)
+      s += fmt::format("       in case {}:\n", name) + indent_lines(lines, "         ");
+  }
+  if (!r.alternatives.empty()) {
+    s += "\nAlso significant alone, explained by the findings above:\n";
+    for (const auto& f : r.alternatives)
+      s += fmt::format("  {}{} [{}]: RMSE {:.3g} K, held-out {:.3g} K\n", f.candidate.kind,
+                       f.candidate.mechanism.empty() ? "" : " (" + f.candidate.mechanism + ")",
+                       fmt::join(f.candidate.nodes, ", "), f.rmse_after, f.validation_rmse_after);
+  }
+  return s;
+}
+
+} // namespace thermnet
