@@ -7,9 +7,9 @@
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/model_rewrite.hpp"
+#include "cli/run_command.hpp"
 #include "cli/svg_plot.hpp"
 #include "kernel/diagnosis/report.hpp"
-#include "lang/csv.hpp"
 
 #include <fmt/format.h>
 
@@ -32,43 +32,26 @@ struct DiagnoseOptions {
   std::size_t top = 5;
 };
 
-int run_diagnose(const DiagnoseOptions& o) {
+int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   const char* me = "thermnet diagnose";
-  lang::SourceManager sources;
   int status = exit_ok;
   auto model = load_checked_model(o.model, sources, status);
   if (!model) return status;
-  try {
-    DiagnosisOptions opt;
-    opt.cases = o.cases;
-    opt.threads = o.threads;
-    opt.top = o.top;
-    const DiagnosisReport rep = diagnose(*model, opt);
-    std::cout << diagnosis_text(rep);
-    std::cout.flush();
-    if (!o.json.empty()) write_file_atomically(o.json, diagnosis_json(rep).dump(2) + "\n");
-    if (!o.write.empty()) {
-      if (rep.findings.empty())
-        std::cerr << fmt::format("{}: note: no finding; {} not written\n", me, o.write);
-      else
-        write_file_atomically(o.write, extended_model_text(*model, rep.findings.front()));
-    }
-    if (!o.plot.empty()) write_file_atomically(o.plot, diagnosis_svg(rep));
-  } catch (const DiagnosisError& e) {
-    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
-    return exit_failure;
-  } catch (const lang::ModelError& e) {
-    return report_model_error(e, model->sources());
-  } catch (const lang::CsvError& e) {
-    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
-    return exit_failure;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
-    return exit_failure;
-  } catch (const OutputError& e) {
-    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
-    return exit_usage;
+  DiagnosisOptions opt;
+  opt.cases = o.cases;
+  opt.threads = o.threads;
+  opt.top = o.top;
+  const DiagnosisReport rep = diagnose(*model, opt);
+  std::cout << diagnosis_text(rep);
+  std::cout.flush();
+  if (!o.json.empty()) write_file_atomically(o.json, diagnosis_json(rep).dump(2) + "\n");
+  if (!o.write.empty()) {
+    if (rep.findings.empty())
+      std::cerr << fmt::format("{}: note: no finding; {} not written\n", me, o.write);
+    else
+      write_file_atomically(o.write, extended_model_text(*model, rep.findings.front()));
   }
+  if (!o.plot.empty()) write_file_atomically(o.plot, diagnosis_svg(rep));
   return exit_ok;
 }
 
@@ -170,7 +153,10 @@ void add_diagnose_command(CLI::App& app, int& status) {
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--top", o->top, "most findings reported")->check(CLI::PositiveNumber);
-  sub->callback([o, &status] { status = run_diagnose(*o); });
+  sub->callback([o, &status] {
+    status = run_command("thermnet diagnose",
+                         [&](lang::SourceManager& sources) { return run_diagnose(*o, sources); });
+  });
 }
 
 } // namespace thermnet::cli
