@@ -11,11 +11,10 @@
 #include "cli/calibration_report.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
-#include "cli/model_rewrite.hpp"
 #include "cli/progress_bar.hpp"
-#include "cli/rewritten_model.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/calibration/optimizer.hpp"
+#include "lang/rewrite/model_files.hpp"
 
 #include <fmt/format.h>
 
@@ -121,14 +120,15 @@ void write_outputs(const CalibrateOptions& o, const lang::Model& model,
     ReportContext ctx{o.seed, o.tolerance, o.model};
     files.push_back({o.json, result_json(r, problem, ctx).dump(2) + "\n"});
   }
-  std::vector<RewrittenFile> model_files;
+  std::vector<rewrite::RewrittenFile> model_files;
   if (r.found && !o.out.empty()) {
-    std::vector<ParamUpdate> updates;
+    std::vector<rewrite::ParamUpdate> updates;
     for (std::size_t j = 0; j < problem.dimension(); ++j)
       updates.push_back({problem.params()[j], r.best[j]});
     const long root = model.sources().find(model.path());
     if (root < 0) throw OutputError("the model's own text is no longer available");
-    model_files = rewrite_model(model.sources(), static_cast<lang::FileId>(root), updates, o.out);
+    model_files =
+        rewrite::rewrite_model(model.sources(), static_cast<lang::FileId>(root), updates, o.out);
     for (const auto& f : model_files)
       files.push_back({f.path, f.text});
   }

@@ -6,10 +6,11 @@
 #include "cli/atomic_file.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
-#include "cli/model_rewrite.hpp"
 #include "cli/run_command.hpp"
 #include "cli/svg_plot.hpp"
 #include "kernel/diagnosis/report.hpp"
+#include "lang/rewrite/case_blocks.hpp"
+#include "lang/rewrite/param_values.hpp"
 
 #include <fmt/format.h>
 
@@ -68,21 +69,21 @@ std::string extended_model_text(const lang::Model& model, const Finding& f) {
       f.candidate.kind, fmt::join(f.candidate.nodes, ", "),
       f.candidate.mechanism.empty() ? "" : " (" + f.candidate.mechanism + ")", f.evidence,
       f.rmse_before, f.rmse_after, f.validation_rmse_before, f.validation_rmse_after);
-  std::vector<TextEdit> edits;
+  std::vector<rewrite::TextEdit> edits;
   std::string applied;
   if (f.candidate.kind == "parameter") {
-    std::vector<ParamUpdate> updates;
+    std::vector<rewrite::ParamUpdate> updates;
     for (const auto& p : model.params())
       for (std::size_t j = 0; j < f.candidate.names.size(); ++j)
         if (p.name == f.candidate.names[j]) updates.push_back({p, f.values[j]});
-    edits = param_edits(model.sources(), file, updates);
+    edits = rewrite::param_edits(model.sources(), file, updates);
     applied = "# (the declared values of the ranged params above were rewritten)\n";
   } else {
     applied = f.statement.empty() ? "" : f.statement + "\n";
   }
   std::vector<std::string> elsewhere;
-  const auto inserts = case_block_edits(model, file, f.case_statements,
-                                        "# thermnet diagnose: " + f.candidate.kind, elsewhere);
+  const auto inserts = rewrite::case_block_edits(
+      model, file, f.case_statements, "# thermnet diagnose: " + f.candidate.kind, elsewhere);
   edits.insert(edits.end(), inserts.begin(), inserts.end());
   if (!inserts.empty()) applied += "# (with the lines marked in the case blocks above)\n";
   for (const auto& name : elsewhere) {
@@ -93,7 +94,7 @@ std::string extended_model_text(const lang::Model& model, const Finding& f) {
       lines.replace(p, 1, "\n#   ");
     applied += "#   " + lines + "\n";
   }
-  text = apply_edits(std::move(text), std::move(edits));
+  text = rewrite::apply_edits(std::move(text), std::move(edits));
   if (!text.empty() && text.back() != '\n') text += '\n';
   return text + "\n" + why + applied;
 }

@@ -8,6 +8,7 @@
 #include "kernel/estimation/estimator.hpp"
 #include "lang/csv.hpp"
 #include "lang/model.hpp"
+#include "lang/rewrite/model_files.hpp"
 
 #include <fmt/format.h>
 
@@ -33,6 +34,8 @@ int run_command(const std::string& who, const CommandBody& body, int invalid_arg
   } catch (const lang::CsvError& e) {
     return report(who, e, e.row == 0 ? exit_usage : exit_failure); // row 0: the file is unreadable
   } catch (const OutputError& e) {
+    return report(who, e, exit_usage);
+  } catch (const rewrite::RewriteError& e) {
     return report(who, e, exit_usage);
   } catch (const SolverError& e) {
     return report(who, e, exit_failure);
