@@ -7,10 +7,10 @@
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/run_command.hpp"
-#include "cli/svg_plot.hpp"
 #include "kernel/diagnosis/report.hpp"
 #include "lang/rewrite/case_blocks.hpp"
 #include "lang/rewrite/param_values.hpp"
+#include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
 

@@ -4,11 +4,11 @@
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/run_command.hpp"
-#include "cli/svg_plot.hpp"
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/estimation/estimator.hpp"
 #include "lang/csv.hpp"
+#include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

@@ -1,7 +1,7 @@
 #include "cli/result_output.hpp"
 
-#include "cli/svg_plot.hpp"
 #include "lang/diagnostics.hpp"
+#include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
 

@@ -7,10 +7,10 @@
 
 #include "cli/uncertainty.hpp"
 
-#include "cli/svg_plot.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/parallel.hpp"
 #include "lang/diagnostics.hpp"
+#include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
 
