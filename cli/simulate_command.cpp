@@ -37,6 +37,15 @@ struct SimulateOptions {
   int threads = 0;
 };
 
+/// Writes the CSV (to standard output without -o), then the plot if there is one.
+void write_outputs(const SimulateOptions& o, const std::string& csv, const std::string& svg) {
+  if (o.out.empty())
+    std::cout << csv;
+  else
+    write_file_atomically(o.out, csv);
+  if (!svg.empty()) write_file_atomically(o.plot, svg);
+}
+
 /// `--samples N`: bands over N draws of the ranged params instead of one run.
 void run_samples(const lang::Model& model, const SimulateOptions& o, const SimulationOptions& sim) {
   UncertaintyOptions u;
@@ -53,12 +62,7 @@ void run_samples(const lang::Model& model, const SimulateOptions& o, const Simul
     svg = plot_bands_svg(b, o.nodes,
                          fmt::format("{} — case {}, {} samples", model.name(),
                                      model.resolve_case(o.case_name), b.samples));
-  std::string csv = format_bands_csv(b);
-  if (o.out.empty())
-    std::cout << csv;
-  else
-    write_file_atomically(o.out, csv);
-  if (!svg.empty()) write_file_atomically(o.plot, svg);
+  write_outputs(o, format_bands_csv(b), svg);
 }
 
 LinearSolverKind solver_kind(const std::string& s) {
@@ -102,12 +106,7 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   if (!o.plot.empty())
     svg = plot_result_svg(r, o.nodes,
                           fmt::format("{} — case {}", model->name(), net.spec().settings.name));
-  std::string csv = format_result_csv(r);
-  if (o.out.empty())
-    std::cout << csv;
-  else
-    write_file_atomically(o.out, csv);
-  if (!svg.empty()) write_file_atomically(o.plot, svg);
+  write_outputs(o, format_result_csv(r), svg);
   return exit_ok;
 }
 
