@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import hashlib
 import json
 import os
 import subprocess
@@ -106,7 +107,7 @@ def _first_strength(net: Network, params, e: fx.Effect) -> float:
     return {
         "missing_link/linear": 0.3 * g, "missing_link/radiation": 0.3 * g / 5.5,
         "missing_source": 2.0 * g, "capacity_error": 0.5, "heater_gain": 0.25, "sensor_lag": 300.0,
-        "sensor_offset": 1.0, "heater_mass": 600.0, "event_loss": 1.0 * g,
+        "heater_mass": 600.0, "event_loss": 1.0 * g,
     }[e.key]
 
 
@@ -164,10 +165,11 @@ def place(net, params, e: fx.Effect, base_sims, rng, measured, taken, base_readi
     for nodes, element in fx.sites(net, e, base_sims, rng, set(measured), taken)[:4]:
         e.nodes, e.element = nodes, element
         scale(net, params, e, measured, base_readings, target)
+        if e.impact >= 0.6 * target and e.strength < fx.BOUNDS[e.key][1]:
+            best = (nodes, element, e.strength, e.impact)
+            break
         if best is None or e.impact > best[3]:
             best = (nodes, element, e.strength, e.impact)
-        if e.impact >= 0.6 * target and e.strength < fx.BOUNDS[e.key][1]:
-            break
     if best is None:
         raise RuntimeError(f"no site for {e.key} ({'on' if e.want_measured else 'off'} a sensor)")
     e.nodes, e.element, e.strength, e.impact = best
@@ -221,6 +223,14 @@ def build(row: dict) -> Scenario:
     return Scenario(row, net, params, eff, measured, truth_net, sims, clean, data, sigma)
 
 
+def data_checksum(s: Scenario) -> str:
+    """Identifies the scenario's measured data (changes whenever the generator's output does)."""
+    h = hashlib.sha256()
+    for d in s.data:
+        h.update(np.ascontiguousarray(d).tobytes())
+    return h.hexdigest()[:16]
+
+
 def write(s: Scenario, outdir: str) -> dict:
     """Writes model.tnet, the data, events.csv and truth.json into outdir; returns the truth."""
     row, net, params = s.row, s.net, s.params
@@ -241,6 +251,7 @@ def write(s: Scenario, outdir: str) -> dict:
     added = np.concatenate([(d - R).ravel() for d, R in zip(s.data, s.clean)])
     truth = {
         "id": row["id"], "shape": row["shape"], "network": net.desc, "nodes": len(net.nodes), "seed": row["seed"],
+        "checksum": data_checksum(s),
         "cases": [c.name for c in net.cases], "measured": s.measured,
         "noise": {"sigma": row["noise"], "per_sensor": s.sigma, "rms_added": float(np.sqrt(np.mean(added**2)))},
         "params": {p.name: {"nominal": p.nominal, "truth": params[p.name], "lo": p.lo, "hi": p.hi,

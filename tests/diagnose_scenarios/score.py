@@ -1,5 +1,8 @@
 """Scores a `thermnet diagnose --json` report against a scenario's truth (truth.json).
 
+A finding's kind must be the truth's kind name (effects.py): the contract's kinds, and for issue
+14's two new hypotheses `heater_mass` and `event_loss`.
+
 Matching rules (a *member* of a finding is the finding itself or one of its `candidates`, the
 ambiguity set; only the first MAX_SET members, finding first, count, so a set cannot be padded):
 
@@ -36,7 +39,6 @@ from __future__ import annotations
 
 MAX_SET = 5
 ACCEPT_SCORE = 0.90
-NEW_KINDS = ("heater_mass", "event_loss")  # the kind names issue 14's new hypotheses report
 
 _RANK = {"full": 2, "partial": 1, None: 0}
 
