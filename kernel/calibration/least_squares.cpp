@@ -143,7 +143,8 @@ Solver::Step Solver::step(const MatrixXd& J, double& lambda) {
   const MatrixXd A = J.transpose() * J;
   std::vector<Index> free;
   for (Index j = 0; j < static_cast<Index>(p_); ++j)
-    if (!((u_[j] <= 0.0 && g[j] > 0) || (u_[j] >= 1.0 && g[j] < 0))) free.push_back(j);
+    if (!options_.hold_at_bounds || !((u_[j] <= 0.0 && g[j] > 0) || (u_[j] >= 1.0 && g[j] < 0)))
+      free.push_back(j);
   if (free.empty()) {
     stop_ = LeastSquaresStop::at_bounds;
     return Step::stop;

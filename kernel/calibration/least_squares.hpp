@@ -77,6 +77,9 @@ struct LeastSquaresOptions {
   double damping_min = 1e-12;  ///< ...down to this
   double damping_up = 10.0;    ///< and multiplied by this after a rejected one
   double damping_max = 1e12;   ///< stop (no descent) when lambda exceeds this
+  /// Hold a parameter on a bound whose gradient points outward out of the step (an active set);
+  /// otherwise the step is only projected into the box.
+  bool hold_at_bounds = true;
   /// Rejected steps in one iteration before stopping (no descent) whatever lambda.
   int max_rejections = std::numeric_limits<int>::max();
   /// Recompute the Jacobian at the final point when the last one was taken before the last step
@@ -117,7 +120,7 @@ struct LeastSquaresResult {
 /// Minimises the sum of squared residuals within the box by Levenberg-Marquardt: Marquardt-scaled
 /// damping, a forward-difference Jacobian (a backward one at the upper bound, the other side when
 /// one fails), bounds kept by projection with a parameter on a bound whose gradient points
-/// outward held for the step. Deterministic whatever `threads`.
+/// outward held for the step (hold_at_bounds). Deterministic whatever `threads`.
 LeastSquaresResult solve_least_squares(const ResidualProblem& problem, LeastSquaresStart start,
                                        const LeastSquaresOptions& options = {});
 

@@ -5,6 +5,7 @@
 
 #include "kernel/diagnosis/engine.hpp"
 
+#include "kernel/calibration/least_squares.hpp"
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
 #include "lang/elaborator.hpp"
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 namespace thermnet::detail {
@@ -48,13 +50,6 @@ std::vector<std::vector<double>> run_case(lang::NetworkSpec spec,
     throw std::runtime_error(
         fmt::format("the simulation gave {} of the {} measured times", out.size(), times.size()));
   return out;
-}
-
-double sum2(const std::vector<double>& v) {
-  double s = 0.0;
-  for (double x : v)
-    s += x * x;
-  return s;
 }
 
 } // namespace
@@ -331,10 +326,10 @@ Base Engine::make_base(std::vector<Applied> applied) const {
   }
   std::vector<double> r;
   residuals(b.sims, Part{}, r);
-  b.sse_all = sum2(r);
+  b.sse_all = sum_of_squares(r);
   for (std::size_t f = 0; f < folds(); ++f) {
     residuals(b.sims, Part{Part::test, f}, r);
-    b.sse_test += sum2(r);
+    b.sse_test += sum_of_squares(r);
   }
   b.metrics = metrics(b.sims);
   b.at_floor = at_floor(b.metrics);
@@ -458,116 +453,96 @@ double Engine::sst(Part part) const {
 
 // ------------------------------------------------------------------ fitting
 
-/// Bounded Levenberg-Marquardt on the candidate's parameters (log scale where positive). A warm
-/// fit (a validation fold's refit) starts at the warm fit's optimum with its Jacobian and
-/// residuals restricted to the part's points, so its first step needs no new Jacobian.
+namespace {
+
+/// A candidate's parameters against the data of a part, as a residual problem: log scale where the
+/// lower bound is positive, finite differences of 1e-3 in ln x (log) or of 1e-5 max(1, |x|) of the
+/// range (linear).
+class CandidateResiduals final : public ResidualProblem {
+public:
+  using Residuals = std::function<bool(const std::vector<double>&, std::vector<double>&)>;
+  CandidateResiduals(const Candidate& c, Residuals f) : f_(std::move(f)) {
+    for (std::size_t j = 0; j < c.start.size(); ++j)
+      params_.push_back({c.lo[j], c.hi[j], c.lo[j] > 0 ? ParamScale::log : ParamScale::linear});
+  }
+  const std::vector<BoundedParam>& params() const override { return params_; }
+  bool residuals(const std::vector<double>& x, std::vector<double>& r) const override {
+    return f_(x, r);
+  }
+  double difference_step(std::size_t j, const std::vector<double>& x) const override {
+    const BoundedParam& b = params_[j];
+    if (b.scale == ParamScale::log) return 1e-3 / (std::log(b.hi) - std::log(b.lo));
+    const double width = b.hi - b.lo;
+    return 1e-3 * std::max(1.0, std::abs(x[j])) * std::max(1e-6, width * 1e-2) / width;
+  }
+
+private:
+  std::vector<BoundedParam> params_;
+  Residuals f_;
+};
+
+} // namespace
+
+/// The candidate's parameters fitted by the least-squares core. A warm fit (a validation fold's
+/// refit) starts at the warm fit's optimum with its Jacobian and residuals restricted to the
+/// part's points, so its first step needs no new Jacobian. Standard errors come from the last
+/// Jacobian (NaN when the parameters are not all determined).
 Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vector<double>& start,
                         Part part, const Base& base, int max_iter, double rtol,
                         const Fit* warm) const {
-  const std::size_t np = start.size();
-  auto to_u = [&](const std::vector<double>& p) {
-    Eigen::VectorXd u(static_cast<long>(np));
-    for (std::size_t j = 0; j < np; ++j)
-      u[static_cast<long>(j)] = c.lo[j] > 0 ? std::log(std::clamp(p[j], c.lo[j], c.hi[j]))
-                                            : std::clamp(p[j], c.lo[j], c.hi[j]);
-    return u;
-  };
-  auto to_p = [&](const Eigen::VectorXd& u) {
-    std::vector<double> p(np);
-    for (std::size_t j = 0; j < np; ++j) {
-      const double v = c.lo[j] > 0 ? std::exp(u[static_cast<long>(j)]) : u[static_cast<long>(j)];
-      p[j] = std::clamp(v, c.lo[j], c.hi[j]);
-    }
-    return p;
-  };
-  auto resid = [&](const Eigen::VectorXd& u, Eigen::VectorXd& r) {
+  const CandidateResiduals problem(c, [&](const std::vector<double>& x, std::vector<double>& r) {
     try {
-      std::vector<double> rv;
-      residuals(simulate(&h, &c, to_p(u), part, base), part, rv);
-      r = Eigen::Map<Eigen::VectorXd>(rv.data(), static_cast<long>(rv.size()));
-      return r.allFinite();
+      residuals(simulate(&h, &c, x, part, base), part, r);
+      return std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); });
     } catch (const std::exception&) {
       return false;
     }
-  };
-  Fit f;
-  Eigen::VectorXd u = to_u(start), r;
-  Eigen::MatrixXd J;
-  bool have_J = false;
-  if (warm && warm->J.rows() == warm->r.size() && warm->J.cols() == static_cast<long>(np)) {
+  });
+  const WorkingCoordinates coords(problem.params());
+  const auto np = static_cast<long>(start.size());
+  LeastSquaresStart from;
+  from.u = coords.to_u(start);
+  if (warm && warm->J.rows() == static_cast<long>(warm->r.size()) && warm->J.cols() == np) {
     const std::vector<char> in = rows_in(part);
     long rows = 0;
     for (char x : in)
       rows += x;
-    r.resize(rows);
-    J.resize(rows, static_cast<long>(np));
+    from.jacobian.resize(rows, np);
     for (long i = 0, j = 0; i < static_cast<long>(in.size()); ++i)
-      if (in[static_cast<std::size_t>(i)]) r[j] = warm->r[i], J.row(j++) = warm->J.row(i);
-    u = to_u(warm->p);
-    have_J = true;
-  } else if (!resid(u, r)) {
-    return f;
-  }
-  double sse = r.squaredNorm(), lambda = 1e-3;
-  if (!have_J) J = Eigen::MatrixXd::Zero(r.size(), static_cast<long>(np));
-  for (int it = 0; it < max_iter; ++it) {
-    // Forward-difference Jacobian in the scaled coordinates.
-    bool okJ = true;
-    for (std::size_t j = 0; j < np && okJ && !have_J; ++j) {
-      const long jj = static_cast<long>(j);
-      double step = c.lo[j] > 0 ? 1e-3
-                                : 1e-3 * std::max(1.0, std::abs(u[jj])) *
-                                      std::max(1e-6, (c.hi[j] - c.lo[j]) * 1e-2);
-      // At (or near) the upper bound a forward step would be clamped away (a zero column that
-      // pins the parameter to the bound): step backwards instead.
-      const double u_hi = c.lo[j] > 0 ? std::log(c.hi[j]) : c.hi[j];
-      if (u[jj] + step > u_hi) step = -step;
-      Eigen::VectorXd u2 = u, r2;
-      u2[jj] += step;
-      okJ = resid(u2, r2) && r2.size() == r.size();
-      if (okJ) J.col(jj) = (r2 - r) / step;
-    }
-    have_J = false;
-    if (!okJ) break;
-    const Eigen::MatrixXd A = J.transpose() * J;
-    const Eigen::VectorXd g = J.transpose() * r;
-    bool improved = false;
-    for (int tries = 0; tries < 8 && !improved; ++tries) {
-      Eigen::MatrixXd M = A;
-      for (long d = 0; d < M.rows(); ++d)
-        M(d, d) += lambda * std::max(A(d, d), 1e-12);
-      const Eigen::VectorXd du = M.ldlt().solve(-g);
-      Eigen::VectorXd un = to_u(to_p(u + du)), rn;
-      if (resid(un, rn) && rn.squaredNorm() < sse) {
-        const double rel = (sse - rn.squaredNorm()) / std::max(sse, 1e-300);
-        u = un, r = rn, sse = rn.squaredNorm();
-        lambda = std::max(lambda / 5.0, 1e-9);
-        improved = true;
-        if (rel < rtol) it = 1 << 20;
-      } else {
-        lambda *= 8.0;
+      if (in[static_cast<std::size_t>(i)]) {
+        from.r.push_back(warm->r[static_cast<std::size_t>(i)]);
+        from.jacobian.row(j++) = warm->J.row(i);
       }
-    }
-    if (!improved) break;
+    from.u = coords.to_u(warm->p);
   }
+  // The diagnosis's settings of the core (its results were validated with them; the calibration's
+  // xtol and hold_at_bounds move joint refits that end on a bound): the damping falls by 5 and
+  // rises by 8 with at most 8 rejected steps per iteration and an iteration cap, which bound the
+  // cost of hundreds of candidate and fold refits; only the SSE decrease stops a fit early; steps
+  // are projected into the box; the reported errors use the last Jacobian (no final one).
+  LeastSquaresOptions o;
+  o.ftol = rtol;
+  o.xtol = 0.0;
+  o.max_iterations = max_iter;
+  o.damping_down = 5.0;
+  o.damping_min = 1e-9;
+  o.damping_up = 8.0;
+  o.damping_max = std::numeric_limits<double>::infinity();
+  o.max_rejections = 8;
+  o.hold_at_bounds = false;
+  o.final_jacobian = false;
+  const LeastSquaresResult res = solve_least_squares(problem, std::move(from), o);
+  Fit f;
+  if (!res.ok) return f;
   f.ok = true;
-  f.p = to_p(u);
-  f.sse = sse;
-  f.r = r;
-  f.J = J;
-  // Standard errors from J^T J at the optimum (last Jacobian), mapped back to the parameters.
-  f.se.assign(np, std::numeric_limits<double>::quiet_NaN());
-  const auto n = static_cast<std::size_t>(r.size());
-  if (n > np && J.rows() == r.size()) {
-    const Eigen::MatrixXd A = J.transpose() * J;
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
-    if (lu.isInvertible()) {
-      const Eigen::MatrixXd cov = lu.inverse() * (sse / static_cast<double>(n - np));
-      for (std::size_t j = 0; j < np; ++j) {
-        const double su = std::sqrt(std::max(0.0, cov(static_cast<long>(j), static_cast<long>(j))));
-        f.se[j] = c.lo[j] > 0 ? f.p[j] * su : su;
-      }
-    }
+  f.p = res.x;
+  f.sse = res.sse;
+  f.r = res.r;
+  f.J = res.jacobian;
+  f.se.assign(start.size(), std::numeric_limits<double>::quiet_NaN());
+  if (f.J.rows() == static_cast<long>(f.r.size()) && f.J.cols() == np) {
+    const LeastSquaresCovariance cov = least_squares_covariance(problem, f.p, f.J, f.sse);
+    if (cov.determined()) f.se = cov.std_errors;
   }
   return f;
 }
@@ -707,7 +682,7 @@ Evaluated Engine::evaluate(const Entry& e, const Base& base, bool joint) const {
     } catch (const std::exception&) {
       return out;
     }
-    out.holdout_sse += sum2(r);
+    out.holdout_sse += sum_of_squares(r);
   }
   // Residuals per series (the all-data rows, in order) for the mechanism comparison.
   long row = 0;

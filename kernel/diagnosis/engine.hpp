@@ -155,8 +155,8 @@ private:
     std::vector<double> p;
     std::vector<double> se;
     double sse = 0.0;
-    Eigen::MatrixXd J; // residual Jacobian (scaled coordinates) at the last linearisation
-    Eigen::VectorXd r; // residuals at p
+    Eigen::MatrixXd J;     // residual Jacobian (working coordinates) at the last linearisation
+    std::vector<double> r; // residuals at p
   };
 
   // diagnosis_engine.cpp
