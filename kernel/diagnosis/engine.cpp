@@ -59,6 +59,13 @@ bool same_candidate(const Candidate& a, const Candidate& b) {
          a.element == b.element;
 }
 
+void write_extension(Finding& f, const Hypothesis& h, const Candidate& c,
+                     const std::vector<double>& p, const Evidence& ev) {
+  f.statement = h.statement(c, p, ev);
+  f.case_statements = h.case_statements(c, p, ev);
+  f.param_rewrites = h.rewrites(c, p);
+}
+
 // ------------------------------------------------------------------ composite hypotheses
 
 lang::ParamValues Stack::overrides(const Candidate&, const std::vector<double>& p) const {
@@ -93,6 +100,10 @@ std::string Stack::statement(const Candidate&, const std::vector<double>& p,
 CaseLines Stack::case_statements(const Candidate&, const std::vector<double>& p,
                                  const Evidence& ev) const {
   return free_ ? free_->case_statements(*fc_, p, ev) : CaseLines();
+}
+
+lang::ParamValues Stack::rewrites(const Candidate&, const std::vector<double>& p) const {
+  return free_ ? free_->rewrites(*fc_, p) : lang::ParamValues();
 }
 
 Candidate Compose::candidate() const {
@@ -153,6 +164,14 @@ CaseLines Compose::case_statements(const Candidate&, const std::vector<double>& 
   return lines;
 }
 
+lang::ParamValues Compose::rewrites(const Candidate&, const std::vector<double>& p) const {
+  lang::ParamValues v;
+  for (std::size_t i = 0; i < parts_.size(); ++i)
+    for (auto& [k, x] : parts_[i].h->rewrites(parts_[i].c, slice(p, i)))
+      v.insert_or_assign(k, x);
+  return v;
+}
+
 Candidate Joint::candidate(const std::vector<double>& ranged) const {
   Candidate c = ic_;
   c.names.insert(c.names.end(), pc_.names.begin(), pc_.names.end());
@@ -187,6 +206,11 @@ std::string Joint::statement(const Candidate&, const std::vector<double>& p,
 CaseLines Joint::case_statements(const Candidate&, const std::vector<double>& p,
                                  const Evidence& ev) const {
   return inner_->case_statements(ic_, head(p), ev);
+}
+
+// The recalibrated params are written as comments with the statement (not rewritten).
+lang::ParamValues Joint::rewrites(const Candidate&, const std::vector<double>& p) const {
+  return inner_->rewrites(ic_, head(p));
 }
 
 std::vector<double> Joint::head(const std::vector<double>& p) const {
@@ -711,8 +735,7 @@ Evaluated Engine::evaluate(const Entry& e, const Base& base, bool joint) const {
   const double floor2 = std::max(ev_.noise_floor * ev_.noise_floor, 1e-12) * 1e-4;
   f.delta_bic =
       na * std::log((b.sse + floor2 * na) / (base.sse_all + floor2 * na)) + k * std::log(na);
-  f.statement = e.h->statement(e.c, b.p, ev_);
-  f.case_statements = e.h->case_statements(e.c, b.p, ev_);
+  write_extension(f, *e.h, e.c, b.p, ev_);
   return out;
 }
 

@@ -50,6 +50,7 @@ public:
                         const Evidence& ev) const override;
   CaseLines case_statements(const Candidate&, const std::vector<double>& p,
                             const Evidence& ev) const override;
+  lang::ParamValues rewrites(const Candidate&, const std::vector<double>& p) const override;
 
 private:
   const std::vector<Applied>* applied_;
@@ -71,6 +72,8 @@ public:
   /// The inner candidate.
   const Candidate& inner_candidate() const { return ic_; }
   std::vector<Candidate> propose(const Evidence&) const override { return {}; }
+  /// True: the ranged params are refitted with the candidate.
+  bool recalibrates() const override { return true; }
   lang::ParamValues overrides(const Candidate&, const std::vector<double>& p) const override;
   void extend(const Candidate&, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override;
@@ -80,6 +83,7 @@ public:
                         const Evidence& ev) const override;
   CaseLines case_statements(const Candidate&, const std::vector<double>& p,
                             const Evidence& ev) const override;
+  lang::ParamValues rewrites(const Candidate&, const std::vector<double>& p) const override;
 
 private:
   std::vector<double> head(const std::vector<double>& p) const;
@@ -110,6 +114,7 @@ public:
                         const Evidence& ev) const override;
   CaseLines case_statements(const Candidate&, const std::vector<double>& p,
                             const Evidence& ev) const override;
+  lang::ParamValues rewrites(const Candidate&, const std::vector<double>& p) const override;
 
 private:
   std::vector<Applied> parts_;
@@ -191,7 +196,7 @@ private:
   std::vector<Evaluated> evaluate_all(const std::vector<Entry>& entries, const Base& base,
                                       bool joint = false) const;
   void judge(std::vector<Evaluated>& res) const;
-  void merge_mechanisms(std::vector<Evaluated>& res) const;
+  void merge_mechanisms(const std::vector<Entry>& entries, std::vector<Evaluated>& res) const;
   double score(const Finding& f) const;
   std::vector<std::size_t> ranked(const std::vector<Evaluated>& res) const;
   void add_curves(DiagnosisReport& rep, const Base& after) const;
@@ -208,5 +213,10 @@ private:
 
 /// Two candidates at the same site with the same mechanism.
 bool same_candidate(const Candidate& a, const Candidate& b);
+
+/// Sets what a finding writes (statements, case lines, rewritten params): its hypothesis's text
+/// for the candidate at p.
+void write_extension(Finding& f, const Hypothesis& h, const Candidate& c,
+                     const std::vector<double>& p, const Evidence& ev);
 
 } // namespace thermnet::detail

@@ -34,12 +34,14 @@ std::vector<std::string> site_order(const std::vector<Entry>& side) {
 }
 
 /// True when a candidate is refitted as a model extension and compared by its screen score.
-bool model_side(const Candidate& c) {
-  return !c.measurement_side && c.kind != "parameter";
+bool model_side(const Entry& e) {
+  return !e.c.measurement_side && !e.own_h->recalibrates();
 }
 
-/// Records on `keep` how its mechanism compared with the other one (`drop`).
-void note_mechanism(Finding& keep, const Finding& drop, const FitComparison& cmp) {
+/// Records on `keep` how its mechanism compared with the other one (`drop`); `mechanisms` are its
+/// kind's, in order.
+void note_mechanism(Finding& keep, const Finding& drop, const FitComparison& cmp,
+                    const std::vector<std::string>& mechanisms) {
   keep.mechanism_z = cmp.z;
   keep.mechanism_identified = cmp.separable;
   const std::string numbers = fmt::format(
@@ -47,11 +49,11 @@ void note_mechanism(Finding& keep, const Finding& drop, const FitComparison& cmp
       "spread over {:.0f} independent points",
       keep.rmse_after, drop.rmse_after, keep.validation_rmse_after, drop.validation_rmse_after,
       cmp.z, cmp.n_eff);
-  keep.mechanism_note = cmp.separable
-                            ? fmt::format("{} fits better than {} ({})", keep.candidate.mechanism,
-                                          drop.candidate.mechanism, numbers)
-                            : fmt::format("linear and radiation fit equally ({}); kept {}", numbers,
-                                          keep.candidate.mechanism);
+  keep.mechanism_note =
+      cmp.separable ? fmt::format("{} fits better than {} ({})", keep.candidate.mechanism,
+                                  drop.candidate.mechanism, numbers)
+                    : fmt::format("{} fit equally ({}); kept {}", fmt::join(mechanisms, " and "),
+                                  numbers, keep.candidate.mechanism);
 }
 
 } // namespace
@@ -135,22 +137,24 @@ void Engine::judge(std::vector<Evaluated>& res) const {
   }
 }
 
-void Engine::merge_mechanisms(std::vector<Evaluated>& res) const {
-  // A link refitted as linear and as radiation: one finding. The mechanism is named only when the
-  // data tell them apart (compare_fits: the SSE difference beyond the spread of an SSE over the
-  // independent points, and the better one also better on held-out data).
+void Engine::merge_mechanisms(const std::vector<Entry>& entries,
+                              std::vector<Evaluated>& res) const {
+  // One site refitted with two mechanisms (a link as linear and as radiation): one finding. The
+  // mechanism is named only when the data tell them apart (compare_fits: the SSE difference beyond
+  // the spread of an SSE over the independent points, and the better one also better on held-out
+  // data).
   for (std::size_t i = 0; i < res.size(); ++i)
     for (std::size_t j = i + 1; j < res.size(); ++j) {
       Evaluated &a = res[i], &b = res[j];
-      if (a.f.values.empty() || b.f.values.empty() || a.f.candidate.kind != "missing_link" ||
-          b.f.candidate.kind != "missing_link" || a.f.candidate.nodes != b.f.candidate.nodes ||
+      if (a.f.values.empty() || b.f.values.empty() || a.f.candidate.mechanism.empty() ||
+          site(a.f.candidate) != site(b.f.candidate) ||
           a.f.candidate.mechanism == b.f.candidate.mechanism)
         continue;
       const FitComparison cmp =
           compare_fits({a.r, a.holdout_sse}, {b.r, b.holdout_sse}, ev_.noise_floor);
       Evaluated& keep = cmp.first_better ? a : b;
       Evaluated& drop = cmp.first_better ? b : a;
-      note_mechanism(keep.f, drop.f, cmp);
+      note_mechanism(keep.f, drop.f, cmp, entries[i].own_h->mechanisms());
       drop.f.values.clear(); // merged into keep
     }
 }
@@ -207,7 +211,7 @@ DiagnosisReport Engine::run() {
   std::vector<Entry> side, chosen;
   for (auto& e : propose(ev_)) {
     ++rep.screened;
-    (model_side(e.c) ? side : chosen).push_back(std::move(e));
+    (model_side(e) ? side : chosen).push_back(std::move(e));
   }
   std::stable_sort(side.begin(), side.end(),
                    [](const Entry& a, const Entry& b) { return a.c.screen > b.c.screen; });
@@ -231,7 +235,7 @@ DiagnosisReport Engine::run() {
     const auto best = ranked(res);
     std::size_t pos = 0;
     for (std::size_t i : best)
-      if (model_side(chosen[i].c)) {
+      if (model_side(chosen[i])) {
         pos = static_cast<std::size_t>(std::find(order.begin(), order.end(), site(chosen[i].c)) -
                                        order.begin());
         break;
@@ -259,7 +263,7 @@ DiagnosisReport Engine::run() {
   std::vector<double> vs_parameter(chosen.size(), -std::numeric_limits<double>::infinity());
   std::size_t ipar = chosen.size();
   for (std::size_t i = 0; i < chosen.size(); ++i)
-    if (chosen[i].c.kind == "parameter") ipar = i;
+    if (chosen[i].own_h->recalibrates()) ipar = i;
   if (ipar < chosen.size() && !res[ipar].f.values.empty() && res[ipar].f.delta_bic < -10.0) {
     const std::vector<double> ranged = res[ipar].f.values;
     // The screen is repeated at the recalibrated params (the unexplained heat flows change with
@@ -268,7 +272,7 @@ DiagnosisReport Engine::run() {
       const Base recal = make_base({Applied{chosen[ipar].h, chosen[ipar].c, ranged}});
       std::vector<Entry> side2;
       for (auto& e : propose(evidence_at(recal)))
-        if (model_side(e.c)) side2.push_back(std::move(e));
+        if (model_side(e)) side2.push_back(std::move(e));
       std::stable_sort(side2.begin(), side2.end(),
                        [](const Entry& a, const Entry& b) { return a.c.screen > b.c.screen; });
       for (auto& e :
@@ -285,7 +289,7 @@ DiagnosisReport Engine::run() {
     std::vector<std::size_t> todo;
     std::vector<Entry> jentries;
     for (std::size_t i = 0; i < chosen.size(); ++i) {
-      if (!model_side(chosen[i].c)) continue;
+      if (!model_side(chosen[i])) continue;
       joints.push_back(
           std::make_unique<Joint>(chosen[i].h, chosen[i].c, chosen[ipar].h, chosen[ipar].c));
       todo.push_back(i);
@@ -316,7 +320,7 @@ DiagnosisReport Engine::run() {
   judge(res);
   for (std::size_t i = 0; i < res.size(); ++i)
     res[i].f.significant = res[i].f.significant && vs_parameter[i] < -10.0;
-  merge_mechanisms(res);
+  merge_mechanisms(chosen, res);
   const std::vector<std::size_t> first = ranked(res);
 
   // 3. Greedy forward selection: the best finding is applied, and the next one is searched for
@@ -333,15 +337,13 @@ DiagnosisReport Engine::run() {
   }
   Base base = best_base;
   // The ranged params are not recalibrated again once a finding has recalibrated them.
-  const bool params_applied =
-      !applied.empty() && (applied.front().c.kind == "parameter" ||
-                           dynamic_cast<const Joint*>(applied.front().h) != nullptr);
+  const bool params_applied = !applied.empty() && applied.front().h->recalibrates();
   while (!applied.empty() && rep.findings.size() < opt_.top && !base.at_floor) {
     std::vector<Entry> next, side3;
     try {
       for (auto& e : propose(evidence_at(base))) {
-        if (e.c.kind == "parameter" && params_applied) continue;
-        (model_side(e.c) ? side3 : next).push_back(std::move(e));
+        if (e.own_h->recalibrates() && params_applied) continue;
+        (model_side(e) ? side3 : next).push_back(std::move(e));
       }
     } catch (const std::exception&) {
       break;
@@ -368,7 +370,7 @@ DiagnosisReport Engine::run() {
     std::vector<Evaluated> nres = evaluate_all(next, base);
     rep.refitted += next.size();
     judge(nres);
-    merge_mechanisms(nres);
+    merge_mechanisms(next, nres);
     const auto order2 = ranked(nres);
     if (order2.empty()) break;
     const std::size_t b = order2.front();
@@ -388,12 +390,10 @@ DiagnosisReport Engine::run() {
     rep.findings.push_back(f);
     for (std::size_t i = 0; i < applied.size(); ++i) {
       Finding& fi = rep.findings[i];
-      if (fi.candidate.kind != "missing_link" || fi.mechanism_identified ||
-          dynamic_cast<const Joint*>(applied[i].h) != nullptr)
-        continue;
+      // (a finding refitted with the ranged params keeps its mechanism: the variant would not be)
+      if (fi.mechanism_identified || applied[i].h->recalibrates()) continue;
       auto other = std::find_if(side.begin(), side.end(), [&](const Entry& x) {
-        return x.c.kind == "missing_link" && x.c.nodes == fi.candidate.nodes &&
-               x.c.mechanism != fi.candidate.mechanism;
+        return site(x.c) == site(fi.candidate) && x.c.mechanism != fi.candidate.mechanism;
       });
       if (other == side.end()) continue;
       std::vector<Applied> variant = applied;
@@ -416,7 +416,7 @@ DiagnosisReport Engine::run() {
       alt.candidate = variant[i].c;
       alt.rmse_after = v.f.rmse_after, alt.validation_rmse_after = v.f.validation_rmse_after;
       Finding& keep = cmp.first_better ? now : alt;
-      note_mechanism(keep, cmp.first_better ? alt : now, cmp);
+      note_mechanism(keep, cmp.first_better ? alt : now, cmp, other->own_h->mechanisms());
       if (!cmp.first_better) fi.evidence = keep.candidate.evidence;
       fi.candidate = keep.candidate, fi.mechanism_note = keep.mechanism_note;
       fi.mechanism_identified = keep.mechanism_identified, fi.mechanism_z = keep.mechanism_z;
@@ -444,12 +444,9 @@ DiagnosisReport Engine::run() {
     f.validation_r2_after = joint.f.validation_r2_after;
     for (std::size_t i = 0; i < rep.findings.size(); ++i) {
       rep.findings[i].values = applied[i].p;
-      rep.findings[i].statement = applied[i].h->statement(applied[i].c, applied[i].p, ev_);
-      rep.findings[i].case_statements =
-          applied[i].h->case_statements(applied[i].c, applied[i].p, ev_);
+      write_extension(rep.findings[i], *applied[i].h, applied[i].c, applied[i].p, ev_);
     }
-    f.statement = applied.back().h->statement(applied.back().c, applied.back().p, ev_);
-    f.case_statements = applied.back().h->case_statements(applied.back().c, applied.back().p, ev_);
+    write_extension(f, *applied.back().h, applied.back().c, applied.back().p, ev_);
     rep.findings.push_back(std::move(f));
     base = make_base(applied);
   }
