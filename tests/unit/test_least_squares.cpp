@@ -193,6 +193,18 @@ TEST_CASE("least squares: a warm start needs no first Jacobian; budgets and iter
   const LeastSquaresResult b = solve_least_squares(problem, start_at(problem, {0.0, 0.0}), budget);
   CHECK(b.evaluations <= 4);
   CHECK(b.stop == LeastSquaresStop::budget);
+
+  // At the exact optimum no step lowers the SSE: the rejection limit stops it.
+  const FunctionProblem exact(
+      {{0, 1}}, [](const std::vector<double>& x) { return std::vector<double>{x[0] - 0.25}; });
+  LeastSquaresOptions three;
+  three.xtol = 0.0;
+  three.max_rejections = 3;
+  three.final_jacobian = false;
+  const LeastSquaresResult e = solve_least_squares(exact, start_at(exact, {0.25}), three);
+  CHECK(e.stop == LeastSquaresStop::no_descent);
+  CHECK(e.evaluations == 1 + 1 + 3); // start, Jacobian, three rejected steps
+  CHECK(e.x[0] == 0.25);
 }
 
 TEST_CASE("least squares: an undetermined combination and a parameter without effect") {
