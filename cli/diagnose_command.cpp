@@ -71,11 +71,11 @@ std::string extended_model_text(const lang::Model& model, const Finding& f) {
       f.rmse_before, f.rmse_after, f.validation_rmse_before, f.validation_rmse_after);
   std::vector<rewrite::TextEdit> edits;
   std::string applied;
-  if (f.candidate.kind == "parameter") {
+  if (!f.param_rewrites.empty()) {
     std::vector<rewrite::ParamUpdate> updates;
     for (const auto& p : model.params())
-      for (std::size_t j = 0; j < f.candidate.names.size(); ++j)
-        if (p.name == f.candidate.names[j]) updates.push_back({p, f.values[j]});
+      if (auto it = f.param_rewrites.find(p.name); it != f.param_rewrites.end())
+        updates.push_back({p, it->second});
     edits = rewrite::param_edits(model.sources(), file, updates);
     applied = "# (the declared values of the ranged params above were rewritten)\n";
   } else {
