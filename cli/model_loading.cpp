@@ -3,6 +3,7 @@
 #include "cli/exit_status.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "kernel/plugin_host/plugin_loader.hpp"
+#include "lang/rewrite/model_files.hpp"
 #include "lang/units.hpp"
 
 #include <CLI/CLI.hpp>
@@ -54,6 +55,15 @@ void add_plugin_option(CLI::App& app) {
 std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceManager& sources,
                                         lang::DiagnosticEngine& diags) {
   return lang::Model::load(path, element_catalog(), sources, diags, load_options());
+}
+
+std::vector<NamedInput> model_inputs(const lang::Model& model) {
+  const long root = model.sources().find(model.path());
+  if (root < 0) return {{model.path(), "the model"}};
+  std::vector<NamedInput> inputs;
+  for (auto& f : rewrite::files_read(model.sources(), static_cast<lang::FileId>(root)))
+    inputs.push_back({std::move(f.path), std::move(f.role)});
+  return inputs;
 }
 
 namespace {

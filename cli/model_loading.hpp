@@ -1,6 +1,7 @@
 #pragma once
 /// Loading models for the subcommands: one place that wires the registry, checking and reporting.
 
+#include "cli/output_files.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/model.hpp"
 
@@ -29,6 +30,10 @@ void add_plugin_option(CLI::App& app);
 /// Loads a model against the global element registry; problems go to diags.
 std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceManager& sources,
                                         lang::DiagnosticEngine& diags);
+
+/// Every file a loaded model reads (its files, then its data, table and plugin files), as the
+/// inputs its run's outputs must not overwrite.
+std::vector<NamedInput> model_inputs(const lang::Model& model);
 
 /// True when a diagnostic says a file (model, include, data or table) could not be read.
 bool reports_unreadable_file(const lang::DiagnosticEngine& diags);
