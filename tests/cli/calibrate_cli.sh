@@ -49,7 +49,7 @@ convection cv b amb h = h A = 0.05 [m^2]
 heater film a P = 10
 case heat { duration = 3600; output = 60; data "heat.csv" }
 EOF2
-sed 's/"heat.csv"/"long.csv"/' cal.tnet >long.tnet
+sed 's/"heat.csv"/"long.csv"/; s/duration = 3600/duration = 30000/' cal.tnet >long.tnet
 sed 's/ range [0-9.]* \.\. [0-9.]*//' cal.tnet >norange.tnet
 grep -v 'data "' cal.tnet >nodata.tnet
 
