@@ -9,6 +9,7 @@
 #include "kernel/core/network.hpp"
 #include "kernel/estimation/estimator.hpp"
 #include "lang/csv.hpp"
+#include "lang/path_policy.hpp"
 #include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
@@ -276,6 +277,8 @@ int run_method(EstimateOptions& o, lang::SourceManager& sources) {
     std::cerr << who << ": error: --stream reads standard input; give DATA as '-' or omit it\n";
     return exit_usage;
   }
+  // A DATA file named on the command line is the user's choice: readable wherever it lies.
+  if (!o.data.empty() && o.data != "-") lang::allow_named_path(o.data);
   std::unique_ptr<lang::Model> model;
   std::optional<lang::NetworkSpec> spec;
   EstimatorContext ctx;

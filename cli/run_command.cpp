@@ -7,6 +7,7 @@
 #include "kernel/diagnosis/diagnosis.hpp"
 #include "kernel/estimation/estimator.hpp"
 #include "lang/csv.hpp"
+#include "lang/display_text.hpp"
 #include "lang/model.hpp"
 #include "lang/rewrite/model_files.hpp"
 
@@ -19,7 +20,7 @@ namespace thermnet::cli {
 namespace {
 
 int report(const std::string& who, const std::exception& e, int status) {
-  std::cerr << fmt::format("{}: error: {}\n", who, e.what());
+  std::cerr << fmt::format("{}: error: {}\n", who, lang::escape_for_display(e.what()));
   return status;
 }
 
