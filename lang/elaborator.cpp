@@ -719,10 +719,10 @@ void Elaborator::warn_data_beyond_duration(const CaseSettings& s) {
   if (after == 0) return;
   report(DiagnosticEngine::make(
       DiagId::data_beyond_duration, data_times_->at, data_times_->mark,
-      after == 1 ? "1 row" : fmt::format("{} rows", after),
-      fs::path(s.data_path).filename().string(), after == 1 ? "lies" : "lie", s.name,
-      fmt::format("{:g}", *s.duration), fmt::format("{:g}", data_times_->table.time().back()),
-      after == 1 ? "is" : "are"));
+      fs::path(s.data_path).filename().string(),
+      after == 1 ? std::string("1 row") : fmt::format("{} rows", after), s.name,
+      fmt::format("{:g} s; last row at {:g} s", *s.duration, data_times_->table.time().back()),
+      after == 1 ? "it is" : "they are"));
 }
 
 void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, FileId f) {

@@ -53,7 +53,7 @@ sed 's/"meas.csv"/"long.csv"/' m.tnet >long.tnet
 run lint long.tnet
 check "rows after the duration: a data-beyond-duration warning naming the count, exit 0" \
   eval 'test "$rc" -eq 0 &&
-        grep -q "warning: 2 rows of data file .long.csv. lie after the end of case .c. (100 s; last row at 300 s) and are not used \[data-beyond-duration\]" out.txt'
+        grep -q "warning: data file .long.csv. has 2 rows after the end of case .c. (100 s; last row at 300 s); they are not used \[data-beyond-duration\]" out.txt'
 run lint m.tnet
 check "  ... and none for data within the duration" eval 'test "$rc" -eq 0 && ! grep -q "data-beyond-duration" out.txt'
 run calibrate m.tnet --method lm --json short.json
