@@ -7,10 +7,10 @@
 
 #include "cli/calibrate_command.hpp"
 
-#include "cli/atomic_file.hpp"
 #include "cli/calibration_report.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/output_files.hpp"
 #include "cli/progress_bar.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/calibration/optimizer.hpp"
@@ -138,7 +138,7 @@ void write_outputs(const CalibrateOptions& o, const lang::Model& model,
         fmt::format("{} — calibrated by {} (RMSE {:.3g} K)", model.name(), r.method, r.rmse);
     files.push_back({o.plot, plot::render_svg(comparison_figure(cmp, title))});
   }
-  write_files_atomically(files);
+  write_output_files(files);
   if (model_files.size() > 1) {
     std::vector<std::string> copies;
     for (std::size_t k = 1; k < model_files.size(); ++k)
@@ -155,6 +155,7 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
   int status = exit_ok;
   auto model = load_checked_model(o.model, sources, status);
   if (!model) return status;
+  check_outputs({{"-o", o.out}, {"--json", o.json}, {"--plot", o.plot}}, model_inputs(*model));
   const std::string method = o.method.empty() ? default_method() : o.method;
   const OptimizerPlugin* plugin = OptimizerRegistry::global().find(method);
   if (!plugin) {
@@ -238,7 +239,7 @@ void add_calibrate_command(CLI::App& app, int& status) {
                   "write the model with the calibrated values in place (comments and layout "
                   "kept, units as written); params declared in included files go to rewritten "
                   "copies beside OUT named OUTSTEM.FILE, which OUT includes instead of the "
-                  "originals; the inputs are never modified (unless OUT is the model itself), "
+                  "originals; the inputs are never modified (OUT may not be one of them), "
                   "and nothing is written unless every output can be");
   cmd->add_option("--json", o->json, "write the result as JSON");
   cmd->add_option("--plot", o->plot, "SVG plot of measured vs simulated for the best fit");

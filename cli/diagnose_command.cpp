@@ -3,9 +3,9 @@
 
 #include "cli/diagnose_command.hpp"
 
-#include "cli/atomic_file.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/output_files.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/diagnosis/report.hpp"
 #include "lang/rewrite/case_blocks.hpp"
@@ -38,6 +38,8 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   int status = exit_ok;
   auto model = load_checked_model(o.model, sources, status);
   if (!model) return status;
+  check_outputs({{"--json", o.json}, {"--write", o.write}, {"--plot", o.plot}},
+                model_inputs(*model));
   DiagnosisOptions opt;
   opt.cases = o.cases;
   opt.threads = o.threads;
@@ -45,14 +47,16 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   const DiagnosisReport rep = diagnose(*model, opt);
   std::cout << diagnosis_text(rep);
   std::cout.flush();
-  if (!o.json.empty()) write_file_atomically(o.json, diagnosis_json(rep).dump(2) + "\n");
+  std::vector<OutputFile> files;
+  if (!o.json.empty()) files.push_back({o.json, diagnosis_json(rep).dump(2) + "\n"});
   if (!o.write.empty()) {
     if (rep.findings.empty())
       std::cerr << fmt::format("{}: note: no finding; {} not written\n", me, o.write);
     else
-      write_file_atomically(o.write, extended_model_text(*model, rep.findings.front()));
+      files.push_back({o.write, extended_model_text(*model, rep.findings.front())});
   }
-  if (!o.plot.empty()) write_file_atomically(o.plot, diagnosis_svg(rep));
+  if (!o.plot.empty()) files.push_back({o.plot, diagnosis_svg(rep)});
+  write_output_files(files);
   return exit_ok;
 }
 

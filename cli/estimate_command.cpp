@@ -1,18 +1,21 @@
 #include "cli/estimate_command.hpp"
 
-#include "cli/atomic_file.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/output_files.hpp"
+#include "cli/output_stream.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/estimation/estimator.hpp"
 #include "lang/csv.hpp"
+#include "lang/path_policy.hpp"
 #include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -103,12 +106,13 @@ std::string plot_svg(const std::string& title, const std::vector<std::string>& o
   return plot::render_svg(fig);
 }
 
-void report(const EstimateOptions& o, const Estimator& est) {
+/// Prints the metrics to standard error; returns the JSON report (--json) or "".
+std::string report(const EstimateOptions& o, const Estimator& est) {
   auto metrics = est.metrics();
   for (const auto& m : metrics)
     std::cerr << fmt::format("thermnet {}: {} = {:.6g}{}{}\n", o.command, m.name, m.value,
                              m.unit.empty() ? "" : " ", m.unit);
-  if (o.json.empty()) return;
+  if (o.json.empty()) return {};
   nlohmann::json j;
   j["method"] = o.method;
   j["options"] = o.settings.values();
@@ -119,8 +123,28 @@ void report(const EstimateOptions& o, const Estimator& est) {
   }
   j["metrics"] = mj;
   j["units"] = units;
-  write_file_atomically(o.json, j.dump(2) + "\n");
+  return j.dump(2) + "\n";
 }
+
+/// Counts the rows that carry an estimate (a value that is not NaN).
+class EstimateCount {
+public:
+  /// Counts `r` if it has a value.
+  void add(const EstimateRow& r) {
+    if (std::any_of(r.values.begin(), r.values.end(), [](double v) { return !std::isnan(v); }))
+      ++rows_;
+  }
+  /// Throws EstimatorError when no row had one: an empty result must not pass as success.
+  void require_some(const EstimateOptions& o, std::size_t rows_read) const {
+    if (rows_ == 0)
+      throw EstimatorError(fmt::format(
+          "{} produced no estimate from {} data row{}; see its options (thermnet {} --help)",
+          o.method, rows_read, rows_read == 1 ? "" : "s", o.command));
+  }
+
+private:
+  std::size_t rows_ = 0;
+};
 
 int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin& plugin) {
   std::string header;
@@ -137,7 +161,18 @@ int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin&
   }
   ctx.columns = head.columns;
   auto est = plugin.create(ctx);
-  std::cout << csv_header(est->output_columns()) << std::flush;
+  // Each row is flushed as it is estimated, and a failed write ends the run.
+  auto emit = [&](const std::vector<EstimateRow>& rows, EstimateCount& count) {
+    for (const auto& r : rows) {
+      std::cout << csv_row(r);
+      count.add(r);
+    }
+    flush_standard_output();
+  };
+  std::cout << csv_header(est->output_columns());
+  flush_standard_output();
+  EstimateCount count;
+  std::size_t rows_read = 0;
   std::string line;
   double last_time = -std::numeric_limits<double>::infinity();
   while (std::getline(std::cin, line)) {
@@ -157,14 +192,13 @@ int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin&
           "<stdin>", line_no, 1,
           fmt::format("time {:g} does not increase (previous row: {:g})", row[0], last_time));
     last_time = row[0];
-    for (const auto& r : est->push(row))
-      std::cout << csv_row(r);
-    std::cout << std::flush;
+    ++rows_read;
+    emit(est->push(row), count);
   }
-  for (const auto& r : est->finish())
-    std::cout << csv_row(r);
-  std::cout << std::flush;
-  report(o, *est);
+  emit(est->finish(), count);
+  const std::string json = report(o, *est);
+  count.require_some(o, rows_read);
+  if (!json.empty()) write_output_file(o.json, json);
   return exit_ok;
 }
 
@@ -174,28 +208,38 @@ int run_batch(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin& 
   if (table.rows() == 0) throw lang::CsvError(o.data, 2, 0, "the file has no data rows");
   ctx.columns = table.columns;
   auto est = plugin.create(ctx);
-  std::vector<EstimateRow> rows;
+  const auto columns = est->output_columns();
+  // The CSV goes out row by row; the rows are kept only for a plot.
+  auto csv = open_output(o.out);
+  csv->write(csv_header(columns));
+  std::vector<EstimateRow> kept;
+  EstimateCount count;
+  auto emit = [&](std::vector<EstimateRow> rows) {
+    for (auto& r : rows) {
+      csv->write(csv_row(r));
+      count.add(r);
+      if (!o.plot.empty()) kept.push_back(std::move(r));
+    }
+  };
   std::vector<double> row(table.columns.size());
   for (std::size_t k = 0; k < table.rows(); ++k) {
     for (std::size_t c = 0; c < row.size(); ++c)
       row[c] = table.cells[c][k];
-    for (auto& r : est->push(row))
-      rows.push_back(std::move(r));
+    emit(est->push(row));
   }
-  for (auto& r : est->finish())
-    rows.push_back(std::move(r));
-  auto columns = est->output_columns();
-  std::string csv = csv_header(columns);
-  for (const auto& r : rows)
-    csv += csv_row(r);
-  std::string svg;
-  if (!o.plot.empty()) svg = plot_svg(title, columns, rows, &table);
-  if (o.out.empty())
-    std::cout << csv;
-  else
-    write_file_atomically(o.out, csv);
-  if (!svg.empty()) write_file_atomically(o.plot, svg);
-  report(o, *est);
+  emit(est->finish());
+  const std::string json = report(o, *est);
+  count.require_some(o, table.rows());
+  std::unique_ptr<OutputStream> svg, json_out;
+  if (!o.plot.empty()) {
+    svg = std::make_unique<OutputStream>(o.plot);
+    svg->write(plot_svg(title, columns, kept, &table));
+  }
+  if (!json.empty()) {
+    json_out = std::make_unique<OutputStream>(o.json);
+    json_out->write(json);
+  }
+  commit({csv.get(), svg.get(), json_out.get()});
   return exit_ok;
 }
 
@@ -233,6 +277,8 @@ int run_method(EstimateOptions& o, lang::SourceManager& sources) {
     std::cerr << who << ": error: --stream reads standard input; give DATA as '-' or omit it\n";
     return exit_usage;
   }
+  // A DATA file named on the command line is the user's choice: readable wherever it lies.
+  if (!o.data.empty() && o.data != "-") lang::allow_named_path(o.data);
   std::unique_ptr<lang::Model> model;
   std::optional<lang::NetworkSpec> spec;
   EstimatorContext ctx;
@@ -254,6 +300,9 @@ int run_method(EstimateOptions& o, lang::SourceManager& sources) {
     std::cerr << who << ": error: give a DATA file, or --stream to read standard input\n";
     return exit_usage;
   }
+  std::vector<NamedInput> inputs = model ? model_inputs(*model) : std::vector<NamedInput>{};
+  if (!o.data.empty() && o.data != "-") inputs.push_back({o.data, "the data file"});
+  check_outputs({{"-o", o.out}, {"--plot", o.plot}, {"--json", o.json}}, inputs);
   return o.stream ? run_stream(o, ctx, *plugin) : run_batch(o, ctx, *plugin, title);
 }
 

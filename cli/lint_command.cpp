@@ -24,7 +24,7 @@ int run_lint(const LintOptions& o, lang::SourceManager& sources) {
   bool unreadable = false;
   for (const auto& path : o.models) {
     if (diags.saturated()) break;
-    auto model = load_model(path, sources, diags);
+    auto model = load_model(path, sources, diags, ModelPlugins::never, "thermnet lint");
     if (!model) {
       unreadable = true;
       continue;

@@ -9,15 +9,40 @@
 #include "cli/lint_command.hpp"
 #include "cli/lsp_command.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/output_stream.hpp"
 #include "cli/sensitivity_command.hpp"
 #include "cli/simulate_command.hpp"
 
 #include <CLI/CLI.hpp>
 
+#include <cerrno>
+#include <cstring>
 #include <exception>
 #include <iostream>
+#include <unistd.h>
 
-int main(int argc, char** argv) {
+namespace {
+
+/// The exit status once standard output is flushed and closed: what was printed there must have
+/// arrived (`thermnet lint --format json > /dev/full` fails); a status of 0 becomes 2 otherwise.
+int close_standard_output(int status) {
+  using namespace thermnet::cli;
+  try {
+    flush_standard_output();
+  } catch (const OutputError& e) {
+    std::cerr << "thermnet: error: " << e.what() << "\n";
+    return status != exit_ok ? status : exit_usage;
+  }
+  // Some file systems report a failed write only when the file is closed.
+  if (::close(STDOUT_FILENO) != 0 && errno != EBADF) {
+    std::cerr << "thermnet: error: cannot write to standard output: " << std::strerror(errno)
+              << "\n";
+    return status != exit_ok ? status : exit_usage;
+  }
+  return status;
+}
+
+int run(int argc, char** argv) {
   using namespace thermnet::cli;
   CLI::App app{"thermnet: lumped-parameter thermal networks (lint, simulate, calibrate, diagnose)",
                "thermnet"};
@@ -52,4 +77,11 @@ int main(int argc, char** argv) {
     return exit_failure;
   }
   return status;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  thermnet::cli::route_standard_output();
+  return close_standard_output(run(argc, argv));
 }

@@ -3,6 +3,8 @@
 #include "cli/exit_status.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "kernel/plugin_host/plugin_loader.hpp"
+#include "lang/path_policy.hpp"
+#include "lang/rewrite/model_files.hpp"
 #include "lang/units.hpp"
 
 #include <CLI/CLI.hpp>
@@ -15,6 +17,7 @@
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
+#include <string_view>
 #include <unistd.h>
 
 namespace thermnet::cli {
@@ -25,9 +28,44 @@ std::optional<std::string> load_plugin(const std::string& path) {
   return PluginLoader::global().load(ec ? path : absolute.string());
 }
 
-lang::LoadOptions load_options() {
+namespace {
+
+/// Set by --allow-model-plugins.
+bool allow_model_plugins_flag = false;
+
+/// Whether the user allowed a model's plugin statements to load code.
+bool model_plugins_allowed() {
+  if (allow_model_plugins_flag) return true;
+  const char* env = std::getenv("THERMNET_ALLOW_MODEL_PLUGINS");
+  return env != nullptr && std::string_view(env) == "1";
+}
+
+/// Whether the library at `path` was loaded already (by --plugin): accepting its statement then
+/// runs no new code. Compares canonical paths, without opening the file.
+bool already_loaded(const std::string& path) {
+  std::error_code ec;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
+  if (ec) return false;
+  const std::vector<std::string> loaded = PluginLoader::global().loaded();
+  return std::find(loaded.begin(), loaded.end(), canonical.string()) != loaded.end();
+}
+
+} // namespace
+
+lang::LoadOptions load_options(ModelPlugins plugins, const std::string& who) {
   lang::LoadOptions options;
-  options.load_plugin = [](const std::string& path) { return load_plugin(path); };
+  options.load_plugin = [plugins, who](const std::string& path) -> std::optional<std::string> {
+    if (already_loaded(path)) return std::nullopt;
+    if (plugins == ModelPlugins::never)
+      return fmt::format("{} never runs code named by a model; to check a model that uses this "
+                         "plugin, load it yourself with --plugin PATH",
+                         who);
+    if (!model_plugins_allowed())
+      return "a model's plugin statement loads code only when you allow it: pass "
+             "--allow-model-plugins (or set THERMNET_ALLOW_MODEL_PLUGINS=1) if you trust this "
+             "model, or load the library with --plugin PATH";
+    return load_plugin(path);
+  };
   return options;
 }
 
@@ -44,6 +82,13 @@ void add_plugin_option(CLI::App& app) {
       ->expected(1)
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app.add_flag("--allow-model-plugins", allow_model_plugins_flag,
+               "let the model's `plugin` statements load their libraries (runs the model's code; "
+               "never in lint or lsp; also THERMNET_ALLOW_MODEL_PLUGINS=1)");
+  app.add_flag_callback(
+      "--allow-outside-paths", [] { lang::set_allow_outside_paths(true); },
+      "let a model read include, data and table files outside its own folder tree (never FIFOs, "
+      "devices, /proc or /sys; also THERMNET_ALLOW_OUTSIDE_PATHS=1)");
   // Subcommands hand options they do not know to the top level, so `thermnet simulate --plugin
   // lib.so model.tnet` works too; subcommands added later inherit this.
   app.fallthrough();
@@ -52,8 +97,19 @@ void add_plugin_option(CLI::App& app) {
 }
 
 std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceManager& sources,
-                                        lang::DiagnosticEngine& diags) {
-  return lang::Model::load(path, element_catalog(), sources, diags, load_options());
+                                        lang::DiagnosticEngine& diags, ModelPlugins plugins,
+                                        const std::string& who) {
+  lang::set_path_policy(lang::policy_for_model(path));
+  return lang::Model::load(path, element_catalog(), sources, diags, load_options(plugins, who));
+}
+
+std::vector<NamedInput> model_inputs(const lang::Model& model) {
+  const long root = model.sources().find(model.path());
+  if (root < 0) return {{model.path(), "the model"}};
+  std::vector<NamedInput> inputs;
+  for (auto& f : rewrite::files_read(model.sources(), static_cast<lang::FileId>(root)))
+    inputs.push_back({std::move(f.path), std::move(f.role)});
+  return inputs;
 }
 
 namespace {

@@ -1,6 +1,7 @@
 #pragma once
 /// Loading models for the subcommands: one place that wires the registry, checking and reporting.
 
+#include "cli/output_files.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/model.hpp"
 
@@ -18,17 +19,36 @@ namespace thermnet::cli {
 /// registries; returns what went wrong, or nothing (also when it was loaded before).
 std::optional<std::string> load_plugin(const std::string& path);
 
-/// The options every command loads models with: `plugin "lib.so"` statements go to load_plugin().
-lang::LoadOptions load_options();
+/// What a model's `plugin "lib.so"` statement may do: a model is untrusted input, so its
+/// statements load code only when the user asked (--allow-model-plugins or
+/// THERMNET_ALLOW_MODEL_PLUGINS=1); lint and the language server never load it.
+enum class ModelPlugins {
+  if_allowed, ///< load when the user allowed model plugins; otherwise an error naming the flag
+  never       ///< never load (lint, lsp); an error unless the library came by --plugin
+};
+
+/// The options a command loads models with: `plugin "lib.so"` statements are accepted without
+/// loading anything when the same library came by --plugin, else handled as `plugins` says.
+/// `who` names the command in the refusal ("thermnet lint").
+lang::LoadOptions load_options(ModelPlugins plugins, const std::string& who);
 
 /// Adds the global, repeatable `--plugin PATH` option (also accepted after the subcommand): each
 /// library is loaded while the command line is parsed, before any subcommand runs; a library that
-/// cannot be loaded ends the run with "thermnet: error: cannot load plugin ...".
+/// cannot be loaded ends the run with "thermnet: error: cannot load plugin ...". Adds the other
+/// global trust options too: `--allow-model-plugins` and `--allow-outside-paths`.
 void add_plugin_option(CLI::App& app);
 
-/// Loads a model against the global element registry; problems go to diags.
+/// Loads a model against the global element registry; problems go to diags. A model's plugin
+/// statements load only if allowed (ModelPlugins::if_allowed) or never; the files it names are
+/// read under the path policy of its folder (lang/path_policy.hpp), set here for the run.
 std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceManager& sources,
-                                        lang::DiagnosticEngine& diags);
+                                        lang::DiagnosticEngine& diags,
+                                        ModelPlugins plugins = ModelPlugins::if_allowed,
+                                        const std::string& who = "thermnet");
+
+/// Every file a loaded model reads (its files, then its data, table and plugin files), as the
+/// inputs its run's outputs must not overwrite.
+std::vector<NamedInput> model_inputs(const lang::Model& model);
 
 /// True when a diagnostic says a file (model, include, data or table) could not be read.
 bool reports_unreadable_file(const lang::DiagnosticEngine& diags);

@@ -5,54 +5,63 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <iterator>
 #include <stdexcept>
 
 namespace thermnet::cli {
 
-std::string format_result_csv(const SimulationResult& r) {
+namespace {
+constexpr double kZeroCelsius = 273.15;
+} // namespace
+
+std::string result_csv_header(const std::vector<std::string>& names) {
   std::string out = "time";
-  for (const auto& n : r.names)
+  for (const auto& n : names)
     out += "," + n;
-  out += "\n";
-  for (std::size_t k = 0; k < r.times.size(); ++k) {
-    out += fmt::format("{:.10g}", r.times[k]);
-    for (double T : r.temps[k])
-      out += fmt::format(",{:.8f}", T - 273.15);
-    out += "\n";
-  }
-  return out;
+  return out + "\n";
 }
 
-std::string plot_result_svg(const SimulationResult& r, const std::vector<std::string>& nodes,
-                            const std::string& title) {
+std::string result_csv_row(double t, const std::vector<double>& temps) {
+  fmt::memory_buffer out;
+  fmt::format_to(std::back_inserter(out), "{:.10g}", t);
+  for (double T : temps)
+    fmt::format_to(std::back_inserter(out), ",{:.8f}", T - kZeroCelsius);
+  out.push_back('\n');
+  return fmt::to_string(out);
+}
+
+std::vector<std::size_t> plot_columns(const std::vector<std::string>& names,
+                                      const std::vector<std::string>& nodes) {
   std::vector<std::size_t> columns;
   if (nodes.empty()) {
-    for (std::size_t i = 0; i < r.names.size(); ++i)
+    for (std::size_t i = 0; i < names.size(); ++i)
       columns.push_back(i);
-  } else {
-    for (const auto& n : nodes) {
-      std::size_t i = 0;
-      while (i < r.names.size() && r.names[i] != n)
-        ++i;
-      if (i == r.names.size()) {
-        std::string msg = fmt::format("--nodes: the model has no node or boundary '{}'", n);
-        if (auto s = lang::closest_match(n, r.names))
-          msg += fmt::format("; did you mean '{}'?", *s);
-        throw std::invalid_argument(msg);
-      }
-      columns.push_back(i);
-    }
+    return columns;
   }
+  for (const auto& n : nodes) {
+    auto it = std::find(names.begin(), names.end(), n);
+    if (it == names.end()) {
+      std::string msg = fmt::format("--nodes: the model has no node or boundary '{}'", n);
+      if (auto s = lang::closest_match(n, names)) msg += fmt::format("; did you mean '{}'?", *s);
+      throw std::invalid_argument(msg);
+    }
+    columns.push_back(static_cast<std::size_t>(it - names.begin()));
+  }
+  return columns;
+}
+
+std::string plot_result_svg(const SimulationResult& r, const std::string& title) {
   plot::Panel panel;
   panel.title = title;
   panel.y_label = "temperature [degC]";
   panel.x_is_time_s = true;
-  for (std::size_t c : columns) {
+  for (std::size_t c = 0; c < r.names.size(); ++c) {
     plot::Series s;
     s.label = r.names[c];
     s.x = r.times;
     for (const auto& row : r.temps)
-      s.y.push_back(row[c] - 273.15);
+      s.y.push_back(row[c] - kZeroCelsius);
     panel.series.push_back(std::move(s));
   }
   plot::Figure fig;

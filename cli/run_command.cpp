@@ -1,12 +1,13 @@
 #include "cli/run_command.hpp"
 
-#include "cli/atomic_file.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/output_stream.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/solver_types.hpp"
 #include "kernel/diagnosis/diagnosis.hpp"
 #include "kernel/estimation/estimator.hpp"
 #include "lang/csv.hpp"
+#include "lang/display_text.hpp"
 #include "lang/model.hpp"
 #include "lang/rewrite/model_files.hpp"
 
@@ -19,7 +20,7 @@ namespace thermnet::cli {
 namespace {
 
 int report(const std::string& who, const std::exception& e, int status) {
-  std::cerr << fmt::format("{}: error: {}\n", who, e.what());
+  std::cerr << fmt::format("{}: error: {}\n", who, lang::escape_for_display(e.what()));
   return status;
 }
 
@@ -28,7 +29,13 @@ int report(const std::string& who, const std::exception& e, int status) {
 int run_command(const std::string& who, const CommandBody& body, int invalid_argument_status) {
   lang::SourceManager sources;
   try {
-    return body(sources);
+    const int status = body(sources);
+    try {
+      flush_standard_output();
+    } catch (const OutputError& e) {
+      return report(who, e, status != exit_ok ? status : exit_usage);
+    }
+    return status;
   } catch (const lang::ModelError& e) {
     return report_model_error(e, sources);
   } catch (const lang::CsvError& e) {

@@ -14,9 +14,11 @@ namespace thermnet::cli {
 /// exit status.
 using CommandBody = std::function<int(lang::SourceManager& sources)>;
 
-/// Runs `body` and turns what it throws into a message on stderr and an exit status: a model error
-/// is printed compiler-style (report_model_error); every other error as "WHO: error: MESSAGE".
-/// Unwritable outputs (also a rewritten model with nowhere to go) and unreadable CSV files give 2;
+/// Runs `body`, then checks that what it printed on standard output arrived (a full disk gives
+/// 2), and turns what it throws into a message on stderr and an exit status: a model error is
+/// printed compiler-style (report_model_error); every other error as "WHO: error: MESSAGE".
+/// Unwritable outputs (also outputs onto inputs or onto each other, and a rewritten model with
+/// nowhere to go) and unreadable CSV files give 2;
 /// CSV content, solver, network, estimator and diagnosis errors give 1; std::invalid_argument (a
 /// bad option or input value) gives `invalid_argument_status`. Anything else is left to main()'s
 /// last-resort handler.

@@ -1,8 +1,8 @@
 #include "cli/sensitivity_command.hpp"
 
-#include "cli/atomic_file.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/output_files.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/calibration/sensitivity.hpp"
 #include "kernel/core/simulation.hpp"
@@ -97,6 +97,7 @@ int run_sensitivity(const SensitivityCommandOptions& o, lang::SourceManager& sou
   int status = exit_ok;
   auto model = load_checked_model(o.model, sources, status);
   if (!model) return status;
+  check_outputs({{"--json", o.json}}, model_inputs(*model));
   SensitivityOptions opt;
   opt.elements = o.elements;
   opt.cases = o.cases;
@@ -106,7 +107,7 @@ int run_sensitivity(const SensitivityCommandOptions& o, lang::SourceManager& sou
   for (const auto& n : r.notes)
     std::cerr << "thermnet sensitivity: note: " << n << "\n";
   std::cerr << fmt::format("thermnet sensitivity: {} simulations\n", r.simulations);
-  if (!o.json.empty()) write_file_atomically(o.json, to_json(*model, r).dump(2) + "\n");
+  if (!o.json.empty()) write_output_file(o.json, to_json(*model, r).dump(2) + "\n");
   return exit_ok;
 }
 

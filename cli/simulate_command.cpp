@@ -1,8 +1,8 @@
 #include "cli/simulate_command.hpp"
 
-#include "cli/atomic_file.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/output_stream.hpp"
 #include "cli/result_output.hpp"
 #include "cli/run_command.hpp"
 #include "cli/uncertainty.hpp"
@@ -37,13 +37,17 @@ struct SimulateOptions {
   int threads = 0;
 };
 
-/// Writes the CSV (to standard output without -o), then the plot if there is one.
+/// Writes a CSV known in full (to standard output without -o) and the plot, if there is one, as
+/// one unit.
 void write_outputs(const SimulateOptions& o, const std::string& csv, const std::string& svg) {
-  if (o.out.empty())
-    std::cout << csv;
-  else
-    write_file_atomically(o.out, csv);
-  if (!svg.empty()) write_file_atomically(o.plot, svg);
+  auto csv_out = open_output(o.out);
+  csv_out->write(csv);
+  std::unique_ptr<OutputStream> svg_out;
+  if (!o.plot.empty()) {
+    svg_out = std::make_unique<OutputStream>(o.plot);
+    svg_out->write(svg);
+  }
+  commit({csv_out.get(), svg_out.get()});
 }
 
 /// `--samples N`: bands over N draws of the ranged params instead of one run.
@@ -86,6 +90,7 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   int status = exit_ok;
   auto model = load_checked_model(o.model, sources, status);
   if (!model) return status;
+  check_outputs({{"-o", o.out}, {"--plot", o.plot}}, model_inputs(*model));
   SimulationOptions sim;
   if (!o.duration.empty()) sim.duration = parse_time(o.duration);
   if (!o.output_interval.empty()) sim.output = parse_time(o.output_interval);
@@ -98,15 +103,36 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
     return exit_ok;
   }
   Network net(model->instantiate(o.case_name));
+  std::vector<std::string> names;
+  for (const auto& n : net.spec().nodes)
+    names.push_back(n.name);
+  // The plotted columns are checked before the run; only they are kept for the plot, while the
+  // CSV goes out row by row.
+  const std::vector<std::size_t> plotted =
+      o.plot.empty() ? std::vector<std::size_t>{} : plot_columns(names, o.nodes);
+  SimulationResult kept;
+  for (std::size_t c : plotted)
+    kept.names.push_back(names[c]);
+  auto csv = open_output(o.out);
+  csv->write(result_csv_header(names));
   auto start = std::chrono::steady_clock::now();
-  SimulationResult r = simulate(net, sim);
+  const SolverStats stats = simulate(net, sim, [&](double t, const std::vector<double>& temps) {
+    csv->write(result_csv_row(t, temps));
+    if (plotted.empty()) return;
+    kept.times.push_back(t);
+    std::vector<double>& row = kept.temps.emplace_back();
+    for (std::size_t c : plotted)
+      row.push_back(temps[c]);
+  });
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (o.stats) print_stats(r.stats, wall);
-  std::string svg;
-  if (!o.plot.empty())
-    svg = plot_result_svg(r, o.nodes,
-                          fmt::format("{} — case {}", model->name(), net.spec().settings.name));
-  write_outputs(o, format_result_csv(r), svg);
+  if (o.stats) print_stats(stats, wall);
+  std::unique_ptr<OutputStream> svg;
+  if (!o.plot.empty()) {
+    svg = std::make_unique<OutputStream>(o.plot);
+    svg->write(plot_result_svg(
+        kept, fmt::format("{} — case {}", model->name(), net.spec().settings.name)));
+  }
+  commit({csv.get(), svg.get()});
   return exit_ok;
 }
 

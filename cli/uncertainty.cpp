@@ -7,9 +7,9 @@
 
 #include "cli/uncertainty.hpp"
 
+#include "cli/result_output.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/parallel.hpp"
-#include "lang/diagnostics.hpp"
 #include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
@@ -22,16 +22,6 @@ namespace thermnet::cli {
 namespace {
 
 constexpr double kZeroCelsius = 273.15;
-
-std::size_t node_column(const UncertaintyBands& b, const std::string& n) {
-  auto it = std::find(b.names.begin(), b.names.end(), n);
-  if (it == b.names.end()) {
-    std::string msg = fmt::format("--nodes: the model has no node or boundary '{}'", n);
-    if (auto s = lang::closest_match(n, b.names)) msg += fmt::format("; did you mean '{}'?", *s);
-    throw std::invalid_argument(msg);
-  }
-  return static_cast<std::size_t>(it - b.names.begin());
-}
 
 } // namespace
 
@@ -134,13 +124,7 @@ std::string format_bands_csv(const UncertaintyBands& b) {
 
 std::string plot_bands_svg(const UncertaintyBands& b, const std::vector<std::string>& nodes,
                            const std::string& title) {
-  std::vector<std::size_t> columns;
-  if (nodes.empty())
-    for (std::size_t i = 0; i < b.names.size(); ++i)
-      columns.push_back(i);
-  else
-    for (const auto& n : nodes)
-      columns.push_back(node_column(b, n));
+  const std::vector<std::size_t> columns = plot_columns(b.names, nodes);
   // The middle reported percentile (the median with the defaults) is drawn as the line.
   const std::size_t mid = b.percentiles.empty() ? 0 : 1 + b.percentiles.size() / 2;
   const std::string mid_label =

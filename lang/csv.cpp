@@ -1,5 +1,6 @@
 #include "lang/csv.hpp"
 
+#include "lang/display_text.hpp"
 #include "lang/source.hpp"
 
 #include <fmt/format.h>
@@ -54,6 +55,23 @@ bool is_missing(const std::string& s) {
   return l == "nan" || l == "na";
 }
 
+/// A byte order mark, written first by some spreadsheet programs; it is not part of the header.
+constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
+
+/// Fails when a header of one field separates its columns with ';' (a spreadsheet export with a
+/// locale whose decimal separator is ',').
+void reject_semicolons(const std::vector<std::string>& header, const std::string& path,
+                       std::size_t line_no) {
+  if (header.size() != 1) return;
+  const auto semicolon = header[0].find(';');
+  if (semicolon == std::string::npos) return;
+  throw CsvError(path, line_no, 1,
+                 fmt::format("the header separates its columns with ';' (at character {}); "
+                             "thermnet reads comma-separated values with '.' as the decimal "
+                             "point: export the file with ',' as the separator",
+                             semicolon + 1));
+}
+
 } // namespace
 
 CsvError::CsvError(const std::string& path, std::size_t row_, std::size_t column_,
@@ -72,7 +90,8 @@ int CsvTable::column_index(const std::string& name) const {
 CsvTable parse_csv(const std::string& text, const std::string& path) {
   CsvTable t;
   t.path = path;
-  std::size_t pos = 0, line_no = 0;
+  std::size_t pos = std::string_view(text).starts_with(kUtf8Bom) ? kUtf8Bom.size() : 0;
+  std::size_t line_no = 0;
   bool header = true;
   while (pos <= text.size()) {
     auto nl = text.find('\n', pos);
@@ -85,30 +104,41 @@ CsvTable parse_csv(const std::string& text, const std::string& path) {
     auto fields = split(line);
     if (header) {
       header = false;
+      reject_semicolons(fields, path, line_no);
       if (fields[0] != "time")
         throw CsvError(path, line_no, 1,
-                       fmt::format("the first column must be 'time', found '{}'", fields[0]));
+                       fmt::format("the first column must be 'time', found '{}'",
+                                   excerpt_for_display(fields[0])));
       for (std::size_t c = 0; c < fields.size(); ++c) {
         if (fields[c].empty()) throw CsvError(path, line_no, c + 1, "empty column name");
         for (std::size_t k = 0; k < c; ++k)
           if (fields[k] == fields[c])
-            throw CsvError(path, line_no, c + 1,
-                           fmt::format("column '{}' appears twice", fields[c]));
+            throw CsvError(
+                path, line_no, c + 1,
+                fmt::format("column '{}' appears twice", excerpt_for_display(fields[c])));
       }
       t.columns = fields;
       t.cells.assign(fields.size(), {});
       continue;
     }
     if (fields.size() != t.columns.size())
-      throw CsvError(
-          path, line_no, 0,
-          fmt::format("row has {} fields, the header has {}", fields.size(), t.columns.size()));
+      throw CsvError(path, line_no, 0,
+                     fmt::format("row has {} fields, the header has {}{}", fields.size(),
+                                 t.columns.size(),
+                                 line.find(';') == std::string_view::npos
+                                     ? ""
+                                     : " (fields are separated by ',', not ';')"));
     for (std::size_t c = 0; c < fields.size(); ++c) {
       double v = std::numeric_limits<double>::quiet_NaN();
       if (!is_missing(fields[c]) && !parse_number(fields[c], v))
-        throw CsvError(path, line_no, c + 1, fmt::format("'{}' is not a number", fields[c]));
+        throw CsvError(path, line_no, c + 1,
+                       fmt::format("'{}' is not a number{}", excerpt_for_display(fields[c]),
+                                   fields[c].find(';') == std::string::npos
+                                       ? ""
+                                       : " (fields are separated by ',', not ';')"));
       if (!std::isnan(v) && !std::isfinite(v))
-        throw CsvError(path, line_no, c + 1, fmt::format("'{}' is not finite", fields[c]));
+        throw CsvError(path, line_no, c + 1,
+                       fmt::format("'{}' is not finite", excerpt_for_display(fields[c])));
       if (c == 0) {
         if (std::isnan(v)) throw CsvError(path, line_no, 1, "the time is missing");
         if (!t.cells[0].empty() && !(v > t.cells[0].back()))
@@ -127,6 +157,12 @@ CsvTable read_csv(const std::string& path) {
   std::string text;
   if (auto error = read_text_file(path, text)) throw CsvError(path, 0, 0, *error);
   return parse_csv(text, path);
+}
+
+std::size_t rows_after(const CsvTable& t, double end) {
+  const std::vector<double>& time = t.time();
+  const double last = end + 1e-9 * std::max(1.0, std::abs(end)); // the round-off of `end`
+  return static_cast<std::size_t>(time.end() - std::upper_bound(time.begin(), time.end(), last));
 }
 
 void check_measured(const CsvTable& t) {

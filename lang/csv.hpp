@@ -30,10 +30,14 @@ struct CsvTable {
   const std::vector<double>& time() const { return cells.at(0); }
 };
 
-/// Parses CSV text; rows must have increasing time; empty cells and `nan` are missing (NaN).
+/// Parses CSV text (a leading UTF-8 byte order mark is skipped; ';' separators are refused with
+/// a hint); rows must have increasing time; empty cells and `nan` are missing (NaN).
 CsvTable parse_csv(const std::string& text, const std::string& path);
 /// Reads and parses a CSV file; throws CsvError (row 0 when the file cannot be read).
 CsvTable read_csv(const std::string& path);
+/// The number of rows whose time is after `end` (s; beyond its round-off, 1e-9 relative): the
+/// rows a case of that duration does not use.
+std::size_t rows_after(const CsvTable& t, double end);
 /// Checks a table as measured data (no negative time, at least one value); throws CsvError.
 void check_measured(const CsvTable& t);
 

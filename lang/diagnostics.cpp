@@ -2,6 +2,7 @@
 
 #include "lang/diagnostics.hpp"
 
+#include "lang/display_text.hpp"
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -204,9 +205,9 @@ void render_one(std::string& out, const SourceManager& sm, const Diagnostic& d, 
   out += pal.bold;
   if (pl.at) {
     const LineCol lc = sm.line_col(pl.at->file, pl.at->begin);
-    out += fmt::format("{}:{}:{}: ", sm.path(pl.at->file), lc.line, lc.column);
+    out += fmt::format("{}:{}:{}: ", escape_for_display(sm.path(pl.at->file)), lc.line, lc.column);
   } else {
-    out += pl.hint.empty() ? std::string("thermnet") : pl.hint;
+    out += pl.hint.empty() ? std::string("thermnet") : escape_for_display(pl.hint);
     out += ": ";
   }
   out += pal.reset;
@@ -215,7 +216,7 @@ void render_one(std::string& out, const SourceManager& sm, const Diagnostic& d, 
   out += ": ";
   out += pal.reset;
   out += pal.bold;
-  out += d.message;
+  out += escape_for_display(d.message);
   // Notes carry the generic code "note"; only errors and warnings name their kind.
   if (d.severity != Severity::note && !d.code.empty()) out += fmt::format(" [{}]", d.code);
   out += pal.reset;
@@ -243,14 +244,14 @@ nlohmann::json json_of(const SourceManager& sm, const Diagnostic& d, const Place
     const LineCol b = sm.line_col(pl.at->file, pl.at->begin);
     const Span mark = pl.mark ? *pl.mark : *pl.at;
     const LineCol e = sm.line_col(mark.file, std::max(mark.end, mark.begin));
-    j["file"] = sm.path(pl.at->file);
+    j["file"] = escape_for_display(sm.path(pl.at->file));
     j["line"] = b.line;
     j["column"] = b.column;
     j["end_line"] = e.line;
     j["end_column"] = e.column;
   } else {
     // About a whole file (unreadable, ...): its start, so positions stay 1-based (cli.md).
-    j["file"] = pl.hint;
+    j["file"] = escape_for_display(pl.hint);
     j["line"] = 1;
     j["column"] = 1;
     j["end_line"] = 1;
@@ -258,7 +259,7 @@ nlohmann::json json_of(const SourceManager& sm, const Diagnostic& d, const Place
   }
   j["severity"] = severity_name(d.severity);
   j["code"] = d.code;
-  j["message"] = d.message;
+  j["message"] = escape_for_display(d.message);
   nlohmann::json notes = nlohmann::json::array();
   for (const Diagnostic& n : d.notes)
     notes.push_back(json_of(sm, n, place_of_note(sm, n, pl)));
@@ -325,7 +326,7 @@ public:
     r["ruleId"] = d.code;
     r["ruleIndex"] = rule_index(d.code);
     r["level"] = sarif_level(d.severity);
-    r["message"] = {{"text", d.message}};
+    r["message"] = {{"text", escape_for_display(d.message)}};
     if (auto loc = physical(pl))
       r["locations"] = nlohmann::json::array({{{"physicalLocation", *loc}}});
     nlohmann::json related = nlohmann::json::array();
@@ -396,7 +397,7 @@ private:
       nlohmann::json loc;
       loc["id"] = related.size();
       if (auto phys = physical(np)) loc["physicalLocation"] = *phys;
-      loc["message"] = {{"text", n.message}};
+      loc["message"] = {{"text", escape_for_display(n.message)}};
       related.push_back(std::move(loc));
       collect_notes(n, np, related);
     }

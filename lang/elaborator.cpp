@@ -710,6 +710,19 @@ void Elaborator::apply_case(NetworkSpec& net) {
   if (!seen.count("duration"))
     report(DiagnosticEngine::make(DiagId::missing_duration, Span{f, s.where.begin, s.where.begin},
                                   case_->name_span, s.name));
+  else if (data_times_)
+    warn_data_beyond_duration(s);
+}
+
+void Elaborator::warn_data_beyond_duration(const CaseSettings& s) {
+  const std::size_t after = rows_after(data_times_->table, *s.duration);
+  if (after == 0) return;
+  report(DiagnosticEngine::make(
+      DiagId::data_beyond_duration, data_times_->at, data_times_->mark,
+      fs::path(s.data_path).filename().string(),
+      after == 1 ? std::string("1 row") : fmt::format("{} rows", after), s.name,
+      fmt::format("{:g} s; last row at {:g} s", *s.duration, data_times_->table.time().back()),
+      after == 1 ? "it is" : "they are"));
 }
 
 void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, FileId f) {
@@ -809,6 +822,7 @@ void Elaborator::check_data(const NetworkSpec& net, const std::string& path, Spa
   try {
     CsvTable t = read_csv(path);
     check_measured(t);
+    data_times_ = DataTimes{CsvTable{path, {"time"}, {t.time()}}, at, mark};
     for (std::size_t c = 1; c < t.columns.size(); ++c) {
       if (net.node_index(t.columns[c]) >= 0 || m_.declared_by_unparsed(t.columns[c])) continue;
       Diagnostic d = DiagnosticEngine::make(DiagId::data_unknown_column, at, mark, t.columns[c]);

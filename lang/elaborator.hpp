@@ -2,10 +2,12 @@
 /// Elaboration: turns a Model's declarations, for one case and one set of param values, into a
 /// NetworkSpec, reporting every problem through a callback (lint collects, simulate throws).
 
+#include "lang/csv.hpp"
 #include "lang/evaluator.hpp"
 #include "lang/model.hpp"
 
 #include <functional>
+#include <optional>
 #include <set>
 #include <unordered_map>
 
@@ -60,12 +62,21 @@ private:
   void apply_case(NetworkSpec& net);
   void apply_override(NetworkSpec& net, const ast::CaseAssign& a, FileId f);
   void check_data(const NetworkSpec& net, const std::string& path, Span at, Span mark);
+  /// Warns about rows of the case's data file after its duration (read by check_data()).
+  void warn_data_beyond_duration(const CaseSettings& s);
 
   const Model& m_;
   Reporter report_;
   const CaseDecl* case_;
   ParamValues overrides_;
   bool check_data_;
+  /// The time column of the case's data file and where the case names it.
+  struct DataTimes {
+    CsvTable table; ///< the time column only
+    Span at;        ///< the data statement
+    Span mark;      ///< its path
+  };
+  std::optional<DataTimes> data_times_; ///< set by check_data()
   std::unordered_map<std::string, const ValueDecl*> value_decls_;
   std::unordered_map<std::string, Quantity> values_;
   std::unordered_map<std::string, std::pair<double, double>> ranges_;

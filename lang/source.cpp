@@ -2,11 +2,13 @@
 
 #include "lang/source.hpp"
 
+#include "lang/path_policy.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <limits>
+#include <unistd.h>
 
 namespace thermnet::lang {
 
@@ -84,26 +86,35 @@ std::size_t content_end(const std::string& text, std::size_t start, std::size_t 
 } // namespace
 
 std::optional<std::string> read_text_file(const std::string& path, std::string& text) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (fs::is_directory(st)) return "it is a directory";
-  if (fs::is_character_file(st) || fs::is_block_file(st) || fs::is_socket(st))
-    return "it is a device, not a regular file";
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::string(std::strerror(errno));
-  // Read in chunks so that a pipe or a file growing without end stops at the limit.
+  int fd = -1;
+  std::size_t size = 0;
+  if (auto problem = open_model_file(path, max_file_bytes, fd, size)) return problem;
+  // A regular file whose size fstat knows: read that much (and stop at the limit should it grow).
   text.clear();
-  std::string chunk(std::size_t{1} << 20, '\0');
-  while (in) {
-    in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
-    text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
-    if (text.size() > max_file_bytes) {
-      text.clear();
-      return "it is larger than 1 GiB";
+  text.resize(size);
+  std::size_t got = 0;
+  for (;;) {
+    if (got == text.size()) {
+      if (text.size() > max_file_bytes) break;
+      text.resize(std::min(text.size() + (std::size_t{1} << 20), max_file_bytes + 1));
     }
+    const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const int err = errno;
+      ::close(fd);
+      text.clear();
+      return std::string(std::strerror(err));
+    }
+    if (n == 0) break;
+    got += static_cast<std::size_t>(n);
   }
-  if (in.bad()) return std::string(std::strerror(errno));
+  ::close(fd);
+  text.resize(got);
+  if (text.size() > max_file_bytes) {
+    text.clear();
+    return "it is larger than 1 GiB";
+  }
   return std::nullopt;
 }
 

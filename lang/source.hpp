@@ -29,8 +29,10 @@ struct LineCol {
 /// Largest file read as a model, include or data file (offsets in a Span are 32-bit).
 inline constexpr std::size_t max_file_bytes = std::size_t{1} << 30;
 
-/// Reads a whole file into `text`; returns an error message instead for a directory, a device, a
-/// file larger than max_file_bytes or an unreadable file.
+/// Reads a whole file into `text`; returns an error message instead for a path the process-wide
+/// PathPolicy refuses (outside the model's folder tree), a directory, a FIFO, a device, a file of
+/// /proc or /sys, a file larger than max_file_bytes (checked with fstat before reading) or an
+/// unreadable file. Never blocks on a FIFO.
 std::optional<std::string> read_text_file(const std::string& path, std::string& text);
 
 /// Owns the text of every file read for a model and maps offsets to lines and columns.

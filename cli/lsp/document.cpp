@@ -3,6 +3,7 @@
 #include "cli/lsp/uri.hpp"
 #include "cli/model_loading.hpp"
 #include "kernel/core/element_registry.hpp"
+#include "lang/path_policy.hpp"
 
 #include <exception>
 
@@ -23,10 +24,15 @@ void Document::analyse() {
   // The model points into the sources: drop it first, then rebuild all three together.
   model_.reset();
   diags_.reset();
+  lines_ = std::make_unique<LineIndex>(text_);
   sources_ = std::make_unique<lang::SourceManager>();
   diags_ = std::make_unique<lang::DiagnosticEngine>(*sources_);
-  model_ =
-      lang::Model::from_text(path_, text_, element_catalog(), *sources_, *diags_, load_options());
+  // Files the document names are read from its folder tree only (an untitled document has none).
+  lang::PathPolicy policy = lang::policy_for_model(path_);
+  if (path_.empty()) policy.root = "/nonexistent/untitled document";
+  lang::set_path_policy(policy);
+  model_ = lang::Model::from_text(path_, text_, element_catalog(), *sources_, *diags_,
+                                  load_options(ModelPlugins::never, "the language server"));
   try {
     model_->lint(*diags_);
   } catch (const std::exception& e) {

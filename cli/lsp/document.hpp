@@ -1,6 +1,7 @@
 #pragma once
 /// An open document of the language server and its latest analysis (parse, declarations, lint).
 
+#include "cli/lsp/position.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/model.hpp"
 
@@ -31,6 +32,8 @@ public:
   const lang::SourceManager& sources() const { return *sources_; }
   /// The id of the document itself among the sources.
   lang::FileId root() const { return root_; }
+  /// The line starts of the current text (positions in time proportional to lines, not text).
+  const LineIndex& lines() const { return *lines_; }
   /// Every diagnostic of the analysis, sorted.
   const lang::DiagnosticEngine& diagnostics() const { return *diags_; }
 
@@ -44,6 +47,7 @@ private:
   std::unique_ptr<lang::DiagnosticEngine> diags_;
   std::unique_ptr<lang::Model> model_;
   lang::FileId root_ = 0;
+  std::unique_ptr<LineIndex> lines_;
 };
 
 } // namespace thermnet::cli::lsp

@@ -4,6 +4,8 @@
 #include <cctype>
 #include <charconv>
 
+#include <fmt/format.h>
+
 namespace thermnet::cli::lsp {
 namespace {
 
@@ -22,6 +24,21 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
+/// Reads one line up to '\n' into `line`, keeping at most max_header_line_bytes of it (the rest is
+/// read and dropped, so a huge line costs no memory); false at the end of the input.
+bool read_header_line(std::istream& in, std::string& line, bool& too_long) {
+  line.clear();
+  too_long = false;
+  for (int c = in.get(); c != std::char_traits<char>::eof(); c = in.get()) {
+    if (c == '\n') return true;
+    if (line.size() < max_header_line_bytes)
+      line += static_cast<char>(c);
+    else
+      too_long = true;
+  }
+  return !line.empty() || too_long;
+}
+
 } // namespace
 
 Frame read_frame(std::istream& in) {
@@ -31,9 +48,19 @@ Frame read_frame(std::istream& in) {
   bool have_length = false;
   std::size_t length = 0;
   std::string problem;
+  std::size_t header_bytes = 0;
   while (true) {
-    if (!std::getline(in, line)) return f; // eof, possibly inside a header block
+    bool too_long = false;
+    if (!read_header_line(in, line, too_long)) return f; // eof, possibly inside a header block
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    header_bytes += line.size();
+    if (too_long || header_bytes > max_header_line_bytes) {
+      problem = fmt::format("a header longer than {} bytes", max_header_line_bytes);
+      if (too_long) { // only its first bytes were kept: nothing to parse
+        any_header = true;
+        continue;
+      }
+    }
     if (line.empty()) {
       if (!any_header) continue; // stray blank lines between messages
       break;
@@ -57,7 +84,10 @@ Frame read_frame(std::istream& in) {
     f.status = Frame::Status::bad_header;
     f.error = !problem.empty() ? problem
               : !have_length   ? std::string("no Content-Length header")
-                               : std::string("message too large");
+                             : fmt::format("message too large ({} bytes; the limit is {})", length,
+                                           max_message_bytes);
+    // Skip the body of a framed message (too large, or with a header too long), unkept.
+    if (have_length) in.ignore(static_cast<std::streamsize>(length));
     return f;
   }
   f.body.resize(length);

@@ -10,6 +10,8 @@ namespace thermnet::cli::lsp {
 
 /// Largest message body accepted (a bigger one is refused as a bad header).
 inline constexpr std::size_t max_message_bytes = std::size_t{64} << 20;
+/// Largest header block kept (its lines together); a longer one is read, dropped and refused.
+inline constexpr std::size_t max_header_line_bytes = std::size_t{8} << 10;
 
 /// One message read from the stream.
 struct Frame {

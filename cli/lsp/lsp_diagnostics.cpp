@@ -2,6 +2,7 @@
 
 #include "cli/lsp/position.hpp"
 #include "cli/lsp/uri.hpp"
+#include "lang/display_text.hpp"
 
 #include <fmt/format.h>
 
@@ -34,26 +35,28 @@ nlohmann::json diagnostic_json(const Document& doc, const lang::Diagnostic& d) {
   nlohmann::json out = {{"severity", severity_code(d.severity)},
                         {"code", d.code},
                         {"source", "thermnet"},
-                        {"message", d.message}};
+                        {"message", lang::escape_for_display(d.message)}};
   if (d.at && d.at->file == doc.root()) {
     lang::Span s = d.mark && d.mark->file == doc.root() ? *d.mark : *d.at;
-    out["range"] = range_json(doc.text(), s.begin, s.end);
+    out["range"] = doc.lines().range(s.begin, s.end);
   } else {
-    out["range"] = range_json(doc.text(), 0, 0);
+    out["range"] = doc.lines().range(0, 0);
     if (d.at) {
       lang::LineCol lc = sources.line_col(d.at->file, d.at->begin);
-      out["message"] =
-          fmt::format("{}:{}:{}: {}", sources.path(d.at->file), lc.line, lc.column, d.message);
+      out["message"] = lang::escape_for_display(
+          fmt::format("{}:{}:{}: {}", sources.path(d.at->file), lc.line, lc.column, d.message));
     } else if (!d.file_hint.empty()) {
-      out["message"] = fmt::format("{}: {}", d.file_hint, d.message);
+      out["message"] = lang::escape_for_display(fmt::format("{}: {}", d.file_hint, d.message));
     }
   }
   nlohmann::json related = nlohmann::json::array();
   for (const auto& n : d.notes)
     if (n.at)
-      related.push_back({{"location", location_json(doc, *n.at)}, {"message", n.message}});
+      related.push_back({{"location", location_json(doc, *n.at)},
+                         {"message", lang::escape_for_display(n.message)}});
     else
-      out["message"] = out["message"].get<std::string>() + "\nnote: " + n.message;
+      out["message"] =
+          out["message"].get<std::string>() + "\nnote: " + lang::escape_for_display(n.message);
   if (!related.empty()) out["relatedInformation"] = related;
   return out;
 }

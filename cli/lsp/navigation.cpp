@@ -84,15 +84,15 @@ nlohmann::json document_symbols(const Document& doc) {
   std::stable_sort(decls.begin(), decls.end(),
                    [](const Decl& a, const Decl& b) { return a.where.begin < b.where.begin; });
   nlohmann::json out = nlohmann::json::array();
-  const std::string& text = doc.text();
+  const LineIndex& lines = doc.lines();
   for (const auto& d : decls) {
     std::uint32_t begin = std::min(d.where.begin, d.name_span.begin);
     std::uint32_t end = std::max(d.where.end, d.name_span.end);
     out.push_back({{"name", d.name},
                    {"detail", d.detail},
                    {"kind", d.kind},
-                   {"range", range_json(text, begin, end)},
-                   {"selectionRange", range_json(text, d.name_span.begin, d.name_span.end)}});
+                   {"range", lines.range(begin, end)},
+                   {"selectionRange", lines.range(d.name_span.begin, d.name_span.end)}});
   }
   return out;
 }

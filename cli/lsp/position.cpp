@@ -13,25 +13,45 @@ std::size_t sequence_length(unsigned char lead) {
   return 1;
 }
 
+/// UTF-16 code units from `line_start` up to `offset` (an offset inside a sequence counts up to
+/// its start).
+int utf16_units(std::string_view text, std::size_t line_start, std::size_t offset) {
+  int units = 0;
+  for (std::size_t i = line_start; i < offset;) {
+    const std::size_t n = sequence_length(static_cast<unsigned char>(text[i]));
+    if (i + n > offset) break;
+    units += n == 4 ? 2 : 1;
+    i += n;
+  }
+  return units;
+}
+
 } // namespace
 
 Position position_at(std::string_view text, std::size_t offset) {
-  offset = std::min(offset, text.size());
+  return LineIndex(text.substr(0, std::min(offset, text.size()))).position(offset);
+}
+
+LineIndex::LineIndex(std::string_view text) : text_(text), starts_{0} {
+  for (std::size_t i = 0; i < text.size(); ++i)
+    if (text[i] == '\n') starts_.push_back(i + 1);
+}
+
+Position LineIndex::position(std::size_t offset) const {
+  offset = std::min(offset, text_.size());
+  // The last line start not after `offset` (starts_[0] == 0, so never begin()).
+  const auto it = std::upper_bound(starts_.begin(), starts_.end(), offset) - 1;
   Position p;
-  std::size_t line_start = 0;
-  for (std::size_t i = 0; i < offset; ++i)
-    if (text[i] == '\n') {
-      ++p.line;
-      line_start = i + 1;
-    }
-  for (std::size_t i = line_start; i < offset;) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    const std::size_t n = sequence_length(c);
-    if (i + n > offset) break; // an offset inside a sequence counts up to its start
-    p.character += n == 4 ? 2 : 1;
-    i += n;
-  }
+  p.line = static_cast<int>(it - starts_.begin());
+  p.character = utf16_units(text_, *it, offset);
   return p;
+}
+
+nlohmann::json LineIndex::range(std::size_t begin, std::size_t end) const {
+  const Position b = position(begin);
+  const Position e = position(std::max(begin, end));
+  return {{"start", {{"line", b.line}, {"character", b.character}}},
+          {"end", {{"line", e.line}, {"character", e.character}}}};
 }
 
 std::size_t offset_at(std::string_view text, Position p) {
@@ -54,10 +74,7 @@ std::size_t offset_at(std::string_view text, Position p) {
 }
 
 nlohmann::json range_json(std::string_view text, std::size_t begin, std::size_t end) {
-  Position b = position_at(text, begin);
-  Position e = position_at(text, std::max(begin, end));
-  return {{"start", {{"line", b.line}, {"character", b.character}}},
-          {"end", {{"line", e.line}, {"character", e.character}}}};
+  return LineIndex(text.substr(0, std::min(std::max(begin, end), text.size()))).range(begin, end);
 }
 
 Position position_from_json(const nlohmann::json& j) {

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <string_view>
+#include <vector>
 
 namespace thermnet::cli::lsp {
 
@@ -22,6 +23,22 @@ std::size_t offset_at(std::string_view text, Position p);
 
 /// `{"start": ..., "end": ...}` of the byte range [begin, end).
 nlohmann::json range_json(std::string_view text, std::size_t begin, std::size_t end);
+
+/// The line starts of a text, for positions of many offsets in time proportional to their lines
+/// (position_at() scans from the start of the text each time).
+class LineIndex {
+public:
+  /// Indexes `text`, which must outlive the index.
+  explicit LineIndex(std::string_view text);
+  /// The position of a byte offset (clamped to the text's end), like position_at().
+  Position position(std::size_t offset) const;
+  /// `{"start": ..., "end": ...}` of the byte range [begin, end), like range_json().
+  nlohmann::json range(std::size_t begin, std::size_t end) const;
+
+private:
+  std::string_view text_;
+  std::vector<std::size_t> starts_;
+};
 
 /// Reads `{"line": L, "character": C}`; throws nlohmann::json::exception when malformed.
 Position position_from_json(const nlohmann::json& j);

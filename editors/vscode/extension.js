@@ -9,9 +9,10 @@ const vscode = require('vscode');
 
 let client;
 
-/** Full path of an executable found on PATH, or undefined. */
+/** Full path of an executable found in an absolute PATH entry, or undefined. */
 function findOnPath(name) {
-  const dirs = (process.env.PATH || '').split(path.delimiter).filter(Boolean);
+  // Relative entries ('.', 'bin') would find a `thermnet` planted in an untrusted workspace.
+  const dirs = (process.env.PATH || '').split(path.delimiter).filter((d) => d && path.isAbsolute(d));
   const exts = process.platform === 'win32'
     ? (process.env.PATHEXT || '.EXE;.CMD;.BAT;.COM').split(';').concat([''])
     : [''];

@@ -1,5 +1,6 @@
 // IDA stepper for systems with algebraic (zero-capacity) nodes: residual C T' - F(t, T) = 0.
 
+#include "kernel/core/absolute_zero.hpp"
 #include "kernel/core/fast_kernels.hpp"
 #include "kernel/core/sundials_stepper.hpp"
 
@@ -18,6 +19,9 @@ namespace thermnet::detail {
 namespace {
 
 using sundials::Api;
+
+/// Newton iterations (one Jacobian each) of the exact-Newton retry of IDACalcIC.
+constexpr int kExactNewtonIterationsIC = 100;
 
 SystemEvaluator& evaluator(void* user_data) {
   return *static_cast<SystemEvaluator*>(user_data);
@@ -145,7 +149,7 @@ public:
       chk_.call(Api::ida, "IDASetNoInactiveRootWarn", IDASetNoInactiveRootWarn, mem);
     }
     chk_.call(Api::ida, "IDASetStopTime", IDASetStopTime, mem, stop);
-    consistent_initial_conditions(stop);
+    consistent_initial_conditions(t0, stop);
   }
 
   void restart(double t, double stop) override {
@@ -153,7 +157,7 @@ public:
     ev_.set_window(t, stop);
     chk_.call(Api::ida, "IDAReInit", IDAReInit, mem_.get(), t, y_.get(), yp_.get());
     chk_.call(Api::ida, "IDASetStopTime", IDASetStopTime, mem_.get(), stop);
-    consistent_initial_conditions(stop);
+    consistent_initial_conditions(t, stop);
   }
 
   StepResult step(double stop, double& t) override {
@@ -184,11 +188,60 @@ private:
     }
   }
 
-  /// Algebraic temperatures and all T' consistent with the differential temperatures at the start.
-  void consistent_initial_conditions(double stop) {
+  /// Algebraic temperatures and all T' consistent with the differential temperatures at time t.
+  /// T^4 has a negative root too: from a start above 0 K the search stays there (the physical
+  /// root), first with IDA's modified Newton, then, should that fail, with exact Newton (a fresh
+  /// Jacobian every iteration: the T^4 slope changes by orders of magnitude on the way). Should
+  /// that fail too, an unconstrained search tells whether the state lies below 0 K (a failure
+  /// naming the node). While stepping, the driver reports a temperature going below 0 K.
+  void consistent_initial_conditions(double t, double stop) {
     void* mem = mem_.get();
-    chk_.call(Api::ida, "IDACalcIC", IDACalcIC, mem, IDA_YA_YDP_INIT, stop);
+    const bool positive = N_VMin(y_.get()) > 0.0;
+    if (positive) {
+      if (!positive_) {
+        positive_.reset(chk_.created(N_VNew_Serial(n_, ctx_.get()), "N_VNew_Serial"));
+        N_VConst(2.0, positive_.get());
+        y_start_.reset(chk_.created(N_VClone(y_.get()), "N_VClone"));
+        yp_start_.reset(chk_.created(N_VClone(yp_.get()), "N_VClone"));
+      }
+      N_VScale(1.0, y_.get(), y_start_.get());
+      N_VScale(1.0, yp_.get(), yp_start_.get());
+      int flag = calc_ic(stop, true, false);
+      if (flag < 0) flag = calc_ic_again(t, stop, true, true);
+      if (flag < 0) calc_ic_again(t, stop, false, true);
+    } else {
+      chk_.check(Api::ida, calc_ic(stop, false, false), "IDACalcIC");
+    }
     chk_.call(Api::ida, "IDAGetConsistentIC", IDAGetConsistentIC, mem, y_.get(), yp_.get());
+    const double* y = NV_DATA_S(y_.get());
+    if (const int i = coldest_below_absolute_zero(y, n_); i >= 0)
+      fail_below_absolute_zero(
+          ev_, {.unknown = i, .crossing = t, .kelvin = y[i], .reached = t, .steady = false},
+          "IDACalcIC");
+  }
+
+  /// IDACalcIC from the current start, kept above 0 K or not, with exact Newton or IDA's default
+  /// (up to 10 iterations per Jacobian); returns its flag unchecked.
+  int calc_ic(double stop, bool constrained, bool exact) {
+    void* mem = mem_.get();
+    chk_.call(Api::ida, "IDASetConstraints", IDASetConstraints, mem,
+              constrained ? positive_.get() : nullptr);
+    chk_.call(Api::ida, "IDASetMaxNumItersIC", IDASetMaxNumItersIC, mem, exact ? 1 : 10);
+    chk_.call(Api::ida, "IDASetMaxNumJacsIC", IDASetMaxNumJacsIC, mem,
+              exact ? kExactNewtonIterationsIC : 4);
+    const int flag = IDACalcIC(mem, IDA_YA_YDP_INIT, stop);
+    chk_.call(Api::ida, "IDASetConstraints", IDASetConstraints, mem, nullptr);
+    return flag;
+  }
+
+  /// calc_ic() again from the start saved by consistent_initial_conditions(); the last attempt
+  /// (unconstrained) has its failure thrown.
+  int calc_ic_again(double t, double stop, bool constrained, bool exact) {
+    void* mem = mem_.get();
+    chk_.call(Api::ida, "IDAReInit", IDAReInit, mem, t, y_start_.get(), yp_start_.get());
+    chk_.call(Api::ida, "IDASetStopTime", IDASetStopTime, mem, stop);
+    const int flag = calc_ic(stop, constrained, exact);
+    return constrained ? flag : chk_.check(Api::ida, flag, "IDACalcIC");
   }
 
   /// Consistent initial conditions failed: names the arithmetic nodes connected to nothing, the
@@ -205,6 +258,9 @@ private:
 
   sundials::NVector yp_;
   sundials::NVector id_;
+  sundials::NVector positive_; // the constraint T > 0 of consistent_initial_conditions()
+  sundials::NVector y_start_;  // its starting state, for the unconstrained retry
+  sundials::NVector yp_start_; // and starting T'
   sundials::IdaMemory mem_;
 };
 

@@ -3,6 +3,7 @@
 
 #include "kernel/core/integrator.hpp"
 
+#include "kernel/core/absolute_zero.hpp"
 #include "kernel/core/linear_solver_choice.hpp"
 #include "kernel/core/system_evaluator.hpp"
 #include "kernel/core/transient_stepper.hpp"
@@ -158,6 +159,7 @@ public:
       // until the integration has passed the time where it occurred.
       if (ev_.nonfinite().seen && t_ > ev_.nonfinite().time) ev_.clear_nonfinite();
       check_progress(r, t_before);
+      check_absolute_zero(t_before);
       outputs_.emit_passed(t_, y_, stepper_);
       if (r == detail::StepResult::root_found && !apply_events()) return;
       if (r == detail::StepResult::stop_reached && !next_segment()) return;
@@ -190,6 +192,24 @@ private:
     chk_.fail(step_call_, 0, "step size underflow",
               "the step size shrank to the round-off of the time (a discontinuity may lack a "
               "breakpoint)");
+  }
+
+  /// A temperature below 0 K at the end of the step from t_before fails the run, naming the node
+  /// and the time it crossed 0 K (bisected on the step's dense output).
+  void check_absolute_zero(double t_before) {
+    const int i = detail::coldest_below_absolute_zero(y_, n_);
+    if (i < 0) return;
+    const auto iu = static_cast<std::size_t>(i);
+    ylook_.resize(static_cast<std::size_t>(n_));
+    double lo = t_before, hi = t_;
+    for (int k = 0; k < 100 && hi - lo > time_resolution(lo, hi); ++k) {
+      const double mid = 0.5 * (lo + hi);
+      stepper_.interpolate(mid, ylook_.data());
+      (ylook_[iu] < 0.0 ? hi : lo) = mid;
+    }
+    detail::fail_below_absolute_zero(
+        ev_, {.unknown = i, .crossing = hi, .kelvin = y_[i], .reached = t_, .steady = false},
+        step_call_);
   }
 
   /// Restarts at t towards the next segment end far enough away; false when t1 is reached.

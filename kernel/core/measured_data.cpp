@@ -23,9 +23,13 @@ std::size_t MeasuredData::points() const {
 MeasuredData load_measured(const std::string& path, const lang::NetworkSpec& spec) {
   lang::CsvTable table = lang::read_csv(path);
   lang::check_measured(table);
+  // Rows after the case's duration are not used (lint warns about them: data-beyond-duration).
+  const std::size_t used =
+      table.rows() -
+      (spec.settings.duration ? lang::rows_after(table, *spec.settings.duration) : 0);
   MeasuredData data;
   data.path = path;
-  data.times = table.time();
+  data.times.assign(table.time().begin(), table.time().begin() + static_cast<long>(used));
   for (std::size_t c = 1; c < table.columns.size(); ++c) {
     const std::string& name = table.columns[c];
     int index = spec.node_index(name);
@@ -35,11 +39,15 @@ MeasuredData load_measured(const std::string& path, const lang::NetworkSpec& spe
     MeasuredSeries s;
     s.node = name;
     s.node_index = index;
-    s.values = table.cells[c];
+    s.values.assign(table.cells[c].begin(), table.cells[c].begin() + static_cast<long>(used));
     for (double& v : s.values)
       if (!std::isnan(v)) v += kZeroCelsius;
     data.series.push_back(std::move(s));
   }
+  if (data.points() == 0)
+    throw lang::CsvError(path, 1, 0,
+                         fmt::format("no measured value within the case's duration of {:g} s",
+                                     spec.settings.duration.value_or(0.0)));
   return data;
 }
 

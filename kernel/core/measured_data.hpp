@@ -25,8 +25,9 @@ struct MeasuredData {
   std::size_t points() const;
 };
 
-/// Reads a case's data file and matches its columns to the spec's nodes; degC -> K.
-/// Throws lang::CsvError on a malformed file or a column that names no node (row 1, that column).
+/// Reads a case's data file and matches its columns to the spec's nodes; degC -> K. Rows after
+/// the case's duration are left out. Throws lang::CsvError on a malformed file, a column that
+/// names no node (row 1, that column) or no measured value within the duration.
 MeasuredData load_measured(const std::string& path, const lang::NetworkSpec& spec);
 
 } // namespace thermnet

@@ -50,23 +50,20 @@ SolverStats steady_with_switches(Network& net, std::vector<double>& T, const Sol
 
 } // namespace
 
-SimulationResult simulate(Network& net, const SimulationOptions& opt) {
+SolverStats simulate(Network& net, const SimulationOptions& opt, const RowCallback& row) {
   const auto& settings = net.spec().settings;
-  SimulationResult r;
-  for (const auto& n : net.spec().nodes)
-    r.names.push_back(n.name);
   std::vector<double> T = net.initial_state();
+  std::vector<double> all(net.spec().nodes.size());
   auto record = [&](double t, const std::vector<double>& x) {
-    std::vector<double> all(net.spec().nodes.size());
     net.expand(t, x.data(), all.data());
-    r.times.push_back(t);
-    r.temps.push_back(std::move(all));
+    row(t, all);
   };
+  SolverStats steady;
   if (opt.steady || settings.initial_steady) {
-    r.stats = steady_with_switches(net, T, opt.solver);
+    steady = steady_with_switches(net, T, opt.solver);
     if (opt.steady) {
       record(0.0, T);
-      return r;
+      return steady;
     }
   }
   std::optional<double> duration = opt.duration ? opt.duration : settings.duration;
@@ -79,12 +76,20 @@ SimulationResult simulate(Network& net, const SimulationOptions& opt) {
   if (*duration / interval > 1e7)
     throw std::invalid_argument(fmt::format(
         "{:g} output rows requested; use a longer output interval", *duration / interval));
-  std::vector<double> times = output_times(*duration, interval);
-  r.times.reserve(times.size());
-  r.temps.reserve(times.size());
-  SolverStats s = integrate(net, T, 0.0, *duration, times, record, opt.solver);
-  if (settings.initial_steady) s.steps += r.stats.steps;
-  r.stats = s;
+  SolverStats s =
+      integrate(net, T, 0.0, *duration, output_times(*duration, interval), record, opt.solver);
+  if (settings.initial_steady) s.steps += steady.steps;
+  return s;
+}
+
+SimulationResult simulate(Network& net, const SimulationOptions& opt) {
+  SimulationResult r;
+  for (const auto& n : net.spec().nodes)
+    r.names.push_back(n.name);
+  r.stats = simulate(net, opt, [&r](double t, const std::vector<double>& temps) {
+    r.times.push_back(t);
+    r.temps.push_back(temps);
+  });
   return r;
 }
 

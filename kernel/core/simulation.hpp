@@ -4,6 +4,7 @@
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
 
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -28,8 +29,16 @@ struct SimulationResult {
 /// The output times of a run: 0, dt, 2 dt, ... and the end time exactly.
 std::vector<double> output_times(double duration, double interval);
 
+/// Receives one output row: its time (s) and the temperature of every node and boundary (spec
+/// order), K.
+using RowCallback = std::function<void(double t, const std::vector<double>& temps)>;
+
 /// Simulates a network; throws SolverError on solver failure and std::invalid_argument on bad
 /// options.
 SimulationResult simulate(Network& net, const SimulationOptions& opt = {});
+
+/// Like simulate(), but hands each row to `row` as soon as it is computed instead of keeping it
+/// (a large network's whole result need not fit in memory); returns the solver counters.
+SolverStats simulate(Network& net, const SimulationOptions& opt, const RowCallback& row);
 
 } // namespace thermnet

@@ -2,6 +2,7 @@
 
 #include "kernel/core/integrator.hpp"
 
+#include "kernel/core/absolute_zero.hpp"
 #include "kernel/core/fast_kernels.hpp"
 #include "kernel/core/linear_solver_choice.hpp"
 #include "kernel/core/sundials_check.hpp"
@@ -16,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -65,7 +67,7 @@ public:
   /// Sets up F(t, T) = 0 from the guess T with the linear solver `kind` (not automatic).
   SteadyProblem(detail::SystemEvaluator& ev, double t, const std::vector<double>& T,
                 LinearSolverKind kind, const SolverOptions& opt)
-      : ev_(ev), t_(t), n_(ev.size()), data_{&ev, t} {
+      : ev_(ev), t_(t), n_(ev.size()), kind_(kind), data_{&ev, t} {
     chk_.steady = true;
     chk_.pending = &ev_.pending;
     const SUNContext sc = ctx_.get();
@@ -79,23 +81,38 @@ public:
     N_VConst(1.0, uscale_.get());
     scale_residuals();
     // Temperatures are absolute: keep the iterates above 0 K when the guess is.
-    const bool positive = std::all_of(T.begin(), T.end(), [](double x) { return x > 0.0; });
-    N_VConst(positive ? 2.0 : 0.0, constraints_.get());
+    positive_ = std::all_of(T.begin(), T.end(), [](double x) { return x > 0.0; });
+    N_VConst(positive_ ? 2.0 : 0.0, constraints_.get());
     kin_.reset(chk_.created(KINCreate(sc), "KINCreate"));
     chk_.describe_failure = [this] { return failure_report(); };
-    configure(kind, opt, positive);
+    configure(kind, opt, positive_);
   }
 
-  /// Solves and writes the temperatures found to T; throws SolverError when there are none.
+  /// Solves from the guess T and writes the temperatures found to T; throws SolverError when
+  /// there are none or they lie below 0 K. From a guess above 0 K the iterates stay there (the
+  /// physical root of T^4); if they cannot, an unconstrained search tells whether the steady
+  /// state lies below 0 K (a failure naming the node) or the floor only hampered Newton.
   void solve(std::vector<double>& T, const SolverOptions& opt) {
-    ev_.clear_nonfinite();
-    const int flag = chk_.check(
-        Api::kinsol, KINSol(kin_.get(), u_.get(), KIN_LINESEARCH, uscale_.get(), fscale_.get()),
-        "KINSol");
-    if (flag == KIN_STEP_LT_STPTOL && !(largest_scaled_residual() <= opt.atol))
-      chk_.fail("KINSol", flag, sundials::flag_name(Api::kinsol, flag),
-                sundials::flag_description(Api::kinsol, flag));
+    try {
+      newton(opt);
+    } catch (const SolverError&) {
+      if (!positive_) throw;
+      const std::exception_ptr constrained = std::current_exception();
+      positive_ = false;
+      std::copy(T.begin(), T.end(), NV_DATA_S(u_.get()));
+      kin_.reset(chk_.created(KINCreate(ctx_.get()), "KINCreate")); // a failed KINSol is spent
+      configure(kind_, opt, false);
+      try {
+        newton(opt);
+      } catch (const SolverError&) {
+        std::rethrow_exception(constrained);
+      }
+    }
     const double* uu = NV_DATA_S(u_.get());
+    if (const int i = detail::coldest_below_absolute_zero(uu, n_); i >= 0)
+      detail::fail_below_absolute_zero(
+          ev_, {.unknown = i, .crossing = t_, .kelvin = uu[i], .reached = t_, .steady = true},
+          "KINSol");
     std::copy(uu, uu + n_, T.begin());
   }
 
@@ -152,6 +169,17 @@ private:
       chk_.call(Api::kinsol, "KINSetConstraints", KINSetConstraints, mem, constraints_.get());
   }
 
+  /// One Newton solve from the current iterate; throws SolverError when it finds no solution.
+  void newton(const SolverOptions& opt) {
+    ev_.clear_nonfinite();
+    const int flag = chk_.check(
+        Api::kinsol, KINSol(kin_.get(), u_.get(), KIN_LINESEARCH, uscale_.get(), fscale_.get()),
+        "KINSol");
+    if (flag == KIN_STEP_LT_STPTOL && !(largest_scaled_residual() <= opt.atol))
+      chk_.fail("KINSol", flag, sundials::flag_name(Api::kinsol, flag),
+                sundials::flag_description(Api::kinsol, flag));
+  }
+
   /// The largest residual at the current iterate as a temperature (infinite when the heat balance
   /// cannot be evaluated): steps that became negligible are accepted only when it is small too.
   double largest_scaled_residual() {
@@ -196,6 +224,7 @@ private:
   detail::SystemEvaluator& ev_;
   double t_;
   int n_;
+  LinearSolverKind kind_;
   sundials::Checker chk_{"KINSOL"};
   sundials::Context ctx_;
   sundials::NVector u_;
@@ -203,6 +232,7 @@ private:
   sundials::NVector fscale_;
   sundials::NVector constraints_;
   SteadyData data_;
+  bool positive_; // the iterates are kept above 0 K
   sundials::KinsolMemory kin_;
   detail::LinearSystem ls_;
 };

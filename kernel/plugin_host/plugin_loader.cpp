@@ -95,6 +95,8 @@ std::optional<std::string> PluginLoader::load(const std::string& path) {
   fs::path p(path);
   if (!fs::exists(p, ec)) return std::string("no such file");
   if (fs::is_directory(p, ec)) return std::string("it is a directory, not a shared library");
+  // dlopen of a FIFO or a device would block or read forever.
+  if (!fs::is_regular_file(p, ec)) return std::string("it is not a regular file");
   fs::path canonical = fs::canonical(p, ec);
   if (ec) return fmt::format("cannot resolve the path: {}", ec.message());
   std::lock_guard lock(mutex_);

@@ -17,30 +17,34 @@ namespace {
 namespace fs = std::filesystem;
 namespace ast = lang::ast;
 
+/// What a path literal names.
+enum class PathKind { include, data, table, plugin };
+
 /// A path literal written in a model file.
 struct PathRef {
-  std::uint32_t begin = 0; ///< first byte of the literal (its opening quote)
-  std::uint32_t end = 0;   ///< one past its closing quote
-  std::string text;        ///< the path, unescaped
-  bool include = false;    ///< an `include` (else a data, table or plugin file)
+  std::uint32_t begin = 0;        ///< first byte of the literal (its opening quote)
+  std::uint32_t end = 0;          ///< one past its closing quote
+  std::string text;               ///< the path, unescaped
+  PathKind kind = PathKind::data; ///< the statement it is written in
+  bool include() const { return kind == PathKind::include; }
 };
 
 /// Collects the path literals of a file's statements.
 struct PathCollector {
   std::vector<PathRef>& out;
 
-  void add(const ast::String& s, bool include) const {
-    out.push_back({s.begin, s.end, s.text, include});
+  void add(const ast::String& s, PathKind kind) const {
+    out.push_back({s.begin, s.end, s.text, kind});
   }
   void value(const ast::Value& v) const {
-    if (const auto* t = boost::get<ast::TableSignal>(&v)) add(t->file, false);
+    if (const auto* t = boost::get<ast::TableSignal>(&v)) add(t->file, PathKind::table);
   }
   void keys(const std::vector<ast::KeyValue>& kvs) const {
     for (const auto& kv : kvs)
       value(kv.value);
   }
-  void operator()(const ast::IncludeStmt& s) const { add(s.path, true); }
-  void operator()(const ast::PluginStmt& s) const { add(s.path, false); }
+  void operator()(const ast::IncludeStmt& s) const { add(s.path, PathKind::include); }
+  void operator()(const ast::PluginStmt& s) const { add(s.path, PathKind::plugin); }
   void operator()(const ast::NodeStmt& s) const { keys(s.keys); }
   void operator()(const ast::BoundaryStmt& s) const { keys(s.keys); }
   void operator()(const ast::ElementStmt& s) const { keys(s.keys); }
@@ -51,7 +55,7 @@ struct PathCollector {
   void operator()(const ast::CaseStmt& s) const {
     for (const auto& item : s.items) {
       if (const auto* d = boost::get<ast::CaseData>(&item))
-        add(d->path, false);
+        add(d->path, PathKind::data);
       else if (const auto* a = boost::get<ast::CaseAssign>(&item))
         value(a->value);
     }
@@ -130,7 +134,7 @@ ModelFiles collect_files(const lang::SourceManager& sources, lang::FileId root) 
     for (const auto& r : info.refs) {
       const fs::path named = real_path(resolve(sources.path(f), r.text));
       std::optional<lang::FileId> target;
-      if (r.include) {
+      if (r.include()) {
         if (auto it = by_path.find(named); it != by_path.end()) target = it->second;
         if (target && std::find(m.order.begin(), m.order.end(), *target) == m.order.end())
           m.order.push_back(*target);
@@ -163,15 +167,14 @@ std::set<lang::FileId> changed_files(const ModelFiles& m, lang::FileId root,
   return changed;
 }
 
-/// Where each changed file goes: the root to `out`, the others beside it; never onto an input,
-/// except the root onto itself.
+/// Where each changed file goes: the root to `out`, the others beside it; never onto an input.
 std::map<lang::FileId, fs::path> destinations(const lang::SourceManager& sources,
                                               const ModelFiles& m,
                                               const std::set<lang::FileId>& changed,
                                               lang::FileId root, const std::string& out) {
   const fs::path out_path(out);
   const fs::path out_key = real_path(out_path);
-  if (m.inputs.count(out_key) && out_key != real_path(sources.path(root)))
+  if (m.inputs.count(out_key))
     throw RewriteError(fmt::format("-o '{}' would overwrite a file the model reads; write the "
                                    "calibrated model to a new file",
                                    out));
@@ -214,7 +217,37 @@ std::string rewritten_text(const lang::SourceManager& sources, lang::FileId f,
   return apply_edits(sources.text(f), std::move(edits));
 }
 
+/// What a file named by a path literal is to the model.
+const char* role_of(PathKind kind) {
+  switch (kind) {
+  case PathKind::include:
+    return "the included file";
+  case PathKind::data:
+    return "the data file";
+  case PathKind::table:
+    return "the table file";
+  case PathKind::plugin:
+    return "the plugin";
+  }
+  return "the input";
+}
+
 } // namespace
+
+std::vector<InputFile> files_read(const lang::SourceManager& sources, lang::FileId root) {
+  const ModelFiles m = collect_files(sources, root);
+  std::vector<InputFile> files;
+  for (lang::FileId f : m.order)
+    files.push_back({sources.path(f), f == root ? "the model" : role_of(PathKind::include)});
+  for (lang::FileId f : m.order) {
+    const FileRefs& info = m.refs.at(f);
+    for (std::size_t k = 0; k < info.refs.size(); ++k)
+      if (!info.targets[k]) // an include that was not loaded, or a data, table or plugin file
+        files.push_back(
+            {resolve(sources.path(f), info.refs[k].text).string(), role_of(info.refs[k].kind)});
+  }
+  return files;
+}
 
 std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lang::FileId root,
                                          const std::vector<ParamUpdate>& updates,

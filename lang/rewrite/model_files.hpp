@@ -24,13 +24,23 @@ struct RewrittenFile {
   lang::FileId source = 0; ///< the model file it is a copy of
 };
 
+/// A file a model reads.
+struct InputFile {
+  std::string path; ///< as the model names it (relative paths joined to the naming file's folder)
+  std::string role; ///< what it is: "the model", "the included file", "the data file", ...
+};
+
+/// Every file the model rooted at `root` reads: its own files (root first), then the files its
+/// include, data, table and plugin statements name.
+std::vector<InputFile> files_read(const lang::SourceManager& sources, lang::FileId root);
+
 /// The files of the model rooted at `root` with the params set to their new values, root first.
 /// The root goes to `out`; every other file that changes goes beside `out` as `OUTSTEM.NAME`
 /// (`OUTSTEM.STEM-2.EXT`, ... when that name is taken by an input or another copy). In each written
 /// file, includes of a copied file name the copy, and relative include/data/table/plugin paths
 /// are re-expressed from the new directory when it differs from the original's. Files that do not
-/// change are not copied; the user's inputs are never targets, except the root when `out` names
-/// it. Throws RewriteError when `out` names another input of the model (an included or data file).
+/// change are not copied; the user's inputs are never targets. Throws RewriteError when `out`
+/// names an input of the model (the model itself, an included, data, table or plugin file).
 std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lang::FileId root,
                                          const std::vector<ParamUpdate>& updates,
                                          const std::string& out);

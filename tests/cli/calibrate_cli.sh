@@ -49,7 +49,7 @@ convection cv b amb h = h A = 0.05 [m^2]
 heater film a P = 10
 case heat { duration = 3600; output = 60; data "heat.csv" }
 EOF2
-sed 's/"heat.csv"/"long.csv"/' cal.tnet >long.tnet
+sed 's/"heat.csv"/"long.csv"/; s/duration = 3600/duration = 30000/' cal.tnet >long.tnet
 sed 's/ range [0-9.]* \.\. [0-9.]*//' cal.tnet >norange.tnet
 grep -v 'data "' cal.tnet >nodata.tnet
 
@@ -132,20 +132,29 @@ check "an output that cannot be written: exit 2 with the reason" \
   test "$rc" -eq 2 -a -n "$(grep "cannot write 'fail/cal.unknowns.tnet'" err.txt)"
 check "  ... and nothing written (no model, JSON, plot or temporary file)" test "$(ls -A fail)" = cal.unknowns.tnet
 run calibrate inc.tnet --method lm -o lib/unknowns.tnet --json fail/r2.json
-check "-o naming an included input: exit 2" \
-  test "$rc" -eq 2 -a -n "$(grep 'would overwrite a file the model reads' err.txt)"
+check "-o naming an included input: exit 2 naming both" \
+  test "$rc" -eq 2 -a -n "$(grep "\-o 'lib/unknowns.tnet' would overwrite the included file '.*lib/unknowns.tnet'" err.txt)"
 check "  ... the input untouched and nothing written" \
   eval 'cmp -s lib/unknowns.tnet unknowns.orig && test ! -e fail/r2.json'
 run calibrate inc.tnet --method lm -o out/cal.tnet --json out/cal.tnet
 check "-o and --json naming the same file: exit 2" test "$rc" -eq 2
 
-# in place: the root file is the target, the included file still gets a new copy
+# never in place: the model is an input of the run (also through a symlink)
 cp inc.tnet inplace.tnet
+cp inplace.tnet inplace.orig
+ln -s inplace.tnet inplace_link.tnet
 run calibrate inplace.tnet --method lm -o inplace.tnet
-check "-o onto the model itself: exit 0, the include points at a new copy" \
-  test "$rc" -eq 0 -a -s inplace.unknowns.tnet -a -n "$(grep '^include "inplace.unknowns.tnet"' inplace.tnet)"
-check "  ... and the included original is untouched" cmp -s lib/unknowns.tnet unknowns.orig
-
+check "-o onto the model itself: exit 2 naming the model" \
+  test "$rc" -eq 2 -a -n "$(grep "would overwrite the model 'inplace.tnet'" err.txt)"
+run calibrate inplace.tnet --method lm -o inplace_link.tnet
+check "-o onto a symlink to the model: exit 2" \
+  test "$rc" -eq 2 -a -n "$(grep "would overwrite the model" err.txt)"
+check "  ... the model untouched, the symlink still a symlink, no copy written" \
+  eval 'cmp -s inplace.tnet inplace.orig && test -L inplace_link.tnet && test ! -e inplace.unknowns.tnet'
+cp heat.csv heat.orig
+run calibrate inc.tnet --method lm --json heat.csv
+check "--json onto the measured data: exit 2 naming the data file, the data untouched" \
+  eval 'test "$rc" -eq 2 && grep -q "would overwrite the data file .*heat.csv" err.txt && cmp -s heat.csv heat.orig'
 run calibrate cal.tnet --method mc --samples 400 --seed 9 --threads 1 --json t1.json
 r1=$rc
 run calibrate cal.tnet --method mc --samples 400 --seed 9 --threads 2 --json t2.json

@@ -50,6 +50,19 @@ check "unwritable output: exit 2" test "$rc" -eq 2
 run invert --help
 check "help lists tim-ab and its options" grep -q "tim-ab" out.txt
 
+# No estimate at all is a failure (exit 1 with a message), never an empty CSV with exit 0.
+awk -F, 'NR == 1 { print; next } { print $1 ",5,5,5,5" }' abcd.csv >constant.csv
+for variant in "abcd.csv --sensors B,C,D --tau 1e300|a window longer than the record" \
+  "abcd.csv --sensors B,B,B --window 50|one sensor named three times" \
+  "constant.csv --sensors B,C,D --window 50|constant data"; do
+  IFS='|' read -r args what <<<"$variant"
+  rm -f none.csv
+  # shellcheck disable=SC2086 # the arguments are words
+  run invert $args -o none.csv
+  check "no estimate ($what): exit 1 saying so, no CSV written" \
+    eval 'test "$rc" -eq 1 && grep -q "produced no estimate" err.txt && test ! -e none.csv'
+done
+
 # estimate: the digital twin, hidden lens centres scored against the synthetic truth columns.
 run estimate "$TWIN/twin.tnet" "$TWIN/twin_data.csv" --case known \
   --measured window,l1_edge,l2_edge,barrel,inner,outer -o ekf.csv --plot ekf.svg

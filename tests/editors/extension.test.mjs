@@ -111,6 +111,27 @@ describe('extension.js', () => {
     assert.ok(created[0].stopped, 'client was not stopped on deactivate');
   });
 
+  test('a thermnet in a relative PATH entry (a workspace folder) is never run', { skip: process.platform === 'win32' }, () => {
+    const dir = tempDir();
+    writeFileSync(join(dir, 'thermnet'), '#!/bin/sh\nexit 0\n');
+    chmodSync(join(dir, 'thermnet'), 0o755);
+    const origCwd = process.cwd();
+    process.chdir(dir);
+    try {
+      const created = [];
+      activateWith({ path: '.', clientStub: makeClientStub(created) });
+      assert.equal(created.length, 0);
+    } finally {
+      process.chdir(origCwd);
+    }
+  });
+
+  test('package.json declares Restricted Mode support (untrustedWorkspaces)', () => {
+    const pkg = require(join(here, '..', '..', 'editors', 'vscode', 'package.json'));
+    assert.equal(pkg.capabilities.untrustedWorkspaces.supported, true);
+    assert.match(pkg.capabilities.untrustedWorkspaces.description, /never loads plugins/);
+  });
+
   test('thermnet on PATH but vscode-languageclient missing: no throw, a message', { skip: process.platform === 'win32' }, () => {
     const dir = tempDir();
     writeFileSync(join(dir, 'thermnet'), '#!/bin/sh\nexit 0\n');

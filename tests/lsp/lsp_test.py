@@ -243,6 +243,70 @@ labels = complete(46, pos(EDITING, "  duration", 0, 2))
 check("completion in a case offers the case keys and element names",
       {"duration", "output", "gap"} <= set(labels), labels)
 
+# ----------------------------------------------------------------------------- scale
+# 50,000 nodes, each isolated (one warning each): the diagnostics and the symbols must come back
+# (they used to take minutes: positions were computed from the start of the text each time). The
+# bound is generous so that a slow machine cannot fail it; bench/ measures the speed.
+BIG = "boundary amb T = 20\n" + "".join(f"node n{k} C = 1\n" for k in range(50000))
+big_uri = "file://" + os.path.join(work, "big.tnet")
+s.notify("textDocument/didOpen", {"textDocument": {"uri": big_uri, "languageId": "tnet",
+                                                   "version": 9, "text": BIG}})
+try:
+    bd = s.next(lambda m: m.get("method") == "textDocument/publishDiagnostics"
+                and m["params"]["uri"] == big_uri, timeout=120)["params"]["diagnostics"]
+except queue.Empty:
+    bd = None
+check("50,000-node document: 50,000 isolated-node warnings published within 120 s",
+      bd is not None and sum(d.get("code") == "isolated-node" for d in bd) == 50000,
+      None if bd is None else len(bd))
+if bd:
+    last = [d for d in bd if "'n49999'" in d["message"]]
+    check("  ... the last one on line 50,001 (0-based 50000)",
+          len(last) == 1 and last[0]["range"]["start"]["line"] == 50000, last)
+s.send({"jsonrpc": "2.0", "id": 90, "method": "textDocument/documentSymbol",
+        "params": {"textDocument": {"uri": big_uri}}})
+try:
+    r = s.next(lambda m: m.get("id") == 90, timeout=120)
+except queue.Empty:
+    r = {}
+syms = r.get("result") or []
+check("  ... documentSymbol answers all 50,001 symbols within 120 s, in order",
+      len(syms) == 50001 and syms[-1]["name"] == "n49999"
+      and syms[-1]["range"]["start"]["line"] == 50000, len(syms))
+s.notify("textDocument/didClose", {"textDocument": {"uri": big_uri}})
+# The framing limits, each on a server of its own reading to the end of its input.
+for what, data, expect in [
+        ("a 4 MiB header line", b"X-Long: " + b"a" * (4 << 20) + b"\r\nContent-Length: 2\r\n\r\n{}",
+         b"a header longer than 8192 bytes"),
+        ("a 65 MiB body", b"Content-Length: %d\r\n\r\n" % (65 << 20) + b" " * (65 << 20),
+         b"message too large")]:
+    out = subprocess.run([TN, "lsp"], input=data, capture_output=True, timeout=120).stdout
+    check(what + " is refused with a parse error naming the limit", b"-32700" in out and expect in out,
+          out[:300])
+
+# ----------------------------------------------------------------------------- hostile references
+# A document never makes the server read its own input, a FIFO or a file outside its folder, and
+# what a diagnostic quotes from a referenced file is escaped (control characters, invalid UTF-8).
+os.mkfifo(os.path.join(work, "fifo.tnet"))
+with open(os.path.join(work, "evil.csv"), "wb") as f:
+    f.write(b"\x1b]0;pwned\x07tim\xa5e,plate1\n0,20\n")
+HOSTILE = FIXED.replace("case warm {", 'include "/dev/stdin"\ninclude "fifo.tnet"\n'
+                        'include "/proc/self/environ"\ncase warm {\n  data "evil.csv"')
+hostile_uri = "file://" + os.path.join(work, "hostile.tnet")
+s.notify("textDocument/didOpen", {"textDocument": {"uri": hostile_uri, "languageId": "tnet",
+                                                   "version": 7, "text": HOSTILE}})
+try:
+    hd = s.next(lambda m: m.get("method") == "textDocument/publishDiagnostics"
+                and m["params"]["uri"] == hostile_uri, timeout=60)["params"]["diagnostics"]
+except queue.Empty:
+    hd = None
+text = json.dumps(hd)
+check("include /dev/stdin, a FIFO and /proc: answered (no hang), each refused", hd is not None and
+      "/dev/stdin" in text and "FIFO" in text and "outside the model's folder" in text, hd)
+check("the data file's escape sequence and invalid byte are shown escaped",
+      hd is not None and "<U+001B>]0;pwned<U+0007>tim<A5>e" in text and "\\u001b" not in text, hd)
+s.notify("textDocument/didClose", {"textDocument": {"uri": hostile_uri}})
+
 # ----------------------------------------------------------------------------- errors, shutdown
 r = s.request(50, "textDocument/frobnicate", {})
 check("an unknown method gets -32601", r.get("error", {}).get("code") == -32601, r)

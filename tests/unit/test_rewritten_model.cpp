@@ -2,7 +2,7 @@
 // and data paths in the copies, the user's inputs never overwritten, the written model loading
 // with the new values, units kept in expressions, and outputs written all-or-nothing.
 
-#include "cli/atomic_file.hpp"
+#include "cli/output_files.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "lang/rewrite/model_files.hpp"
 
@@ -100,7 +100,7 @@ TEST_CASE("rewrite_model: the files declaring params and their includers, beside
     std::vector<cli::OutputFile> out;
     for (const auto& f : files)
       out.push_back({f.path, f.text});
-    cli::write_files_atomically(out);
+    cli::write_output_files(out);
     Loaded back(t.path("out/cal.tnet"));
     back.model->lint(back.diags);
     CHECK(back.diags.error_count() == 0);
@@ -129,7 +129,7 @@ TEST_CASE(
   CHECK(files[0].text.find("data \"heat.csv\"") != std::string::npos);
 }
 
-TEST_CASE("rewrite_model: the user's inputs are never targets, except the root onto itself") {
+TEST_CASE("rewrite_model: the user's inputs are never targets, the model itself included") {
   Tree t;
   Loaded m(t.path("main.tnet"));
   const auto updates = updates_for(*m.model);
@@ -137,13 +137,12 @@ TEST_CASE("rewrite_model: the user's inputs are never targets, except the root o
                   rewrite::RewriteError);
   CHECK_THROWS_AS(rewrite::rewrite_model(m.sources, m.root(), updates, t.path("heat.csv")),
                   rewrite::RewriteError);
-  // In place: the root is the target; its included copies are new files named after it.
-  auto in_place = rewrite::rewrite_model(m.sources, m.root(), updates, t.path("main.tnet"));
-  REQUIRE(in_place.size() == 3);
-  CHECK(in_place[1].path == t.path("main.mid.tnet"));
-  CHECK(in_place[2].path == t.path("main.params.tnet"));
-  CHECK(in_place[0].text.find("include \"main.mid.tnet\"") != std::string::npos);
-  CHECK(in_place[0].text.find("include \"geometry.tnet\"") != std::string::npos);
+  CHECK_THROWS_AS(rewrite::rewrite_model(m.sources, m.root(), updates, t.path("main.tnet")),
+                  rewrite::RewriteError);
+  // Through a symlink, the model is still the model.
+  fs::create_symlink(t.path("main.tnet"), t.path("link.tnet"));
+  CHECK_THROWS_AS(rewrite::rewrite_model(m.sources, m.root(), updates, t.path("link.tnet")),
+                  rewrite::RewriteError);
   // A copy's name that an input already has gets a number.
   t.dir.write("cal.mid.tnet", "# an input that happens to have the copy's name\n");
   t.dir.write("main.tnet", read(t.dir.path / "main.tnet") + "include \"cal.mid.tnet\"\n");
@@ -171,22 +170,39 @@ TEST_CASE("format_param_value: an expression keeps the one unit it is written in
   CHECK(rewrite::format_param_value("k0 * 1.1", bare, 0.25) == "0.25");
 }
 
-TEST_CASE("write_files_atomically: all or nothing") {
+TEST_CASE("files_read: the model, its includes, then its data, each with its role") {
+  Tree t;
+  Loaded m(t.path("main.tnet"));
+  std::map<std::string, std::string> roles;
+  for (const auto& f : rewrite::files_read(m.sources, m.root()))
+    roles[fs::weakly_canonical(f.path).string()] = f.role;
+  auto role = [&](const std::string& name) {
+    auto it = roles.find(fs::weakly_canonical(t.path(name)).string());
+    return it == roles.end() ? std::string("(missing)") : it->second;
+  };
+  CHECK(roles.size() == 5);
+  CHECK(role("main.tnet") == "the model");
+  CHECK(role("lib/mid.tnet") == "the included file");
+  CHECK(role("lib/params.tnet") == "the included file");
+  CHECK(role("geometry.tnet") == "the included file");
+  CHECK(role("heat.csv") == "the data file");
+}
+
+TEST_CASE("write_output_files: all or nothing") {
   TempDir dir{"atomic"};
   const std::string a = (dir.path / "a.txt").string();
   fs::create_directories(dir.path / "b.txt");
-  CHECK_THROWS_AS(cli::write_files_atomically({{a, "A\n"}, {(dir.path / "b.txt").string(), "B\n"}}),
+  CHECK_THROWS_AS(cli::write_output_files({{a, "A\n"}, {(dir.path / "b.txt").string(), "B\n"}}),
                   cli::OutputError);
   CHECK_FALSE(fs::exists(a));
   std::size_t entries = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir.path))
     ++entries;
   CHECK(entries == 1); // only the directory b.txt: no temporary file left
-  CHECK_THROWS_AS(
-      cli::write_files_atomically({{a, "1"}, {(dir.path / "." / "a.txt").string(), "2"}}),
-      cli::OutputError);
+  CHECK_THROWS_AS(cli::write_output_files({{a, "1"}, {(dir.path / "." / "a.txt").string(), "2"}}),
+                  cli::OutputError);
   CHECK_FALSE(fs::exists(a));
-  cli::write_files_atomically({{a, "A\n"}, {(dir.path / "c.txt").string(), "C\n"}});
+  cli::write_output_files({{a, "A\n"}, {(dir.path / "c.txt").string(), "C\n"}});
   CHECK(read(a) == "A\n");
   CHECK(read(dir.path / "c.txt") == "C\n");
 }

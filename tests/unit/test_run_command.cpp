@@ -2,7 +2,7 @@
 // stderr and an exit status (0 ok, 1 input wrong or operation failed, 2 usage or a file that
 // cannot be read or written).
 
-#include "cli/atomic_file.hpp"
+#include "cli/output_files.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/solver_types.hpp"

@@ -1,0 +1,93 @@
+#!/usr/bin/env bash
+# Temperatures below absolute zero never pass silently: a run that drives a node below 0 K stops
+# with the node, the time it crossed and a hint; a steady state below 0 K is refused the same way;
+# the consistent start of a node without heat capacity balanced by radiation picks the physical
+# (positive) root of T^4. Expected values are analytic. Usage: physics_guards_cli.sh PATH/TO/thermnet
+. "$(dirname "$0")/../lib/harness.sh" "$@"
+
+# near VALUE EXPECTED TOL: VALUE is a number and |VALUE - EXPECTED| <= TOL.
+near() {
+  [[ "$1" =~ ^-?[0-9]+(\.[0-9]*)?([eE][-+]?[0-9]+)?$ ]] || return 1
+  awk -v v="$1" -v e="$2" -v t="$3" 'BEGIN { d = v - e; if (d < 0) d = -d; exit !(d <= t) }'
+}
+
+# ------------------------------------------------ a massless node: heater against weak radiation
+# massless_case T0 P EPS INITIAL: a node without capacity between a heater of P W and radiation
+# (A = 1e-4 m^2, both emissivities EPS) to space at 3.15 K, from start T0 (degC).
+massless_case() {
+  cat >massless.tnet <<EOF
+model massless
+boundary space T = -270
+node s C = 0 $1
+radiation r s space A = 1e-4 eps1 = $3 eps2 = $3
+heater h s P = $2
+case c { duration = 100; output = 50; $4 }
+EOF
+}
+# P = eps sigma A (T^4 - Tb^4), eps = 1 / (2/EPS - 1): the positive root; the negative one (about
+# -T) must never be chosen. From T0 = 1000 degC, IDA's modified Newton keeps the Jacobian of the
+# start, whose T^4 slope is 600 times too small, and used to land at the negative root (-9380 degC).
+for variant in "|1000|0.1|" "|1000|0.1|initial = steady" "T0 = 1000|1000|0.05|" "T0 = 1000|1|0.05|" \
+  "T0 = 1e5|1e6|0.05|"; do
+  IFS='|' read -r t0 p eps initial <<<"$variant"
+  massless_case "$t0" "$p" "$eps" "$initial"
+  expected=$(awk -v P="$p" -v e="$eps" \
+    'BEGIN { k = 5.670374419e-8 * 1e-4 / (2 / e - 1); printf "%.4f", (P / k + 3.15^4)^0.25 - 273.15 }')
+  rm -f massless.csv
+  run simulate massless.tnet -o massless.csv
+  s_end=$(tail -n 1 massless.csv 2>/dev/null | cut -d, -f3)
+  check "massless node (${t0:-no T0}, P = $p W, eps = $eps${initial:+, $initial}): exit 0 at the physical root $expected degC" \
+    eval 'test "$rc" -eq 0 && near "$s_end" "$expected" 0.01'
+done
+
+# ------------------------------------------------ a negative heater drives a node below 0 K
+# C = 100 J/K, G = 0.01 W/K, P = -100 W from 20 degC: T(t) = 293.15 - 10000 (1 - exp(-t/1e4)) K
+# crosses 0 K at t = -1e4 ln(1 - 0.029315) = 297.53 s.
+cat >negheat.tnet <<'EOF'
+model negheat
+boundary amb T = 20
+node n C = 100 T0 = 20
+conductance g n amb G = 0.01
+heater h n P = -100
+case c { duration = 3600; output = 600 }
+EOF
+crossing=$(awk 'BEGIN { print -1e4 * log(1 - 293.15 / 1e4) }')
+run simulate negheat.tnet -o negheat.csv
+t_cross=$(sed -n 's/.*below absolute zero at t = \([0-9.e+-]*\) s.*/\1/p' err.txt)
+check "negative heater: exit 1, node n below absolute zero with a hint, no CSV written" \
+  eval 'test "$rc" -eq 1 && grep -q "node n falls below absolute zero" err.txt &&
+        grep -q "negative heater" err.txt && test ! -e negheat.csv'
+check "  ... at the analytic crossing time $crossing s (within 0.05 s), not at a step end" \
+  near "$t_cross" "$crossing" 0.05
+
+# ------------------------------------------------ a steady state below 0 K
+cat >negsteady.tnet <<'EOF'
+model negsteady
+boundary amb T = 20
+node n C = 100
+conductance g n amb G = 0.01
+heater h n P = -100
+case c { duration = 60; initial = steady }
+EOF
+run simulate negsteady.tnet -o negsteady.csv
+check "steady state below 0 K: exit 1 naming node n and its -9706.85 K (293.15 - 100/0.01)" \
+  eval 'test "$rc" -eq 1 && grep -q "node n falls below absolute zero in the steady state" err.txt &&
+        grep -q -- "-9706.85 K" err.txt && test ! -e negsteady.csv'
+
+# ------------------------------------------------ a massless node pulled below 0 K at the start
+cat >massneg.tnet <<'EOF'
+model massneg
+boundary amb T = 20
+node a C = 100 T0 = 20
+node s C = 0
+conductance g a amb G = 1
+conductance g2 s a G = 0.01
+heater h s P = -100
+case c { duration = 60; output = 10 }
+EOF
+run simulate massneg.tnet
+check "massless node below 0 K at the consistent start: exit 1 naming node s, t = 0, both hints" \
+  eval 'test "$rc" -eq 1 && grep -q "node s falls below absolute zero at t = 0 s" err.txt &&
+        grep -q "negative heater" err.txt && grep -q "negative root" err.txt'
+
+finish
