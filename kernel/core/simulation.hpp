@@ -26,6 +26,14 @@ struct SimulationResult {
   SolverStats stats;                      ///< solver counters (transient or steady)
 };
 
+/// The state at t = 0 of a case, for every command that runs one: the nodes' T0 (else the case's
+/// initial, else 20 degC); with `initial = steady`, the steady state at t = 0 with every thermostat
+/// (switch) in the state consistent with it. Event states (heaters on/off) are left set in `net`
+/// so that the transient starts from the same state; throws SolverError when the steady state does
+/// not converge or a thermostat has none (it cycles). Adds the steady solve's counters to `stats`.
+std::vector<double> start_state(Network& net, const SolverOptions& solver,
+                                SolverStats* stats = nullptr);
+
 /// The output times of a run: 0, dt, 2 dt, ... and the end time exactly.
 std::vector<double> output_times(double duration, double interval);
 

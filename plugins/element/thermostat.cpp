@@ -25,7 +25,14 @@ public:
     heating_ = !heating_;
     return true;
   }
-  void init_events(double, const double* T) override { heating_ = T[sense_] < on_; }
+  /// On below T_on, off above T_off; inside the hysteresis band both states are consistent and the
+  /// present one is kept (off in a new network; as a steady state with the heater on left it).
+  void init_events(double, const double* T) override {
+    if (T[sense_] < on_)
+      heating_ = true;
+    else if (T[sense_] > off_)
+      heating_ = false;
+  }
   double power_in(double t, const double*) const override { return heating_ ? P_.at(t) : 0.0; }
 
 private:
