@@ -61,7 +61,8 @@ std::vector<double> start_state(Network& net, const SolverOptions& solver, Solve
   return T;
 }
 
-SolverStats simulate(Network& net, const SimulationOptions& opt, const RowCallback& row) {
+SolverStats simulate(Network& net, const SimulationOptions& opt, const RowCallback& row,
+                     EnergyTotals* energy) {
   const auto& settings = net.spec().settings;
   std::vector<double> all(net.spec().nodes.size());
   auto record = [&](double t, const std::vector<double>& x) {
@@ -86,8 +87,10 @@ SolverStats simulate(Network& net, const SimulationOptions& opt, const RowCallba
   if (*duration / interval > 1e7)
     throw std::invalid_argument(fmt::format(
         "{:g} output rows requested; use a longer output interval", *duration / interval));
+  const std::vector<double> times = output_times(*duration, interval);
   SolverStats s =
-      integrate(net, T, 0.0, *duration, output_times(*duration, interval), record, opt.solver);
+      energy ? integrate_with_energy(net, T, 0.0, *duration, times, record, opt.solver, *energy)
+             : integrate(net, T, 0.0, *duration, times, record, opt.solver);
   if (settings.initial_steady) s.steps += steady.steps;
   return s;
 }

@@ -1,6 +1,7 @@
 #pragma once
 /// Running a case: initial state, transient or steady solve, samples at the output times.
 
+#include "kernel/core/energy_account.hpp"
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
 
@@ -46,7 +47,10 @@ using RowCallback = std::function<void(double t, const std::vector<double>& temp
 SimulationResult simulate(Network& net, const SimulationOptions& opt = {});
 
 /// Like simulate(), but hands each row to `row` as soon as it is computed instead of keeping it
-/// (a large network's whole result need not fit in memory); returns the solver counters.
-SolverStats simulate(Network& net, const SimulationOptions& opt, const RowCallback& row);
+/// (a large network's whole result need not fit in memory); returns the solver counters. With
+/// `energy`, a transient also integrates every element's heat and each thermostat's on-time into it
+/// (a steady state leaves it empty).
+SolverStats simulate(Network& net, const SimulationOptions& opt, const RowCallback& row,
+                     EnergyTotals* energy = nullptr);
 
 } // namespace thermnet

@@ -25,12 +25,13 @@ public:
     heating_ = !heating_;
     return true;
   }
-  /// On below T_on, off above T_off; inside the hysteresis band both states are consistent and the
-  /// present one is kept (off in a new network; as a steady state with the heater on left it).
+  /// On at or below T_on, off at or above T_off (a start exactly on a switching point would never
+  /// cross it); strictly inside the hysteresis band both states are consistent and the present one
+  /// is kept (off in a new network; as a steady state with the heater on left it).
   void init_events(double, const double* T) override {
-    if (T[sense_] < on_)
+    if (T[sense_] <= on_)
       heating_ = true;
-    else if (T[sense_] > off_)
+    else if (T[sense_] >= off_)
       heating_ = false;
   }
   double power_in(double t, const double*) const override { return heating_ ? P_.at(t) : 0.0; }
