@@ -2,7 +2,7 @@
 # The post-processing reports of `thermnet simulate` against analytic values: heat flows of a
 # series slab (steady listing and transient CSV), the energy balance of a transient, a thermostat's
 # analytic duty cycle, the per-node summary with the time outside a band, --nodes globs selecting
-# CSV columns, --unit K, and bad options. Usage: postproc_cli.sh PATH/TO/thermnet
+# CSV columns, --unit K, bad options; sensitivity of set points in degC; kinds' limits. Usage: postproc_cli.sh PATH/TO/thermnet
 . "$(dirname "$0")/../lib/harness.sh" "$@"
 
 # Series slab hot(100) - g1 (2 W/K) - a - g2 (1 W/K) - b - r3 (0.5 K/W) - cold(0): 0.5 W/K overall,
@@ -109,5 +109,18 @@ check "--band upside down: usage error" [ "$rc" = 2 ]
 run simulate slab.tnet --steady --energy e.txt
 check "--energy with --steady: usage error" [ "$rc" = 2 ]
 check "... and nothing written" [ ! -e e.txt ]
+
+# Set points stay in degC and are scaled per kelvin: th.on is 17 degC with scale 1 K, not 290 K.
+run sensitivity thermo.tnet --elements --json sens.json
+check "sensitivity: exit 0" [ "$rc" = 0 ]
+check "sensitivity: thermostat set points in degC, per kelvin" python3 - <<'EOF'
+import json
+f = {x["name"]: x for x in json.load(open("sens.json"))["factors"]}
+assert f["th.on"]["value"] == 17 and f["th.on"]["unit"] == "degC" and f["th.on"]["scale"] == 1, f["th.on"]
+assert f["th.off"]["value"] == 20 and f["th.P"]["scale"] == 30, f
+EOF
+check "sensitivity table: 17 degC" grep -q "th.on  *17 degC" out.txt
+run kinds thermostat
+check "kinds: the real limit of a set point" grep -q "on .*above absolute zero (> -273.15 degC)" out.txt
 
 finish
