@@ -72,21 +72,28 @@ void NodeSummary::add(double t, const std::vector<double>& temps) {
   ++rows_;
 }
 
+std::vector<NodeStats> NodeSummary::results() const {
+  std::vector<NodeStats> out;
+  for (const Stats& s : stats_)
+    out.push_back(
+        {s.min, s.t_min, s.max, s.t_max, span() > 0.0 ? s.integral / span() : s.last, s.outside});
+  return out;
+}
+
 std::string NodeSummary::csv(bool kelvin) const {
   const double offset = kelvin ? 0.0 : kZeroCelsius;
-  const double span = t_last_ - t0_;
   fmt::memory_buffer out;
   fmt::format_to(std::back_inserter(out), "node,min,t_min,max,t_max,mean{}\n",
                  band_ ? ",time_outside,fraction_outside" : "");
-  for (std::size_t c = 0; c < columns_.size(); ++c) {
-    const Stats& s = stats_[c];
-    const double mean = span > 0.0 ? s.integral / span : s.last;
+  const std::vector<NodeStats> r = results();
+  for (std::size_t c = 0; c < r.size(); ++c) {
+    const NodeStats& s = r[c];
     fmt::format_to(std::back_inserter(out), "{},{:.6f},{:.10g},{:.6f},{:.10g},{:.6f}",
                    names_[columns_[c]], s.min - offset, s.t_min, s.max - offset, s.t_max,
-                   mean - offset);
+                   s.mean - offset);
     if (band_)
       fmt::format_to(std::back_inserter(out), ",{:.10g},{:.6f}", s.outside,
-                     span > 0.0 ? s.outside / span : 0.0);
+                     span() > 0.0 ? s.outside / span() : 0.0);
     out.push_back('\n');
   }
   return fmt::to_string(out);

@@ -18,6 +18,16 @@ struct Band {
 /// Parses "LO..HI" in degC (e.g. "15..25", "-10..5.5"); throws std::invalid_argument.
 Band parse_band(const std::string& text);
 
+/// The summary of one node, K and s.
+struct NodeStats {
+  double min = 0.0;     ///< lowest temperature, K
+  double t_min = 0.0;   ///< when, s (the first time)
+  double max = 0.0;     ///< highest temperature, K
+  double t_max = 0.0;   ///< when, s
+  double mean = 0.0;    ///< time-weighted mean, K
+  double outside = 0.0; ///< time outside the band, s (0 without a band)
+};
+
 /// Accumulates the summary of selected columns over output rows.
 class NodeSummary {
 public:
@@ -29,8 +39,12 @@ public:
   /// The CSV: node,min,t_min,max,t_max,mean[,time_outside,fraction_outside], temperatures in
   /// degC (or K with `kelvin`), times in s.
   std::string csv(bool kelvin) const;
-  /// Seconds column c (a position in `columns`) spent outside the band.
-  double outside(std::size_t c) const { return stats_[c].outside; }
+  /// The summary of each selected column, in `columns` order.
+  std::vector<NodeStats> results() const;
+  /// Whether a band was given.
+  bool has_band() const { return band_.has_value(); }
+  /// Time covered by the rows, s.
+  double span() const { return t_last_ - t0_; }
 
 private:
   struct Stats {

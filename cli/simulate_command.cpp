@@ -6,6 +6,7 @@
 #include "cli/model_loading.hpp"
 #include "cli/node_summary.hpp"
 #include "cli/output_stream.hpp"
+#include "cli/param_overrides.hpp"
 #include "cli/result_output.hpp"
 #include "cli/run_command.hpp"
 #include "cli/uncertainty.hpp"
@@ -37,6 +38,7 @@ struct SimulateOptions {
   std::string energy;
   std::string summary;
   std::string band;
+  std::vector<std::string> sets;
   bool stats = false;
   double rtol = 1e-6;
   double atol = 1e-6;
@@ -109,6 +111,8 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   if (o.samples > 0 && !(o.flows.empty() && o.energy.empty() && o.summary.empty()))
     throw std::invalid_argument(
         "--flows, --energy and --summary report one run: not with --samples");
+  if (o.samples > 0 && !o.sets.empty())
+    throw std::invalid_argument("--set is not available with --samples");
   if (o.steady && !o.energy.empty())
     throw std::invalid_argument("--energy reports a transient: not with --steady");
   if (!o.band.empty() && o.summary.empty())
@@ -124,7 +128,7 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
     run_samples(*model, o, sim);
     return exit_ok;
   }
-  Network net(model->instantiate(o.case_name));
+  Network net(model->instantiate(o.case_name, parse_param_sets(*model, o.sets)));
   const lang::NetworkSpec& spec = net.spec();
   std::vector<std::string> names, element_names;
   for (const auto& n : spec.nodes)
@@ -218,6 +222,9 @@ void add_simulate_command(CLI::App& app, int& status) {
                   "nodes and boundaries in the CSV, plot and summary: names or globs "
                   "(comma-separated; default: all)")
       ->delimiter(',');
+  cmd->add_option("--set", o->sets,
+                  "param value NAME=VALUE (repeatable): a number in SI (degC for a temperature) "
+                  "or with a unit, e.g. 'h=0.02 [W/(cm^2*K)]'");
   cmd->add_option("--unit", o->unit, "temperature unit of the CSV and summary (default degC)")
       ->check(CLI::IsMember({"degC", "K"}));
   cmd->add_option("--flows", o->flows,

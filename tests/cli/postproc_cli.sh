@@ -123,4 +123,41 @@ check "sensitivity table: 17 degC" grep -q "th.on  *17 degC" out.txt
 run kinds thermostat
 check "kinds: the real limit of a set point" grep -q "on .*above absolute zero (> -273.15 degC)" out.txt
 
+# Sweeps: the same numbers as separate --set runs, whatever the thread count.
+cat >swept.tnet <<'EOF'
+model swept
+param G = 1 [W/K] range 0.5 .. 2
+param T_on = 17 [degC]
+boundary amb T = 0
+node box C = 1000 [J/K]
+conductance loss box amb G = G
+thermostat th box P = 30 [W] on = T_on off = 20
+case c { duration = 5000 ; output = 10 ; initial = 17 }
+EOF
+run sweep swept.tnet --param G=0.5..2:4 --param T_on=16,17 --nodes box --band 17.5..19.5 --threads 2 -o sweep2.csv --plot sweep.svg
+check "sweep: exit 0" [ "$rc" = 0 ]
+check "sweep: an SVG plot" grep -q "<svg" sweep.svg
+run sweep swept.tnet --param G=0.5..2:4 --param T_on=16,17 --nodes box --band 17.5..19.5 --threads 1 -o sweep1.csv
+check "sweep: the same table with 1 and 2 threads" cmp sweep1.csv sweep2.csv
+for g in 0.5 1.5; do
+  "$TN" simulate swept.tnet --set G=$g --set T_on=16 --summary set_$g.csv --band 17.5..19.5 --nodes box -o /dev/null
+done
+check "sweep: rows equal separate --set runs (degC param set in degC)" python3 - <<'EOF'
+import csv
+rows = list(csv.DictReader(open("sweep2.csv")))
+assert [(r["G"], r["T_on"]) for r in rows][:4] == [("0.5", "16"), ("0.5", "17"), ("1", "16"), ("1", "17")], rows
+for g in ("0.5", "1.5"):
+    single = list(csv.DictReader(open(f"set_{g}.csv")))[0]
+    row = next(r for r in rows if r["G"] == g and r["T_on"] == "16")
+    for a, b in (("box_min", "min"), ("box_max", "max"), ("box_mean", "mean"), ("box_time_outside", "time_outside")):
+        assert abs(float(row[a]) - float(single[b])) < 1e-9, (g, a, row[a], single[b])
+EOF
+run sweep swept.tnet --param G=1..2:1
+check "sweep: N below 2 is a usage error" [ "$rc" = 2 ]
+run sweep swept.tnet --param Gx=1,2
+check "sweep: an unknown param is named, with a suggestion" grep -q "no param 'Gx'; did you mean 'G'" err.txt
+run simulate swept.tnet --set 'G=2 [mm]'
+check "--set with the wrong dimension: usage error" [ "$rc" = 2 ]
+check "... saying so" grep -q "param 'G' is in W/K, not m" err.txt
+
 finish
