@@ -30,18 +30,40 @@ std::string element_name(const lang::NetworkSpec& spec, std::size_t e) {
 }
 } // namespace
 
-std::string flow_csv_header(const lang::NetworkSpec& spec,
-                            const std::vector<std::size_t>& elements) {
-  std::string out = "time";
+std::vector<std::string> flow_columns(const lang::NetworkSpec& spec,
+                                      const std::vector<std::size_t>& elements) {
+  std::vector<std::string> columns;
   for (std::size_t e : elements) {
     const auto& el = spec.elements[e];
     if (two_terminal(el)) {
-      out += fmt::format(",{}", element_name(spec, e));
+      columns.push_back(element_name(spec, e));
       continue;
     }
     for (int node : el.nodes)
-      out += fmt::format(",{}@{}", element_name(spec, e), node_name(spec, node));
+      columns.push_back(fmt::format("{}@{}", element_name(spec, e), node_name(spec, node)));
   }
+  return columns;
+}
+
+std::vector<double> flow_values(const lang::NetworkSpec& spec,
+                                const std::vector<std::size_t>& elements,
+                                const std::vector<std::vector<double>>& heat) {
+  std::vector<double> values;
+  for (std::size_t e : elements) {
+    if (two_terminal(spec.elements[e])) {
+      values.push_back(0.0 - heat[e][0]); // 0 - x: no "-0" for a zero flow
+      continue;
+    }
+    values.insert(values.end(), heat[e].begin(), heat[e].end());
+  }
+  return values;
+}
+
+std::string flow_csv_header(const lang::NetworkSpec& spec,
+                            const std::vector<std::size_t>& elements) {
+  std::string out = "time";
+  for (const auto& c : flow_columns(spec, elements))
+    out += fmt::format(",{}", c);
   return out + "\n";
 }
 
@@ -50,14 +72,8 @@ std::string flow_csv_row(double t, const lang::NetworkSpec& spec,
                          const std::vector<std::vector<double>>& heat) {
   fmt::memory_buffer out;
   fmt::format_to(std::back_inserter(out), "{:.10g}", t);
-  for (std::size_t e : elements) {
-    if (two_terminal(spec.elements[e])) {
-      fmt::format_to(std::back_inserter(out), ",{:.10g}", -heat[e][0]);
-      continue;
-    }
-    for (double h : heat[e])
-      fmt::format_to(std::back_inserter(out), ",{:.10g}", h);
-  }
+  for (double q : flow_values(spec, elements, heat))
+    fmt::format_to(std::back_inserter(out), ",{:.10g}", q);
   out.push_back('\n');
   return fmt::to_string(out);
 }

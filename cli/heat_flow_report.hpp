@@ -13,6 +13,15 @@
 
 namespace thermnet::cli {
 
+/// The flow columns of the selected elements (spec indices): NAME, or NAME@NODE per terminal.
+std::vector<std::string> flow_columns(const lang::NetworkSpec& spec,
+                                      const std::vector<std::size_t>& elements);
+
+/// The selected elements' flows, W, in flow_columns() order, from Network::element_heat.
+std::vector<double> flow_values(const lang::NetworkSpec& spec,
+                                const std::vector<std::size_t>& elements,
+                                const std::vector<std::vector<double>>& heat);
+
 /// The CSV header: `time` then the flow column(s) of each selected element (spec indices).
 std::string flow_csv_header(const lang::NetworkSpec& spec,
                             const std::vector<std::size_t>& elements);

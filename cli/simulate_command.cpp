@@ -13,6 +13,7 @@
 #include "kernel/core/simulation.hpp"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 
@@ -39,6 +40,7 @@ struct SimulateOptions {
   std::string summary;
   std::string band;
   std::vector<std::string> sets;
+  std::string json;
   bool stats = false;
   double rtol = 1e-6;
   double atol = 1e-6;
@@ -106,7 +108,8 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
                  {"--plot", o.plot},
                  {"--flows", o.flows},
                  {"--energy", o.energy},
-                 {"--summary", o.summary}},
+                 {"--summary", o.summary},
+                 {"--json", o.json}},
                 model_inputs(*model));
   if (o.samples > 0 && !(o.flows.empty() && o.energy.empty() && o.summary.empty()))
     throw std::invalid_argument(
@@ -163,6 +166,16 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   std::vector<std::vector<double>> heat;
   std::vector<double> unknowns(static_cast<std::size_t>(net.size())), row_temps;
   EnergyTotals energy;
+  std::optional<nlohmann::json> json;
+  if (!o.json.empty())
+    json = nlohmann::json{{"model", model->name()},
+                          {"case", spec.settings.name},
+                          {"unit", kelvin ? "K" : "degC"},
+                          {"nodes", selected},
+                          {"flow_columns", flow_columns(spec, flow_elements)},
+                          {"times", nlohmann::json::array()},
+                          {"temperatures", nlohmann::json::array()},
+                          {"flows", nlohmann::json::array()}};
   auto start = std::chrono::steady_clock::now();
   const auto row = [&](double t, const std::vector<double>& temps) {
     row_temps.clear();
@@ -170,12 +183,21 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
       row_temps.push_back(temps[c]);
     csv->write(result_csv_row(t, row_temps, kelvin));
     if (summary) summary->add(t, temps);
-    if (flows) {
+    if (flows || json) {
       for (std::size_t u = 0; u < unknowns.size(); ++u)
         unknowns[u] = temps[static_cast<std::size_t>(net.unknown_nodes()[u])];
       net.element_heat(t, unknowns.data(), heat);
+    }
+    if (flows)
       flows->write(o.steady ? steady_flow_listing(spec, flow_elements, heat, temps)
                             : flow_csv_row(t, spec, flow_elements, heat));
+    if (json) {
+      (*json)["times"].push_back(t);
+      nlohmann::json row = nlohmann::json::array();
+      for (double T : row_temps)
+        row.push_back(kelvin ? T : T - 273.15);
+      (*json)["temperatures"].push_back(std::move(row));
+      (*json)["flows"].push_back(flow_values(spec, flow_elements, heat));
     }
     if (o.plot.empty()) return;
     kept.times.push_back(t);
@@ -199,7 +221,12 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
     summary_out = std::make_unique<OutputStream>(o.summary);
     summary_out->write(summary->csv(kelvin));
   }
-  commit({csv.get(), svg.get(), flows.get(), energy_out.get(), summary_out.get()});
+  std::unique_ptr<OutputStream> json_out;
+  if (json) {
+    json_out = std::make_unique<OutputStream>(o.json);
+    json_out->write(json->dump(1) + "\n");
+  }
+  commit({csv.get(), svg.get(), flows.get(), energy_out.get(), summary_out.get(), json_out.get()});
   return exit_ok;
 }
 
@@ -239,6 +266,9 @@ void add_simulate_command(CLI::App& app, int& status) {
                   "per boundary received; per source energy, on time, duty, switches");
   cmd->add_option("--summary", o->summary,
                   "CSV per node: min, max and their times, time-weighted mean (and --band)");
+  cmd->add_option("--json", o->json,
+                  "the run as JSON: model, case, unit, nodes, times, temperatures[row][node], "
+                  "flow_columns and flows[row][column] (W, as --flows; --elements selects)");
   cmd->add_option("--band", o->band,
                   "LO..HI in degC: --summary adds the time each node spends outside it");
   cmd->add_flag("--stats", o->stats, "print solver statistics to standard error");

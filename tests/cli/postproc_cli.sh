@@ -123,6 +123,18 @@ check "sensitivity table: 17 degC" grep -q "th.on  *17 degC" out.txt
 run kinds thermostat
 check "kinds: the real limit of a set point" grep -q "on .*above absolute zero (> -273.15 degC)" out.txt
 
+run simulate slab.tnet --json run.json --nodes 'a,b' --elements g2 --unit K -o /dev/null
+check "--json: exit 0" [ "$rc" = 0 ]
+check "--json: nodes, times, temperatures (K) and flows that agree with them" python3 - <<'EOF'
+import json
+d = json.load(open("run.json"))
+assert d["nodes"] == ["a", "b"] and d["flow_columns"] == ["g2"] and d["unit"] == "K", d["nodes"]
+assert len(d["times"]) == len(d["temperatures"]) == len(d["flows"]) == 401
+for T, q in zip(d["temperatures"], d["flows"]):
+    assert abs(q[0] - (T[0] - T[1])) < 1e-9, (T, q)
+assert abs(d["temperatures"][0][0] - 273.15) < 1e-9
+EOF
+
 # Sweeps: the same numbers as separate --set runs, whatever the thread count.
 cat >swept.tnet <<'EOF'
 model swept
