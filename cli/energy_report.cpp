@@ -1,5 +1,7 @@
 #include "cli/energy_report.hpp"
 
+#include "cli/heat_flow_report.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -13,10 +15,6 @@ template <class... A> void put(fmt::memory_buffer& out, fmt::format_string<A...>
   fmt::format_to(std::back_inserter(out), f, std::forward<A>(a)...);
 }
 
-std::string element_name(const lang::NetworkSpec& spec, std::size_t e) {
-  const auto& el = spec.elements[e];
-  return el.name.empty() ? fmt::format("#{}", e) : el.name;
-}
 } // namespace
 
 EnergyBalance energy_balance(const lang::NetworkSpec& spec, const EnergyTotals& totals) {
@@ -74,7 +72,7 @@ std::string energy_report(const lang::NetworkSpec& spec, const EnergyTotals& tot
     header = true;
     const std::string switches =
         totals.switching[e] ? fmt::format("{}", totals.switches[e]) : std::string("-");
-    put(out, "{:<20} {:>16.6g} {:>12.6g} {:>8.4f} {:>10}\n", element_name(spec, e),
+    put(out, "{:<20} {:>16.6g} {:>12.6g} {:>8.4f} {:>10}\n", element_label(spec, e),
         totals.element_energy[e][0], totals.on_time[e], span > 0 ? totals.on_time[e] / span : 0.0,
         switches);
   }

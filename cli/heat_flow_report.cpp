@@ -24,11 +24,12 @@ bool two_terminal(const lang::ElementSpec& e) {
   return e.nodes.size() == 2;
 }
 
-std::string element_name(const lang::NetworkSpec& spec, std::size_t e) {
+} // namespace
+
+std::string element_label(const lang::NetworkSpec& spec, std::size_t e) {
   const auto& el = spec.elements[e];
   return el.name.empty() ? fmt::format("#{}", e) : el.name;
 }
-} // namespace
 
 std::vector<std::string> flow_columns(const lang::NetworkSpec& spec,
                                       const std::vector<std::size_t>& elements) {
@@ -36,11 +37,11 @@ std::vector<std::string> flow_columns(const lang::NetworkSpec& spec,
   for (std::size_t e : elements) {
     const auto& el = spec.elements[e];
     if (two_terminal(el)) {
-      columns.push_back(element_name(spec, e));
+      columns.push_back(element_label(spec, e));
       continue;
     }
     for (int node : el.nodes)
-      columns.push_back(fmt::format("{}@{}", element_name(spec, e), node_name(spec, node)));
+      columns.push_back(fmt::format("{}@{}", element_label(spec, e), node_name(spec, node)));
   }
   return columns;
 }
@@ -102,7 +103,7 @@ std::string steady_flow_listing(const lang::NetworkSpec& spec,
         if (!listed[e]) continue;
         std::string other = "(source)";
         if (two_terminal(el)) other = "from " + node_name(spec, el.nodes[1 - j]);
-        put(out, "  {:<20} {:<24} {:>16.9f}\n", element_name(spec, e), other, q);
+        put(out, "  {:<20} {:<24} {:>16.9f}\n", element_label(spec, e), other, q);
       }
     }
     if (sources != 0.0) put(out, "  {:<45} {:>16.9f}\n", "sources", sources);

@@ -13,6 +13,9 @@
 
 namespace thermnet::cli {
 
+/// An element's name in reports (`#INDEX` for one without a name).
+std::string element_label(const lang::NetworkSpec& spec, std::size_t e);
+
 /// The flow columns of the selected elements (spec indices): NAME, or NAME@NODE per terminal.
 std::vector<std::string> flow_columns(const lang::NetworkSpec& spec,
                                       const std::vector<std::size_t>& elements);
