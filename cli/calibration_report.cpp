@@ -43,7 +43,11 @@ std::string format_result_table(const OptimizerResult& r, const CalibrationProbl
   row.push_back(r.found ? fmt::format("{:.4f}", r.r2) : "-");
   for (std::size_t j = 0; j < problem.dimension(); ++j) {
     head.push_back(param_heading(problem.params()[j]));
-    row.push_back(r.found ? number(r.best[j]) : "-");
+    // With a least-squares fit, its standard error beside the value (also in --json).
+    std::string value = r.found ? number(r.best[j]) : "-";
+    if (r.found && j < r.std_errors.size() && std::isfinite(r.std_errors[j]))
+      value += " ± " + number(r.std_errors[j]);
+    row.push_back(value);
   }
   head.push_back("wall [s]");
   row.push_back(fmt::format("{:.2f}", r.wall_s));

@@ -12,6 +12,7 @@
 #include "cli/output_stream.hpp"
 #include "cli/sensitivity_command.hpp"
 #include "cli/simulate_command.hpp"
+#include "cli/sweep_command.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -58,6 +59,7 @@ int run(int argc, char** argv) {
   add_kinds_command(app, status);
   add_lsp_command(app, status);
   add_sensitivity_command(app, status);
+  add_sweep_command(app, status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

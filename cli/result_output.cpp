@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <fnmatch.h>
 #include <iterator>
 #include <stdexcept>
 
@@ -22,33 +23,45 @@ std::string result_csv_header(const std::vector<std::string>& names) {
   return out + "\n";
 }
 
-std::string result_csv_row(double t, const std::vector<double>& temps) {
+std::string result_csv_row(double t, const std::vector<double>& temps, bool kelvin) {
+  const double offset = kelvin ? 0.0 : kZeroCelsius;
   fmt::memory_buffer out;
   fmt::format_to(std::back_inserter(out), "{:.10g}", t);
   for (double T : temps)
-    fmt::format_to(std::back_inserter(out), ",{:.8f}", T - kZeroCelsius);
+    fmt::format_to(std::back_inserter(out), ",{:.8f}", T - offset);
   out.push_back('\n');
   return fmt::to_string(out);
 }
 
+std::vector<std::size_t> select_names(const std::vector<std::string>& names,
+                                      const std::vector<std::string>& patterns,
+                                      const std::string& option, const std::string& what) {
+  std::vector<std::size_t> selected;
+  if (patterns.empty()) {
+    for (std::size_t i = 0; i < names.size(); ++i)
+      selected.push_back(i);
+    return selected;
+  }
+  std::vector<char> taken(names.size(), 0);
+  for (const auto& p : patterns) {
+    bool any = false;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      if (::fnmatch(p.c_str(), names[i].c_str(), 0) != 0) continue;
+      any = true;
+      if (!taken[i]) selected.push_back(i);
+      taken[i] = 1;
+    }
+    if (any) continue;
+    std::string msg = fmt::format("{}: the model has no {} '{}'", option, what, p);
+    if (auto s = lang::closest_match(p, names)) msg += fmt::format("; did you mean '{}'?", *s);
+    throw std::invalid_argument(msg);
+  }
+  return selected;
+}
+
 std::vector<std::size_t> plot_columns(const std::vector<std::string>& names,
                                       const std::vector<std::string>& nodes) {
-  std::vector<std::size_t> columns;
-  if (nodes.empty()) {
-    for (std::size_t i = 0; i < names.size(); ++i)
-      columns.push_back(i);
-    return columns;
-  }
-  for (const auto& n : nodes) {
-    auto it = std::find(names.begin(), names.end(), n);
-    if (it == names.end()) {
-      std::string msg = fmt::format("--nodes: the model has no node or boundary '{}'", n);
-      if (auto s = lang::closest_match(n, names)) msg += fmt::format("; did you mean '{}'?", *s);
-      throw std::invalid_argument(msg);
-    }
-    columns.push_back(static_cast<std::size_t>(it - names.begin()));
-  }
-  return columns;
+  return select_names(names, nodes, "--nodes", "node or boundary");
 }
 
 std::string plot_result_svg(const SimulationResult& r, const std::string& title) {

@@ -12,11 +12,17 @@ namespace thermnet::cli {
 /// The CSV header line: `time` then one column per name.
 std::string result_csv_header(const std::vector<std::string>& names);
 
-/// One CSV line: the time, then each temperature (K) in degC.
-std::string result_csv_row(double t, const std::vector<double>& temps);
+/// One CSV line: the time, then each temperature (K) in degC, or in K with `kelvin`.
+std::string result_csv_row(double t, const std::vector<double>& temps, bool kelvin = false);
 
-/// The columns of `names` that `nodes` names, in that order (every column when `nodes` is empty);
-/// throws std::invalid_argument for an unknown name (with a suggestion).
+/// The indices of `names` that `patterns` select, in pattern order then name order, each once
+/// (every index when `patterns` is empty); a pattern is a name or a glob (`*`, `?`, `[...]`).
+/// Throws std::invalid_argument naming `option` and `what` for a pattern that selects nothing.
+std::vector<std::size_t> select_names(const std::vector<std::string>& names,
+                                      const std::vector<std::string>& patterns,
+                                      const std::string& option, const std::string& what);
+
+/// The columns of `names` that `nodes` names or globs (select_names for --nodes).
 std::vector<std::size_t> plot_columns(const std::vector<std::string>& names,
                                       const std::vector<std::string>& nodes);
 

@@ -29,6 +29,7 @@ struct SensitivityCommandOptions {
 std::string format_value(const SensitivityFactor& f) {
   if (f.lo && f.hi) return fmt::format("{:.4g} .. {:.4g}", *f.lo, *f.hi);
   if (std::isnan(f.value)) return "signal";
+  if (f.temperature) return fmt::format("{:.4g} degC", f.value - 273.15);
   return fmt::format("{:.4g}", f.value);
 }
 
@@ -41,7 +42,7 @@ std::string format_table(const SensitivityReport& r) {
   }
   std::string out = fmt::format(
       "normalised sensitivity, K: RMS over time of dT/dp x (hi - lo) for ranged params, "
-      "x |p| otherwise; cases: {}\n",
+      "x 1 K for set points (degC), x |p| otherwise; cases: {}\n",
       fmt::join(r.cases, ", "));
   out += fmt::format("{:>4}  {:<{}}  {:<{}}", "rank", "factor", name_w, "range/value", value_w);
   std::vector<std::size_t> widths;
@@ -73,7 +74,10 @@ nlohmann::json to_json(const lang::Model& model, const SensitivityReport& r) {
                         {"scale", f.scale},
                         {"total", r.total[j]},
                         {"sensitivities", s}};
-    e["value"] = std::isnan(f.value) ? nlohmann::json(nullptr) : nlohmann::json(f.value);
+    e["value"] = std::isnan(f.value) ? nlohmann::json(nullptr)
+                 : f.temperature     ? nlohmann::json(f.value - 273.15)
+                                     : nlohmann::json(f.value);
+    if (f.temperature) e["unit"] = "degC";
     if (f.lo) e["lo"] = *f.lo;
     if (f.hi) e["hi"] = *f.hi;
     factors.push_back(e);

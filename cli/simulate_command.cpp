@@ -1,19 +1,25 @@
 #include "cli/simulate_command.hpp"
 
+#include "cli/energy_report.hpp"
 #include "cli/exit_status.hpp"
+#include "cli/heat_flow_report.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/node_summary.hpp"
 #include "cli/output_stream.hpp"
+#include "cli/param_overrides.hpp"
 #include "cli/result_output.hpp"
 #include "cli/run_command.hpp"
 #include "cli/uncertainty.hpp"
 #include "kernel/core/simulation.hpp"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace thermnet::cli {
 namespace {
@@ -27,6 +33,14 @@ struct SimulateOptions {
   std::string out;
   std::string plot;
   std::vector<std::string> nodes;
+  std::string unit = "degC";
+  std::string flows;
+  std::vector<std::string> elements;
+  std::string energy;
+  std::string summary;
+  std::string band;
+  std::vector<std::string> sets;
+  std::string json;
   bool stats = false;
   double rtol = 1e-6;
   double atol = 1e-6;
@@ -90,7 +104,22 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   int status = exit_ok;
   auto model = load_checked_model(o.model, sources, status);
   if (!model) return status;
-  check_outputs({{"-o", o.out}, {"--plot", o.plot}}, model_inputs(*model));
+  check_outputs({{"-o", o.out},
+                 {"--plot", o.plot},
+                 {"--flows", o.flows},
+                 {"--energy", o.energy},
+                 {"--summary", o.summary},
+                 {"--json", o.json}},
+                model_inputs(*model));
+  if (o.samples > 0 && !(o.flows.empty() && o.energy.empty() && o.summary.empty()))
+    throw std::invalid_argument(
+        "--flows, --energy and --summary report one run: not with --samples");
+  if (o.samples > 0 && !o.sets.empty())
+    throw std::invalid_argument("--set is not available with --samples");
+  if (o.steady && !o.energy.empty())
+    throw std::invalid_argument("--energy reports a transient: not with --steady");
+  if (!o.band.empty() && o.summary.empty())
+    throw std::invalid_argument("--band is reported in --summary FILE: give --summary too");
   SimulationOptions sim;
   if (!o.duration.empty()) sim.duration = parse_time(o.duration);
   if (!o.output_interval.empty()) sim.output = parse_time(o.output_interval);
@@ -102,28 +131,79 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
     run_samples(*model, o, sim);
     return exit_ok;
   }
-  Network net(model->instantiate(o.case_name));
-  std::vector<std::string> names;
-  for (const auto& n : net.spec().nodes)
+  Network net(model->instantiate(o.case_name, parse_param_sets(*model, o.sets)));
+  const lang::NetworkSpec& spec = net.spec();
+  std::vector<std::string> names, element_names;
+  for (const auto& n : spec.nodes)
     names.push_back(n.name);
-  // The plotted columns are checked before the run; only they are kept for the plot, while the
-  // CSV goes out row by row.
-  const std::vector<std::size_t> plotted =
-      o.plot.empty() ? std::vector<std::size_t>{} : plot_columns(names, o.nodes);
+  for (const auto& e : spec.elements)
+    element_names.push_back(e.name);
+  // Everything selected is checked before the run: the CSV goes out row by row, only the plotted
+  // columns are kept for the plot.
+  const std::vector<std::size_t> columns = plot_columns(names, o.nodes);
+  const std::vector<std::size_t> flow_elements =
+      select_names(element_names, o.elements, "--elements", "element");
+  const bool kelvin = o.unit == "K";
+  std::optional<NodeSummary> summary;
+  if (!o.summary.empty())
+    summary.emplace(names, columns,
+                    o.band.empty() ? std::optional<Band>{}
+                                   : std::optional<Band>{parse_band(o.band)});
   SimulationResult kept;
-  for (std::size_t c : plotted)
-    kept.names.push_back(names[c]);
+  if (!o.plot.empty())
+    for (std::size_t c : columns)
+      kept.names.push_back(names[c]);
+  std::vector<std::string> selected;
+  for (std::size_t c : columns)
+    selected.push_back(names[c]);
   auto csv = open_output(o.out);
-  csv->write(result_csv_header(names));
+  csv->write(result_csv_header(selected));
+  std::unique_ptr<OutputStream> flows;
+  if (!o.flows.empty()) {
+    flows = std::make_unique<OutputStream>(o.flows);
+    if (!o.steady) flows->write(flow_csv_header(spec, flow_elements));
+  }
+  std::vector<std::vector<double>> heat;
+  std::vector<double> unknowns(static_cast<std::size_t>(net.size())), row_temps;
+  EnergyTotals energy;
+  std::optional<nlohmann::json> json;
+  if (!o.json.empty())
+    json = nlohmann::json{{"model", model->name()},
+                          {"case", spec.settings.name},
+                          {"unit", kelvin ? "K" : "degC"},
+                          {"nodes", selected},
+                          {"flow_columns", flow_columns(spec, flow_elements)},
+                          {"times", nlohmann::json::array()},
+                          {"temperatures", nlohmann::json::array()},
+                          {"flows", nlohmann::json::array()}};
   auto start = std::chrono::steady_clock::now();
-  const SolverStats stats = simulate(net, sim, [&](double t, const std::vector<double>& temps) {
-    csv->write(result_csv_row(t, temps));
-    if (plotted.empty()) return;
+  const auto row = [&](double t, const std::vector<double>& temps) {
+    row_temps.clear();
+    for (std::size_t c : columns)
+      row_temps.push_back(temps[c]);
+    csv->write(result_csv_row(t, row_temps, kelvin));
+    if (summary) summary->add(t, temps);
+    if (flows || json) {
+      for (std::size_t u = 0; u < unknowns.size(); ++u)
+        unknowns[u] = temps[static_cast<std::size_t>(net.unknown_nodes()[u])];
+      net.element_heat(t, unknowns.data(), heat);
+    }
+    if (flows)
+      flows->write(o.steady ? steady_flow_listing(spec, flow_elements, heat, temps)
+                            : flow_csv_row(t, spec, flow_elements, heat));
+    if (json) {
+      (*json)["times"].push_back(t);
+      nlohmann::json row = nlohmann::json::array();
+      for (double T : row_temps)
+        row.push_back(kelvin ? T : T - 273.15);
+      (*json)["temperatures"].push_back(std::move(row));
+      (*json)["flows"].push_back(flow_values(spec, flow_elements, heat));
+    }
+    if (o.plot.empty()) return;
     kept.times.push_back(t);
-    std::vector<double>& row = kept.temps.emplace_back();
-    for (std::size_t c : plotted)
-      row.push_back(temps[c]);
-  });
+    kept.temps.push_back(row_temps);
+  };
+  const SolverStats stats = simulate(net, sim, row, o.energy.empty() ? nullptr : &energy);
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (o.stats) print_stats(stats, wall);
   std::unique_ptr<OutputStream> svg;
@@ -132,7 +212,21 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
     svg->write(plot_result_svg(
         kept, fmt::format("{} — case {}", model->name(), net.spec().settings.name)));
   }
-  commit({csv.get(), svg.get()});
+  std::unique_ptr<OutputStream> energy_out, summary_out;
+  if (!o.energy.empty()) {
+    energy_out = std::make_unique<OutputStream>(o.energy);
+    energy_out->write(energy_report(spec, energy));
+  }
+  if (summary) {
+    summary_out = std::make_unique<OutputStream>(o.summary);
+    summary_out->write(summary->csv(kelvin));
+  }
+  std::unique_ptr<OutputStream> json_out;
+  if (json) {
+    json_out = std::make_unique<OutputStream>(o.json);
+    json_out->write(json->dump(1) + "\n");
+  }
+  commit({csv.get(), svg.get(), flows.get(), energy_out.get(), summary_out.get(), json_out.get()});
   return exit_ok;
 }
 
@@ -151,8 +245,32 @@ void add_simulate_command(CLI::App& app, int& status) {
                   "output interval, e.g. 10, 1min (default: duration/1000)");
   cmd->add_option("-o,--out", o->out, "CSV output file (default: standard output)");
   cmd->add_option("--plot", o->plot, "SVG plot of node temperatures against time");
-  cmd->add_option("--nodes", o->nodes, "nodes to plot (comma-separated; default: all)")
+  cmd->add_option("--nodes", o->nodes,
+                  "nodes and boundaries in the CSV, plot and summary: names or globs "
+                  "(comma-separated; default: all)")
       ->delimiter(',');
+  cmd->add_option("--set", o->sets,
+                  "param value NAME=VALUE (repeatable): a number in SI (degC for a temperature) "
+                  "or with a unit, e.g. 'h=0.02 [W/(cm^2*K)]'");
+  cmd->add_option("--unit", o->unit, "temperature unit of the CSV and summary (default degC)")
+      ->check(CLI::IsMember({"degC", "K"}));
+  cmd->add_option("--flows", o->flows,
+                  "heat flows, W: a CSV over time (two-terminal elements: from the first node to "
+                  "the second; others: NAME@NODE, heat into the node); with --steady, a listing "
+                  "per node with the balance residual");
+  cmd->add_option("--elements", o->elements,
+                  "elements in --flows: names or globs (comma-separated; default: all)")
+      ->delimiter(',');
+  cmd->add_option("--energy", o->energy,
+                  "energy balance over the run: per node stored, from sources, through links; "
+                  "per boundary received; per source energy, on time, duty, switches");
+  cmd->add_option("--summary", o->summary,
+                  "CSV per node: min, max and their times, time-weighted mean (and --band)");
+  cmd->add_option("--json", o->json,
+                  "the run as JSON: model, case, unit, nodes, times, temperatures[row][node], "
+                  "flow_columns and flows[row][column] (W, as --flows; --elements selects)");
+  cmd->add_option("--band", o->band,
+                  "LO..HI in degC: --summary adds the time each node spends outside it");
   cmd->add_flag("--stats", o->stats, "print solver statistics to standard error");
   cmd->add_option("--rtol", o->rtol, "relative tolerance")->check(CLI::Range(1e-12, 1e-1));
   cmd->add_option("--atol", o->atol, "absolute tolerance, K")->check(CLI::Range(1e-12, 10.0));

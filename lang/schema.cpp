@@ -5,6 +5,9 @@
 namespace thermnet::lang {
 
 std::string KeySchema::range_text() const {
+  // Stored in K (> 0) but written in degC: say what the limit is in the user's unit.
+  if (absolute_temperature && min && *min == 0.0 && !max)
+    return "above absolute zero (> -273.15 degC)";
   if (min && max)
     return fmt::format("in {}{:g}, {:g}{}", min_exclusive ? '(' : '[', *min, *max,
                        max_exclusive ? ')' : ']');

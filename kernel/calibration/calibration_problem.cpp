@@ -5,6 +5,7 @@
 
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
+#include "kernel/core/simulation.hpp"
 
 #include <fmt/format.h>
 
@@ -29,8 +30,7 @@ void run_case(lang::NetworkSpec spec, const MeasuredData& data, const SolverOpti
               Visit&& visit) {
   if (data.times.empty()) return;
   Network net(std::move(spec));
-  std::vector<double> T = net.initial_state();
-  if (net.spec().settings.initial_steady) solve_steady(net, T, 0.0, solver);
+  std::vector<double> T = start_state(net, solver);
   std::vector<double> all(net.spec().nodes.size());
   std::size_t k = 0;
   integrate(

@@ -63,12 +63,21 @@ void add_element_keys(const lang::ElementSpec& e, const std::string& label, std:
     f.kind = "element";
     f.value = signal.is_constant() ? signal.constant : std::numeric_limits<double>::quiet_NaN();
     f.scale = signal.is_constant() ? std::abs(signal.constant) : 1.0;
+    const lang::KeySchema* schema = e.schema ? e.schema->key(key) : nullptr;
+    f.temperature = schema && schema->absolute_temperature;
+    if (f.temperature) f.scale = 1.0; // per kelvin of change
     factors.push_back(f);
     KeyRef ref{index, part, key};
-    perturbs.push_back([ref, rel](const CaseRun& c, double sign) {
+    perturbs.push_back([ref, rel, shift = f.temperature](const CaseRun& c, double sign) {
       lang::NetworkSpec spec = c.spec;
       lang::Signal& s = element_at(spec, ref).values.at(ref.key);
-      s = s.scaled(1.0 + sign * rel);
+      if (!shift) {
+        s = s.scaled(1.0 + sign * rel);
+        return spec;
+      }
+      s.constant += sign * rel; // rel K: S = (T+ - T-) / (2 rel) is then per kelvin
+      for (double& v : s.v)
+        v += sign * rel;
       return spec;
     });
   }

@@ -44,6 +44,9 @@ struct SensitivityFactor {
   std::optional<double> lo; ///< range low end (ranged params)
   std::optional<double> hi; ///< range high end
   double scale = 0.0;       ///< hi - lo, or |value| (1 for a signal scaled by a factor)
+  /// A temperature key (a thermostat's on/off): value in K, perturbed by +-relative_step K and
+  /// scaled per kelvin (scale 1 K), since its size in K says nothing about its effect.
+  bool temperature = false;
 };
 
 /// The matrix and the ranking.

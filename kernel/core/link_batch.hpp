@@ -4,6 +4,7 @@
 
 #include "kernel/core/element.hpp"
 
+#include <utility>
 #include <vector>
 
 namespace thermnet {
@@ -17,6 +18,12 @@ public:
   std::size_t size() const { return G_.size(); }
   /// Requests the Jacobian slots of every link (as Element::declare).
   void declare(JacobianLayout& layout);
+  /// Heat flow of link k from its first node to its second at temperatures T (all nodes), W.
+  double flow(std::size_t k, const double* T) const {
+    return G_[k] * (T[ends_[k].a] - T[ends_[k].b]);
+  }
+  /// First and second node of link k.
+  std::pair<int, int> nodes(std::size_t k) const { return {ends_[k].a, ends_[k].b}; }
   /// Adds every link's heat flow into F (all nodes, W).
   void stamp_flows(const double* T, double* F) const;
   /// Adds every link's derivatives into J (the slots handed out by declare, W/K).

@@ -73,19 +73,25 @@ Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec
     unknown_nodes_.push_back(static_cast<int>(i));
     capacities_.push_back(spec_.nodes[i].C);
   }
-  const auto add = [&](const lang::ElementSpec& e) {
+  const auto add = [&](const lang::ElementSpec& e, int spec_element) {
     std::unique_ptr<Element> element = build(e, registry);
-    if (const auto* link = dynamic_cast<const LinearLink*>(element.get()))
+    Piece piece{spec_element};
+    if (const auto* link = dynamic_cast<const LinearLink*>(element.get())) {
+      piece.batch = static_cast<int>(links_.size());
       links_.add(link->a(), link->b(), link->conductance());
-    else
+    } else {
+      piece.element = static_cast<int>(elements_.size());
       elements_.push_back(std::move(element));
+    }
+    pieces_.push_back(piece);
   };
-  for (const auto& e : spec_.elements) {
+  for (std::size_t k = 0; k < spec_.elements.size(); ++k) {
+    const auto& e = spec_.elements[k];
     if (e.composite == lang::Composite::parallel)
       for (const auto& part : e.parts)
-        add(part);
+        add(part, static_cast<int>(k));
     else
-      add(e);
+      add(e, static_cast<int>(k));
   }
   // Fix the pattern: every unknown's diagonal plus what the elements declare.
   std::vector<std::pair<int, int>> pairs;
@@ -115,6 +121,7 @@ Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec
   }
   T_all_.assign(n, 0.0);
   F_all_.assign(n, 0.0);
+  F_piece_.assign(n, 0.0);
   J_links_.assign(static_cast<std::size_t>(pattern_.nnz()) + 1, 0.0);
   links_.stamp_jacobian(J_links_.data());
   J_all_ = J_links_;
@@ -219,6 +226,43 @@ double Network::boundary_loss(double t, const double* T) {
   for (std::size_t i = 0; i < spec_.nodes.size(); ++i)
     if (unknown_of_[i] < 0) loss += F_all_[i];
   return loss;
+}
+
+bool Network::element_switches(std::size_t e) const {
+  for (const Piece& p : pieces_)
+    if (static_cast<std::size_t>(p.spec_element) == e && p.element >= 0 &&
+        elements_[static_cast<std::size_t>(p.element)]->event_count() > 0)
+      return true;
+  return false;
+}
+
+void Network::element_heat(double t, const double* T, std::vector<std::vector<double>>& heat) {
+  expand(t, T, T_all_.data());
+  heat.resize(spec_.elements.size());
+  for (std::size_t e = 0; e < heat.size(); ++e)
+    heat[e].assign(spec_.elements[e].nodes.size(), 0.0);
+  // Adds what the piece put into F_piece_ at the element's terminals, and clears F_piece_.
+  const auto collect = [&](const Piece& p) {
+    const auto& terminals = spec_.elements[static_cast<std::size_t>(p.spec_element)].nodes;
+    auto& h = heat[static_cast<std::size_t>(p.spec_element)];
+    for (std::size_t j = 0; j < terminals.size(); ++j)
+      h[j] += F_piece_[static_cast<std::size_t>(terminals[j])];
+    for (int node : terminals)
+      F_piece_[static_cast<std::size_t>(node)] = 0.0;
+  };
+  for (const Piece& p : pieces_) {
+    if (p.batch >= 0) {
+      const auto k = static_cast<std::size_t>(p.batch);
+      const double q = links_.flow(k, T_all_.data());
+      const auto [a, b] = links_.nodes(k);
+      F_piece_[static_cast<std::size_t>(a)] -= q;
+      F_piece_[static_cast<std::size_t>(b)] += q;
+    } else {
+      elements_[static_cast<std::size_t>(p.element)]->stamp(t, T_all_.data(), F_piece_.data(),
+                                                            nullptr);
+    }
+    collect(p);
+  }
 }
 
 } // namespace thermnet

@@ -50,6 +50,12 @@ public:
   double source_power(double t, const double* T);
   /// Heat leaving the network into boundaries at t, W.
   double boundary_loss(double t, const double* T);
+  /// Heat each element of the spec adds to its terminals at (t, T) (T: the unknowns), W:
+  /// heat[e][j] goes into spec().elements[e].nodes[j]; a two-terminal link gives (-Q, +Q) with Q
+  /// its flow from the first terminal to the second. `heat` is resized as needed.
+  void element_heat(double t, const double* T, std::vector<std::vector<double>>& heat);
+  /// True when spec element e switches by events (a thermostat).
+  bool element_switches(std::size_t e) const;
 
 private:
   void stamp_all(double t, const double* T, bool with_jacobian);
@@ -62,6 +68,14 @@ private:
   std::vector<int> unknown_of_;                    // spec node -> unknown or -1
   std::vector<double> capacities_;
   SparsityPattern pattern_;
+  /// A built piece of a spec element: a link of links_ (batch >= 0) or an entry of elements_.
+  struct Piece {
+    int spec_element; ///< index into spec_.elements
+    int batch = -1;   ///< index into links_, or -1
+    int element = -1; ///< index into elements_, or -1
+  };
+  std::vector<Piece> pieces_;
+  std::vector<double> F_piece_;   // scratch of element_heat, kept zero between uses
   std::vector<int> event_offset_; // per element: first event index
   int event_count_ = 0;
   // Scratch sized once: temperatures, heat balance and Jacobian values of every node.

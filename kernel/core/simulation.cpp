@@ -50,22 +50,33 @@ SolverStats steady_with_switches(Network& net, std::vector<double>& T, const Sol
 
 } // namespace
 
-SolverStats simulate(Network& net, const SimulationOptions& opt, const RowCallback& row) {
-  const auto& settings = net.spec().settings;
+std::vector<double> start_state(Network& net, const SolverOptions& solver, SolverStats* stats) {
   std::vector<double> T = net.initial_state();
+  if (net.spec().settings.initial_steady) {
+    SolverStats s = steady_with_switches(net, T, solver);
+    if (stats) *stats = s;
+  } else if (net.event_count() > 0) {
+    net.init_events(0.0, T.data());
+  }
+  return T;
+}
+
+SolverStats simulate(Network& net, const SimulationOptions& opt, const RowCallback& row,
+                     EnergyTotals* energy) {
+  const auto& settings = net.spec().settings;
   std::vector<double> all(net.spec().nodes.size());
   auto record = [&](double t, const std::vector<double>& x) {
     net.expand(t, x.data(), all.data());
     row(t, all);
   };
   SolverStats steady;
-  if (opt.steady || settings.initial_steady) {
+  if (opt.steady) {
+    std::vector<double> T = net.initial_state();
     steady = steady_with_switches(net, T, opt.solver);
-    if (opt.steady) {
-      record(0.0, T);
-      return steady;
-    }
+    record(0.0, T);
+    return steady;
   }
+  std::vector<double> T = start_state(net, opt.solver, &steady);
   std::optional<double> duration = opt.duration ? opt.duration : settings.duration;
   if (!duration)
     throw std::invalid_argument(
@@ -76,8 +87,10 @@ SolverStats simulate(Network& net, const SimulationOptions& opt, const RowCallba
   if (*duration / interval > 1e7)
     throw std::invalid_argument(fmt::format(
         "{:g} output rows requested; use a longer output interval", *duration / interval));
+  const std::vector<double> times = output_times(*duration, interval);
   SolverStats s =
-      integrate(net, T, 0.0, *duration, output_times(*duration, interval), record, opt.solver);
+      energy ? integrate_with_energy(net, T, 0.0, *duration, times, record, opt.solver, *energy)
+             : integrate(net, T, 0.0, *duration, times, record, opt.solver);
   if (settings.initial_steady) s.steps += steady.steps;
   return s;
 }

@@ -5,6 +5,7 @@
 
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
+#include "kernel/core/simulation.hpp"
 
 #include <fmt/format.h>
 
@@ -30,9 +31,8 @@ std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
   std::vector<std::vector<double>> out;
   if (times.empty()) return out;
   Network net(std::move(spec));
-  std::vector<double> T = net.initial_state();
   const SolverOptions solver = diagnosis_solver();
-  if (net.spec().settings.initial_steady) solve_steady(net, T, 0.0, solver);
+  std::vector<double> T = start_state(net, solver);
   std::vector<double> all(net.spec().nodes.size());
   integrate(
       net, T, 0.0, times.back(), times,

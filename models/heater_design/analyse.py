@@ -3,9 +3,11 @@
 
   analyse.py --leak LEAK.csv        steady heat leak (thermnet simulate leak.tnet --steady), in
                                     total and per heating zone next to the zone's heater
-  analyse.py RUN.csv [--heated]     min/max optics temperatures and gradients; with --heated also
+  analyse.py RUN.csv [--heated FLOWS.csv]
+                                    min/max optics temperatures and gradients; with --heated also
                                     the duty cycle and energy of every heater, read from the heater
-                                    state meters of duty_meters.tnet (1 degC while on, 0 while off)
+                                    powers of `thermnet simulate --flows FLOWS.csv` (column
+                                    NAME@NODE: the heater's power into its node, 0 while off)
 """
 import sys
 
@@ -18,7 +20,7 @@ HEATERS.append(("hw", "window", 25.0))  # the window heater of heaters.tnet
 LENS = ["lens1_c", "lens1_e", "lens2_c", "lens2_e", "lens3_c", "lens3_e"]
 T_CLIMB = 2750.0  # s, end of the climb: the flight starts
 
-d = np.genfromtxt([a for a in sys.argv[1:] if not a.startswith("--")][0], delimiter=",", names=True)
+d = np.genfromtxt(sys.argv[2] if sys.argv[1] == "--leak" else sys.argv[1], delimiter=",", names=True)
 if sys.argv[1] == "--leak":
     lens = sum((20.0 - float(d[z])) / R_M for z in ZONES)
     win = sum((20.0 - float(d[n])) / R_M for n in ("window", "wseat"))
@@ -39,17 +41,20 @@ print(f"flight (t >= {T_CLIMB:.0f} s): optics {optics[:, late].min():.2f} .. {op
       f"largest lens radial gradient {max(np.max(abs(d[f'lens{k}_c'] - d[f'lens{k}_e'])[late]) for k in (1, 2, 3)):.2f} K; "
       f"window {d['window'][late].min():.2f} .. {d['window'][late].max():.2f} degC")
 if "--heated" in sys.argv:
+    flows = np.genfromtxt(sys.argv[sys.argv.index("--heated") + 1], delimiter=",", names=True,
+                          deletechars="")
+    assert np.array_equal(flows["time"], t), "the flows and temperatures come from different runs"
     # Each sample's state holds until the next sample: a switch is placed to within one output step.
     dt = np.diff(t, append=t[-1])
     total = 0.0
     for name, node, p in HEATERS:
-        on = d[f"on_{name}"] > 0.5
+        on = flows[f"{name}@{node}"] > 0.0
         e = p * float(np.sum(dt[on]))
         total += e
         switches = int(np.count_nonzero(on[1:] != on[:-1]))
         print(f"{name} on {node}, {p:g} W: duty cycle {100 * np.sum(dt[on & late]) / np.sum(dt[late]):.1f} % over the "
               f"flight, {100 * np.sum(dt[on]) / np.sum(dt):.1f} % overall, {switches} on/off changes, energy {e / 3600:.2f} Wh")
-    lens_e = total - HEATERS[-1][2] * float(np.sum(dt[d["on_hw"] > 0.5]))
+    lens_e = total - HEATERS[-1][2] * float(np.sum(dt[flows["hw@window"] > 0.0]))
     print(f"heater energy over {t[-1]:.0f} s: lens barrel {lens_e / 3600:.2f} Wh (mean {lens_e / t[-1]:.2f} W), "
           f"window {(total - lens_e) / 3600:.2f} Wh, total {total / 3600:.2f} Wh (mean {total / t[-1]:.2f} W); "
           f"output step {np.median(np.diff(t)):g} s")

@@ -25,7 +25,15 @@ public:
     heating_ = !heating_;
     return true;
   }
-  void init_events(double, const double* T) override { heating_ = T[sense_] < on_; }
+  /// On at or below T_on, off at or above T_off (a start exactly on a switching point would never
+  /// cross it); strictly inside the hysteresis band both states are consistent and the present one
+  /// is kept (off in a new network; as a steady state with the heater on left it).
+  void init_events(double, const double* T) override {
+    if (T[sense_] <= on_)
+      heating_ = true;
+    else if (T[sense_] >= off_)
+      heating_ = false;
+  }
   double power_in(double t, const double*) const override { return heating_ ? P_.at(t) : 0.0; }
 
 private:

@@ -19,6 +19,7 @@
 
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
+#include "kernel/core/simulation.hpp"
 #include "kernel/estimation/estimator.hpp"
 
 #include <Eigen/Dense>
@@ -127,7 +128,7 @@ public:
     solver_.rtol = 1e-8;
     solver_.atol = 1e-8;
     x_ = Eigen::VectorXd::Zero(m_);
-    auto T0 = net_.initial_state();
+    auto T0 = start_state(net_, solver_); // the same start as every other command
     for (int i = 0; i < n_; ++i)
       x_(i) = T0[i];
     if (input_ >= 0) x_(n_) = s.number("input0", 0.0);

@@ -539,6 +539,11 @@ TEST_CASE("reports: table columns and JSON fields") {
     CHECK(j.contains(key));
   CHECK(j["params"]["h"] == 8.0);
   CHECK(j["units"] == "SI");
+  CHECK(table.find("±") == std::string::npos); // no standard errors from a sampling method
+  r.std_errors = {0.25, 1.5};                  // a least-squares fit gives them: in the table too
+  const std::string with_se = cli::format_result_table(r, p);
+  CHECK(with_se.find("2 ± 0.25") != std::string::npos);
+  CHECK(with_se.find("8 ± 1.5") != std::string::npos);
   CHECK(cli::format_progress(Progress{50, 200, 0.5}, 10.0).find("25%") != std::string::npos);
   CHECK(cli::format_progress(Progress{50, 200, 0.5}, 10.0).find("ETA 0:30") != std::string::npos);
 }

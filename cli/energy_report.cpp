@@ -1,0 +1,86 @@
+#include "cli/energy_report.hpp"
+
+#include "cli/heat_flow_report.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <iterator>
+
+namespace thermnet::cli {
+
+namespace {
+/// Appends formatted text to a report.
+template <class... A> void put(fmt::memory_buffer& out, fmt::format_string<A...> f, A&&... a) {
+  fmt::format_to(std::back_inserter(out), f, std::forward<A>(a)...);
+}
+
+} // namespace
+
+EnergyBalance energy_balance(const lang::NetworkSpec& spec, const EnergyTotals& totals) {
+  EnergyBalance b;
+  for (std::size_t i = 0; i < spec.nodes.size(); ++i)
+    if (!spec.nodes[i].boundary)
+      b.stored += spec.nodes[i].C * (totals.T_end[i] - totals.T_start[i]);
+  for (std::size_t e = 0; e < spec.elements.size(); ++e) {
+    const auto& el = spec.elements[e];
+    for (std::size_t j = 0; j < el.nodes.size(); ++j) {
+      const double q = totals.element_energy[e][j];
+      if (spec.nodes[static_cast<std::size_t>(el.nodes[j])].boundary)
+        b.lost += q;
+      else if (el.nodes.size() == 1)
+        b.supplied += q;
+    }
+  }
+  return b;
+}
+
+std::string energy_report(const lang::NetworkSpec& spec, const EnergyTotals& totals) {
+  fmt::memory_buffer out;
+  const double span = totals.t1 - totals.t0;
+  put(out, "# energy balance, case {}, t = {:g} .. {:g} s (J)\n", spec.settings.name, totals.t0,
+      totals.t1);
+  put(out, "\n{:<20} {:>16} {:>16} {:>16} {:>12}\n", "node", "stored", "from sources",
+      "through links", "residual");
+  for (std::size_t i = 0; i < spec.nodes.size(); ++i) {
+    if (spec.nodes[i].boundary) continue;
+    double sources = 0.0, links = 0.0;
+    for (std::size_t e = 0; e < spec.elements.size(); ++e)
+      for (std::size_t j = 0; j < spec.elements[e].nodes.size(); ++j)
+        if (static_cast<std::size_t>(spec.elements[e].nodes[j]) == i)
+          (spec.elements[e].nodes.size() == 1 ? sources : links) += totals.element_energy[e][j];
+    const double stored = spec.nodes[i].C * (totals.T_end[i] - totals.T_start[i]);
+    put(out, "{:<20} {:>16.6g} {:>16.6g} {:>16.6g} {:>12.3e}\n", spec.nodes[i].name, stored,
+        sources, links, stored - sources - links);
+  }
+  put(out, "\n{:<20} {:>16}\n", "boundary", "heat received");
+  for (std::size_t i = 0; i < spec.nodes.size(); ++i) {
+    if (!spec.nodes[i].boundary) continue;
+    double received = 0.0;
+    for (std::size_t e = 0; e < spec.elements.size(); ++e)
+      for (std::size_t j = 0; j < spec.elements[e].nodes.size(); ++j)
+        if (static_cast<std::size_t>(spec.elements[e].nodes[j]) == i)
+          received += totals.element_energy[e][j];
+    put(out, "{:<20} {:>16.6g}\n", spec.nodes[i].name, received);
+  }
+  bool header = false;
+  for (std::size_t e = 0; e < spec.elements.size(); ++e) {
+    if (spec.elements[e].nodes.size() != 1) continue;
+    if (!header)
+      put(out, "\n{:<20} {:>16} {:>12} {:>8} {:>10}\n", "source", "energy", "on time [s]", "duty",
+          "switches");
+    header = true;
+    const std::string switches =
+        totals.switching[e] ? fmt::format("{}", totals.switches[e]) : std::string("-");
+    put(out, "{:<20} {:>16.6g} {:>12.6g} {:>8.4f} {:>10}\n", element_label(spec, e),
+        totals.element_energy[e][0], totals.on_time[e], span > 0 ? totals.on_time[e] / span : 0.0,
+        switches);
+  }
+  const EnergyBalance b = energy_balance(spec, totals);
+  put(out,
+      "\ntotal: stored {:.6g} = supplied {:.6g} - lost to boundaries {:.6g}; residual {:.3e} J\n",
+      b.stored, b.supplied, b.lost, b.residual());
+  return fmt::to_string(out);
+}
+
+} // namespace thermnet::cli
