@@ -2,25 +2,44 @@
 
 #include "cli/svg_plot.hpp"
 #include "lang/diagnostics.hpp"
+#include "lang/name_list.hpp"
 
 #include <fmt/format.h>
 
+#include <iterator>
 #include <stdexcept>
+#include <string_view>
 
 namespace thermnet::cli {
 
-std::string format_result_csv(const SimulationResult& r) {
-  std::string out = "time";
-  for (const auto& n : r.names)
-    out += "," + n;
-  out += "\n";
-  for (std::size_t k = 0; k < r.times.size(); ++k) {
-    out += fmt::format("{:.10g}", r.times[k]);
-    for (double T : r.temps[k])
-      out += fmt::format(",{:.8f}", T - 273.15);
-    out += "\n";
+void append_csv_field(fmt::memory_buffer& out, const std::string& name) {
+  if (name.find_first_of(",\"") == std::string::npos) {
+    out.append(name);
+    return;
   }
-  return out;
+  out.push_back('"');
+  for (char c : name) {
+    if (c == '"') out.push_back('"');
+    out.push_back(c);
+  }
+  out.push_back('"');
+}
+
+std::string format_result_csv(const SimulationResult& r) {
+  fmt::memory_buffer out;
+  out.append(std::string_view("time"));
+  for (const auto& n : r.names) {
+    out.push_back(',');
+    append_csv_field(out, n);
+  }
+  out.push_back('\n');
+  for (std::size_t k = 0; k < r.times.size(); ++k) {
+    fmt::format_to(std::back_inserter(out), "{:.10g}", r.times[k]);
+    for (double T : r.temps[k])
+      fmt::format_to(std::back_inserter(out), ",{:.8f}", T - 273.15);
+    out.push_back('\n');
+  }
+  return fmt::to_string(out);
 }
 
 std::string plot_result_svg(const SimulationResult& r, const std::vector<std::string>& nodes,
@@ -30,7 +49,7 @@ std::string plot_result_svg(const SimulationResult& r, const std::vector<std::st
     for (std::size_t i = 0; i < r.names.size(); ++i)
       columns.push_back(i);
   } else {
-    for (const auto& n : nodes) {
+    for (const auto& n : lang::join_bracketed(nodes)) {
       std::size_t i = 0;
       while (i < r.names.size() && r.names[i] != n)
         ++i;

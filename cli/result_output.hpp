@@ -3,10 +3,15 @@
 
 #include "kernel/core/simulation.hpp"
 
+#include <fmt/format.h>
+
 #include <string>
 #include <vector>
 
 namespace thermnet::cli {
+
+/// Appends a column name as a CSV field: quoted when it holds a comma or a quote (`"p[3,7]"`).
+void append_csv_field(fmt::memory_buffer& out, const std::string& name);
 
 /// CSV text: `time` then one column per node and boundary, temperatures in degC.
 std::string format_result_csv(const SimulationResult& r);

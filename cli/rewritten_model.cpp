@@ -34,7 +34,7 @@ struct PathCollector {
     out.push_back({s.begin, s.end, s.text, include});
   }
   void value(const ast::Value& v) const {
-    if (const auto* t = boost::get<ast::TableSignal>(&v)) add(t->file, false);
+    if (const auto* t = v.as_table()) add(t->file, false);
   }
   void keys(const std::vector<ast::KeyValue>& kvs) const {
     for (const auto& kv : kvs)
@@ -43,20 +43,30 @@ struct PathCollector {
   void operator()(const ast::IncludeStmt& s) const { add(s.path, true); }
   void operator()(const ast::PluginStmt& s) const { add(s.path, false); }
   void operator()(const ast::NodeStmt& s) const { keys(s.keys); }
-  void operator()(const ast::BoundaryStmt& s) const { keys(s.keys); }
   void operator()(const ast::ElementStmt& s) const { keys(s.keys); }
   void operator()(const ast::CompositeStmt& s) const {
     for (const auto& part : s.parts)
       keys(part.keys);
   }
-  void operator()(const ast::CaseStmt& s) const {
-    for (const auto& item : s.items) {
-      if (const auto* d = boost::get<ast::CaseData>(&item))
+  void operator()(const ast::ForStmt& s) const {
+    for (const auto& b : s.body)
+      std::visit(*this, b);
+  }
+  void operator()(const ast::SubmodelStmt& s) const {
+    for (const auto& b : s.body)
+      std::visit(*this, b);
+  }
+  void items(const std::vector<ast::CaseItem>& items) const {
+    for (const auto& item : items) {
+      if (const auto* d = std::get_if<ast::CaseData>(&item))
         add(d->path, false);
-      else if (const auto* a = boost::get<ast::CaseAssign>(&item))
+      else if (const auto* a = std::get_if<ast::CaseAssign>(&item))
         value(a->value);
+      else
+        this->items(std::get<ast::CaseFor>(item).items);
     }
   }
+  void operator()(const ast::CaseStmt& s) const { items(s.items); }
   void operator()(const ast::ModelStmt&) const {}
   void operator()(const ast::ConstStmt&) const {}
   void operator()(const ast::ParamStmt&) const {}
@@ -126,7 +136,7 @@ std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lan
     const ast::File parsed = lang::parse_file(f, sources, diags);
     FileRefs info;
     for (const auto& s : parsed.statements)
-      boost::apply_visitor(PathCollector{info.refs}, s);
+      std::visit(PathCollector{info.refs}, s);
     for (const auto& r : info.refs) {
       const fs::path named = real_path(resolve(sources.path(f), r.text));
       std::optional<lang::FileId> target;

@@ -92,8 +92,13 @@ std::optional<std::string> read_text_file(const std::string& path, std::string& 
     return "it is a device, not a regular file";
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::string(std::strerror(errno));
-  // Read in chunks so that a pipe or a file growing without end stops at the limit.
+  // Read in chunks so that a pipe or a file growing without end stops at the limit; a regular
+  // file's size is reserved up front so the text is not copied while it grows.
   text.clear();
+  if (fs::is_regular_file(st)) {
+    const auto size = fs::file_size(path, ec);
+    if (!ec && size <= max_file_bytes) text.reserve(static_cast<std::size_t>(size));
+  }
   std::string chunk(std::size_t{1} << 20, '\0');
   while (in) {
     in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
