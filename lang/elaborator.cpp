@@ -845,7 +845,13 @@ void Elaborator::apply_param_overrides() {
       continue;
     }
     const ast::Expr* e = a->value.as_expr();
-    if (!e || !a->more.empty()) {
+    if (!a->more.empty()) {
+      report(DiagnosticEngine::make(DiagId::list_not_allowed, at,
+                                    span_of(case_->file, a->more.front()),
+                                    fmt::format("param '{}'", name)));
+      continue;
+    }
+    if (!e) {
       report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, mark,
                                     fmt::format("param '{}'", name)));
       continue;
@@ -992,6 +998,15 @@ void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseI
       continue;
     }
     const auto& a = std::get<ast::CaseAssign>(item);
+    if (a.target.path.rest().empty() && !a.target.path.plain()) {
+      report(DiagnosticEngine::make(
+          DiagId::override_fixed_only, Span{f, a.begin, a.begin}, span_of(f, a.target),
+          fmt::format("'{}' sets no key: a case sets 'NAME.KEY = ...' of a node, boundary or "
+                      "element, or 'PARAM = ...'",
+                      std::string_view(m_.sources().text(f))
+                          .substr(a.target.begin, a.target.end - a.target.begin))));
+      continue;
+    }
     if (!a.target.path.plain()) {
       apply_override(net, a, scope);
       continue;
@@ -1028,7 +1043,12 @@ void Elaborator::apply_setting(NetworkSpec& net, const ast::CaseAssign& a,
     return;
   }
   const ast::Expr* e = a.value.as_expr();
-  if (!e || (!a.more.empty() && key != "output")) {
+  if (!a.more.empty() && key != "output") {
+    report(DiagnosticEngine::make(DiagId::list_not_allowed, at, span_of(f, a.more.front()),
+                                  fmt::format("'{}' of case '{}'", key, s.name)));
+    return;
+  }
+  if (!e) {
     report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, span_of(f, a.target),
                                   fmt::format("'{}' of case '{}'", key, s.name)));
     return;
@@ -1135,7 +1155,12 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
     }
     Place p{[&] { return fmt::format("{} of {} '{}'", key, schema.kind, obj); }, ks->dim,
             ks->absolute_temperature, ks, ks->type == KeyType::signal};
-    if ((ks->type == KeyType::number && !a.value.as_expr()) || !a.more.empty()) {
+    if (!a.more.empty()) {
+      report(DiagnosticEngine::make(DiagId::list_not_allowed, at, span_of(f, a.more.front()),
+                                    p.what()));
+      return;
+    }
+    if (ks->type == KeyType::number && !a.value.as_expr()) {
       report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what()));
       return;
     }
@@ -1206,16 +1231,54 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
   }
   Place p{[&] { return fmt::format("{} of {} '{}'", key, e.kind, e.name); }, ks->dim,
           ks->absolute_temperature, ks, ks->type == KeyType::signal};
-  if ((ks->type == KeyType::number && !a.value.as_expr()) || !a.more.empty()) {
+  if (!a.more.empty()) {
+    report(
+        DiagnosticEngine::make(DiagId::list_not_allowed, at, span_of(f, a.more.front()), p.what()));
+    return;
+  }
+  if (ks->type == KeyType::number && !a.value.as_expr()) {
     report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what()));
     return;
   }
   if (auto v = signal(a.value, f, p, at)) e.values[key] = std::move(*v);
 }
 
+namespace {
+
+/// The temperatures a model prescribes, in degC: boundaries (over their signals), initial
+/// temperatures of nodes and of the case.
+std::pair<double, double> prescribed_band(const NetworkSpec& net) {
+  double lo = net.default_initial(), hi = lo;
+  auto take = [&](double k) {
+    lo = std::min(lo, k);
+    hi = std::max(hi, k);
+  };
+  const double end = net.settings.duration.value_or(0.0);
+  for (const auto& n : net.nodes) {
+    if (n.T0) take(*n.T0);
+    if (!n.boundary) continue;
+    if (n.T.kind == Signal::Kind::expression) {
+      for (int k = 0; k <= 10; ++k)
+        take(n.T.at(end * k / 10.0));
+    } else {
+      take(n.T.constant);
+      for (double v : n.T.v)
+        take(v);
+      if (!n.T.is_constant()) take(n.T.v.empty() ? n.T.constant : n.T.v.front());
+    }
+  }
+  return {lo - 273.15, hi - 273.15};
+}
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+} // namespace
+
 void Elaborator::check_data(const NetworkSpec& net, const std::string& path, Span at, Span mark,
                             const std::optional<Unit>& unit) {
-  (void)unit;
   try {
     CsvTable t = read_csv(path);
     check_measured(t);
@@ -1230,6 +1293,40 @@ void Elaborator::check_data(const NetworkSpec& net, const std::string& path, Spa
         d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
       report(std::move(d));
     }
+    // Values hundreds of kelvin away from every temperature the model prescribes are most likely
+    // in another unit than the one they are read in (a fit would invent a huge heater).
+    constexpr double far = 150.0;
+    const auto [lo, hi] = prescribed_band(net);
+    const double scale = net.settings.data_scale, offset = net.settings.data_offset;
+    std::vector<double> medians;
+    std::string columns;
+    for (std::size_t c = 1; c < t.columns.size(); ++c) {
+      std::vector<double> v;
+      for (double x : t.cells[c])
+        if (!std::isnan(x)) v.push_back(scale * x + offset);
+      if (v.empty()) continue;
+      const double m = median(std::move(v));
+      if (m > lo - far && m < hi + far) return; // a column in the model's range: the unit fits
+      medians.push_back(m);
+      if (medians.size() <= 3)
+        columns += fmt::format("{}'{}'", columns.empty() ? "" : ", ", t.columns[c]);
+    }
+    if (medians.empty()) return;
+    const double m = median(medians);
+    const char* read_as = unit ? "in the declared unit" : "as degC";
+    std::string guess;
+    if (m - 273.15 > lo - far / 3 && m - 273.15 < hi + far / 3)
+      guess = " They look like kelvin: write data \"FILE\" [K].";
+    else if ((m - 32) / 1.8 > lo - far / 3 && (m - 32) / 1.8 < hi + far / 3)
+      guess = " They look like degF: write data \"FILE\" [degF].";
+    else if (unit && m + 273.15 > lo - far / 3 && m + 273.15 < hi + far / 3)
+      guess = " They look like degC: drop the unit.";
+    report(DiagnosticEngine::make(
+        DiagId::data_unit_suspect, at, mark,
+        fmt::format("the measured values of {} (median {:.4g} degC read {}) lie more than {:g} K "
+                    "from every temperature the model prescribes ({:.4g} .. {:.4g} degC): are "
+                    "they in another unit?{}",
+                    columns, m, read_as, far, lo, hi, guess)));
   } catch (const CsvError& e) {
     std::string msg = e.what();
     if (e.row == 0)

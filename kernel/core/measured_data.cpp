@@ -1,4 +1,5 @@
-// load_measured(): a case's CSV data file matched to the network's nodes, degC -> K.
+// load_measured(): a case's CSV data file matched to the network's nodes, degC (or the unit the
+// case declares for it) -> K.
 
 #include "kernel/core/measured_data.hpp"
 
@@ -26,6 +27,10 @@ MeasuredData load_measured(const std::string& path, const lang::NetworkSpec& spe
   MeasuredData data;
   data.path = path;
   data.times = table.time();
+  // The case's own data file may declare its unit (`data "run.csv" [K]`): values to degC first.
+  const bool own = path == spec.settings.data_path;
+  const double scale = own ? spec.settings.data_scale : 1.0;
+  const double offset = own ? spec.settings.data_offset : 0.0;
   for (std::size_t c = 1; c < table.columns.size(); ++c) {
     const std::string& name = table.columns[c];
     int index = spec.node_index(name);
@@ -37,7 +42,7 @@ MeasuredData load_measured(const std::string& path, const lang::NetworkSpec& spe
     s.node_index = index;
     s.values = table.cells[c];
     for (double& v : s.values)
-      if (!std::isnan(v)) v += kZeroCelsius;
+      if (!std::isnan(v)) v = scale * v + offset + kZeroCelsius;
     data.series.push_back(std::move(s));
   }
   return data;
