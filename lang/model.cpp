@@ -62,7 +62,10 @@ void check_topology(const Model& m, const Reporter& report) {
   for (std::size_t i = 0; i < n; ++i) {
     if (decls[i].boundary || degree[i] != 0) continue;
     const NodeDecl& d = decls[i];
-    report(DiagnosticEngine::make(DiagId::isolated_node, start_of(d.where), d.name_span, d.name));
+    Diagnostic w =
+        DiagnosticEngine::make(DiagId::isolated_node, start_of(d.where), d.name_span, d.name);
+    add_scope_notes(w, d.scope);
+    report(std::move(w));
   }
   for (const auto& [root, members] : groups) {
     if (grounded.count(comp.find(root)) || members.size() < 2) continue;
@@ -71,8 +74,10 @@ void check_topology(const Model& m, const Reporter& report) {
       names += (k ? ", '" : "'") + decls[members[k]].name + "'";
     if (members.size() > 4) names += fmt::format(" and {} more", members.size() - 4);
     const NodeDecl& d = decls[members.front()];
-    report(DiagnosticEngine::make(DiagId::floating_group, start_of(d.where), d.name_span,
-                                  "nodes " + names));
+    Diagnostic w = DiagnosticEngine::make(DiagId::floating_group, start_of(d.where), d.name_span,
+                                          "nodes " + names);
+    add_scope_notes(w, d.scope);
+    report(std::move(w));
   }
 }
 
@@ -108,9 +113,10 @@ void Model::lint(DiagnosticEngine& diags) const {
     base_net.settings.name = "default";
     remember("default", std::move(base_net));
   }
-  // After a syntax error the model is incomplete: warnings about its shape and about unused
-  // values could be caused by the statements that were skipped, so only errors are reported.
-  const bool complete = syntax_errors_ == 0;
+  // After a syntax error (or loops cut short) the model is incomplete: warnings about its shape and
+  // about unused values could be caused by the statements that were skipped, so only errors are
+  // reported.
+  const bool complete = syntax_errors_ == 0 && !truncated_;
   if (complete) check_topology(*this, collect);
   std::set<std::string, std::less<>> used = base.used_names();
   used.insert(structurally_used_.begin(), structurally_used_.end());

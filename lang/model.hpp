@@ -252,6 +252,7 @@ private:
   std::set<std::string, std::less<>> unparsed_names_;
   std::size_t syntax_errors_ = 0;
   std::size_t instance_slots_ = 0;
+  bool truncated_ = false; // loops or instances were cut short at the generation limit
   std::optional<Diagnostic> load_error_;
   std::set<std::string, std::less<>> structurally_used_; // consts used by loops and indices
   // Name -> declaration index, filled while loading and shared by every elaboration; the keys

@@ -306,9 +306,11 @@ private:
         clash = "a const or param of the model";
       else if (v == "pi" || v == "sigma" || is_keyword(v))
         clash = "a built-in name";
-      if (clash)
+      if (clash) {
         diags_.report(DiagId::bad_loop, at(f, loop), span(f, r.var),
                       fmt::format("loop variable '{}' has the name of {}", v, clash));
+        bad_loops_.insert(&loop); // not expanded: its names would mean two things
+      }
       vars.push_back(v);
     }
     check_block(loop.body, f, true, sub, vars);
@@ -329,7 +331,8 @@ private:
       if (stopped_ || diags_.saturated()) break;
       expand(*stmt, f, nullptr);
     }
-    if (!stopped_) resolve();
+    resolve();
+    m_.truncated_ = stopped_;
     m_.structurally_used_ = elaborator_->used_names();
   }
 
@@ -354,7 +357,7 @@ private:
         declare_elements(e, nullptr, f, scope);
     } else if (const auto* c = std::get_if<ast::CompositeStmt>(&s)) {
       declare_elements(nullptr, c, f, scope);
-    } else if (const auto* loop = std::get_if<ast::ForStmt>(&s)) {
+    } else if (const auto* loop = std::get_if<ast::ForStmt>(&s); loop && !bad_loops_.count(loop)) {
       Scope partial;
       partial.kind = Scope::Kind::loop;
       partial.parent = scope;
@@ -383,7 +386,7 @@ private:
       lo = elaborator_->whole_number(r.lo, partial.file, &partial, "the first value of a loop");
       hi = elaborator_->whole_number(r.hi, partial.file, &partial, "the last value of a loop");
     } catch (const EvalError& e) {
-      if (!e.diag.code.empty()) report(e.diag, partial.parent, true);
+      if (!e.diag.code.empty()) report(located(e.diag, partial.file, loop), partial.parent, true);
       return;
     }
     for (long v = lo; v <= hi; ++v) {
@@ -416,7 +419,7 @@ private:
         ranges.emplace_back(lo, hi);
       }
     } catch (const EvalError& e) {
-      if (!e.diag.code.empty()) report(e.diag, scope, true);
+      if (!e.diag.code.empty()) report(located(e.diag, f, stmt), scope, true);
       return false;
     }
     std::vector<long> at_index;
@@ -545,6 +548,7 @@ private:
       if (k < 0 || !sub.values[static_cast<std::size_t>(k)].is_param) {
         Diagnostic d = DiagnosticEngine::make(DiagId::unknown_key, at(f, s), span(f, kv.key),
                                               fmt::format("submodel '{}'", sub.name), kv.key.name);
+        d.message = fmt::format("submodel '{}' has no param '{}'", sub.name, kv.key.name);
         if (auto m = closest_match(std::string(kv.key.name), params))
           d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *m));
         else
@@ -582,16 +586,20 @@ private:
     std::vector<std::string> names = std::move(names_);
     for (std::string& name : names) {
       if (stopped_) return;
-      if (!element_name(name, -1, true, s.name.id.name, span(f, s.name), at(f, s), scope)) continue;
-      check_arguments(s, sub, f, scope, name);
       Scope& inst = m_.scopes_.emplace_back();
+      inst.prefix = name + '.';
+      inst.name = std::move(name);
+      // The instance's name is registered as a view of the scope's own copy, which stays put.
+      if (!element_name(inst.name, -1, true, s.name.id.name, span(f, s.name), at(f, s), scope)) {
+        m_.scopes_.pop_back();
+        continue;
+      }
+      check_arguments(s, sub, f, scope, inst.name);
       inst.kind = Scope::Kind::instance;
       inst.parent = scope;
       inst.file = f;
       inst.where = span(f, s);
       inst.submodel = &sub;
-      inst.prefix = name + '.';
-      inst.name = std::move(name);
       inst.statement = &s;
       inst.terminals.assign(sub.stmt->terminals.size(), -1);
       inst.slot = m_.instance_slots_;
@@ -640,6 +648,13 @@ private:
 
   // --- reporting ------------------------------------------------------------------------------
 
+  /// A problem of an expression, reported at the start of the statement it stands in.
+  static Diagnostic located(Diagnostic d, FileId f, const ast::Tagged& stmt) {
+    if (!d.mark) d.mark = d.at;
+    d.at = at(f, stmt);
+    return d;
+  }
+
   /// Reports a problem found while expanding: with notes naming the iteration and instance, once
   /// per place (later iterations repeat it); `structural` problems make declarations unusable,
   /// and instantiate() throws the first of them.
@@ -666,6 +681,7 @@ private:
   std::optional<Elaborator> elaborator_;
   std::vector<const SubmodelDecl*> active_; // instances being expanded, outermost first
   std::vector<std::string> names_;          // scratch: the names of one declaration
+  std::set<const ast::ForStmt*> bad_loops_; // loops whose variables hide another name
   std::set<std::tuple<std::string, FileId, std::uint32_t, std::uint32_t>> reported_;
   std::size_t work_ = 0;
   bool stopped_ = false;

@@ -358,8 +358,8 @@ private:
   static const char* expected_in(Block b) {
     switch (b) {
     case Block::top:
-      return "a statement (model, include, const, param, node, boundary, case, series, parallel "
-             "or an element)";
+      return "a statement (model, include, const, param, node, boundary, case, series, parallel, "
+             "for, submodel or an element)";
     case Block::loop:
       return "a statement of a loop (node, boundary, series, parallel, for or an element)";
     case Block::submodel:

@@ -563,3 +563,98 @@ TEST_CASE("syntax errors: NUL bytes and invalid UTF-8 reject the file") {
   auto r = parse("node a C = 1 \"a\\\xC3\xA9\"\n");
   CHECK(r->codes() == std::vector<std::string>{"syntax"});
 }
+
+// -----------------------------------------------------------------------------------------
+// Extensions: loops, submodels, indexed and dotted names, lists, data units
+
+TEST_CASE("parser: for blocks with several variables, nested, with indexed names") {
+  auto p = parse("for i in 1 .. n - 1, j in i..3\n{\n  node p[i, j + 1] C = 1\n"
+                 "  for k in 0 .. 2 { conductance g[i,k] p[i, 1] u[2].q[k] G = 1 }\n}\n");
+  CHECK(p->codes().empty());
+  const auto& f = p->stmt<ast::ForStmt>(0);
+  REQUIRE(f.ranges.size() == 2);
+  CHECK(f.ranges[0].var.name == "i");
+  CHECK(p->text_of(f.ranges[0].hi) == "n - 1");
+  CHECK(p->text_of(f.ranges[1].lo) == "i");
+  REQUIRE(f.body.size() == 2);
+  const auto* n = std::get_if<ast::NodeStmt>(&f.body[0]);
+  REQUIRE(n != nullptr);
+  CHECK(n->name.id.name == "p");
+  REQUIRE(n->name.index().size() == 2);
+  CHECK(p->text_of(n->name.index()[1]) == "j + 1");
+  const auto* inner = std::get_if<ast::ForStmt>(&f.body[1]);
+  REQUIRE(inner != nullptr);
+  const auto* g = std::get_if<ast::ElementStmt>(&inner->body[0]);
+  REQUIRE(g != nullptr);
+  REQUIRE(g->nodes.size() == 2);
+  const ast::Ref& q = g->nodes[1];
+  CHECK(p->text_of(q) == "u[2].q[k]");
+  REQUIRE(q.rest().size() == 1);
+  CHECK(q.rest()[0].id.name == "q");
+  CHECK(q.rest()[0].index().size() == 1);
+  CHECK(p->where(f.end) == "5:2");
+}
+
+TEST_CASE("parser: a declared range of indices and a statement named like the new keywords") {
+  auto p = parse("node p[1 .. 10, 2] C = 1\nconductance for in out G = 1\nnode submodel C = 1\n");
+  CHECK(p->codes().empty());
+  const auto& n = p->stmt<ast::NodeStmt>(0);
+  REQUIRE(n.name.index().size() == 2);
+  REQUIRE(n.name.index()[0].hi.has_value());
+  CHECK(p->text_of(*n.name.index()[0].hi) == "10");
+  CHECK_FALSE(n.name.index()[1].hi.has_value());
+  // `for` and `submodel` are keywords only where their blocks start.
+  CHECK(p->stmt<ast::ElementStmt>(1).name.id.name == "for");
+  CHECK(p->stmt<ast::NodeStmt>(2).name.id.name == "submodel");
+  // An element of a plugin kind called `for` still reads as an element.
+  auto q = parse("for x in a b G = 1\n");
+  CHECK(q->codes().empty());
+  CHECK(q->stmt<ast::ElementStmt>(0).kind.name == "for");
+}
+
+TEST_CASE("parser: submodel definitions and their params without a value") {
+  auto p = parse("submodel box(mount, lid) {\n  param P\n  param h = 3 \"coefficient\"\n"
+                 "  node wall C = 1\n}\nsubmodel empty() {\n}\nbox b1 a c P = 2\n");
+  CHECK(p->codes().empty());
+  const auto& s = p->stmt<ast::SubmodelStmt>(0);
+  CHECK(s.name.name == "box");
+  REQUIRE(s.terminals.size() == 2);
+  CHECK(s.terminals[1].name == "lid");
+  REQUIRE(s.body.size() == 3);
+  CHECK_FALSE(std::get<ast::ParamStmt>(s.body[0]).value.valid());
+  CHECK(std::get<ast::ParamStmt>(s.body[1]).value.valid());
+  CHECK(p->stmt<ast::SubmodelStmt>(1).terminals.empty());
+  CHECK(p->stmt<ast::ElementStmt>(2).kind.name == "box");
+  // Outside a submodel a param needs its value.
+  CHECK(parse("param P\n")->codes() == std::vector<std::string>{"syntax"});
+}
+
+TEST_CASE("parser: case settings with loops, dotted targets, lists and a data unit") {
+  auto p = parse("case c {\n  output = 0, 100 [s], 250\n  u1.pcb.T0 = 30\n"
+                 "  for i in 1 .. 3 { h[i].P = i }\n  data \"run.csv\" [K]\n}\n");
+  CHECK(p->codes().empty());
+  const auto& c = p->stmt<ast::CaseStmt>(0);
+  REQUIRE(c.items.size() == 4);
+  const auto& out = std::get<ast::CaseAssign>(c.items[0]);
+  REQUIRE(out.more.size() == 2);
+  CHECK(p->text_of(out.more[0]) == "100 [s]");
+  const auto& t0 = std::get<ast::CaseAssign>(c.items[1]);
+  CHECK(p->text_of(t0.target) == "u1.pcb.T0");
+  CHECK(t0.target.path.rest().size() == 2);
+  const auto& loop = std::get<ast::CaseFor>(c.items[2]);
+  REQUIRE(loop.items.size() == 1);
+  CHECK(p->text_of(std::get<ast::CaseAssign>(loop.items[0]).target) == "h[i].P");
+  const auto& data = std::get<ast::CaseData>(c.items[3]);
+  REQUIRE(data.unit.has_value());
+  CHECK(data.unit->text == "K");
+}
+
+TEST_CASE("parser: a node reference as a value, and an index must follow its name") {
+  auto p = parse("thermostat t n P = 5 on = 18 off = 22 sense = p[3]\n");
+  CHECK(p->codes().empty());
+  const auto* r = p->stmt<ast::ElementStmt>(0).keys[3].value.as_reference();
+  REQUIRE(r != nullptr);
+  CHECK(p->text_of(*r) == "p[3]");
+  // `x [K]` is not an index (nor a unit: units follow numbers).
+  CHECK(parse("const y = x [K]\n")->codes() == std::vector<std::string>{"syntax"});
+}
