@@ -11,11 +11,10 @@
 #include "cli/calibration_report.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
-#include "cli/model_rewrite.hpp"
 #include "cli/progress_bar.hpp"
-#include "cli/rewritten_model.hpp"
+#include "cli/run_command.hpp"
 #include "kernel/calibration/optimizer.hpp"
-#include "lang/csv.hpp"
+#include "lang/rewrite/model_files.hpp"
 
 #include <fmt/format.h>
 
@@ -121,14 +120,15 @@ void write_outputs(const CalibrateOptions& o, const lang::Model& model,
     ReportContext ctx{o.seed, o.tolerance, o.model};
     files.push_back({o.json, result_json(r, problem, ctx).dump(2) + "\n"});
   }
-  std::vector<RewrittenFile> model_files;
+  std::vector<rewrite::RewrittenFile> model_files;
   if (r.found && !o.out.empty()) {
-    std::vector<ParamUpdate> updates;
+    std::vector<rewrite::ParamUpdate> updates;
     for (std::size_t j = 0; j < problem.dimension(); ++j)
       updates.push_back({problem.params()[j], r.best[j]});
     const long root = model.sources().find(model.path());
     if (root < 0) throw OutputError("the model's own text is no longer available");
-    model_files = rewrite_model(model.sources(), static_cast<lang::FileId>(root), updates, o.out);
+    model_files =
+        rewrite::rewrite_model(model.sources(), static_cast<lang::FileId>(root), updates, o.out);
     for (const auto& f : model_files)
       files.push_back({f.path, f.text});
   }
@@ -150,9 +150,8 @@ void write_outputs(const CalibrateOptions& o, const lang::Model& model,
   }
 }
 
-int run_calibrate(const CalibrateOptions& o) {
+int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
   const char* me = "thermnet calibrate";
-  lang::SourceManager sources;
   int status = exit_ok;
   auto model = load_checked_model(o.model, sources, status);
   if (!model) return status;
@@ -162,73 +161,57 @@ int run_calibrate(const CalibrateOptions& o) {
     std::cerr << fmt::format("{}: error: unknown method '{}'\n", me, method);
     return exit_usage;
   }
-  try {
-    CalibrationProblem problem(*model, o.cases);
-    if (problem.dimension() == 0) {
-      std::cerr << fmt::format("{}: error: no param in {} has a range; nothing to calibrate "
-                               "(declare one as e.g. `param h = 5 [W/(m^2*K)] range 2 .. 10`)\n",
-                               me, o.model);
-      return exit_failure;
-    }
-    if (problem.cases().empty()) {
-      std::cerr << fmt::format("{}: error: no case in {} has measured data; nothing to compare "
-                               "(add `data \"file.csv\"` to a case)\n",
-                               me, o.model);
-      return exit_failure;
-    }
-    OptimizerSettings settings;
-    settings.samples = o.samples;
-    settings.tolerance = o.tolerance;
-    settings.seed = o.seed;
-    settings.threads = o.threads;
-    const unsigned threads = o.threads > 0 ? static_cast<unsigned>(o.threads)
-                                           : std::max(1u, std::thread::hardware_concurrency());
-    std::cerr << fmt::format(
-        "{}: {} param{} over {} case{} ({} measured points), method {}, {} thread{}\n", me,
-        problem.dimension(), problem.dimension() == 1 ? "" : "s", problem.cases().size(),
-        problem.cases().size() == 1 ? "" : "s", problem.points(), method, threads,
-        threads == 1 ? "" : "s");
-
-    OptimizerResult r;
-    {
-      ProgressBar bar(progress_wanted());
-      settings.on_progress = [&bar](const Progress& p) { bar.update(p); };
-      SigintGuard guard;
-      settings.cancel = &g_interrupted;
-      r = plugin->create()->run(problem, settings);
-      bar.finish();
-      settings.on_progress = nullptr; // the bar goes out of scope
-      if (g_interrupted) r.cancelled = true;
-    }
-
-    std::cout << format_result_table(r, problem);
-    std::cout << "(param values in SI units)\n";
-    std::cout.flush();
-    for (const auto& note : r.notes)
-      std::cerr << fmt::format("{}: note: {}\n", me, note);
-    write_outputs(o, *model, problem, r);
-    if (r.cancelled) {
-      std::cerr << fmt::format("{}: interrupted; {}\n", me,
-                               r.found ? "best result so far written" : "no result to write");
-      return exit_failure;
-    }
-    if (!r.found) {
-      std::cerr << fmt::format("{}: error: no acceptable parameter set was found\n", me);
-      return exit_failure;
-    }
-  } catch (const lang::ModelError& e) {
-    return report_model_error(e, sources);
-  } catch (const lang::CsvError& e) {
-    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
+  CalibrationProblem problem(*model, o.cases);
+  if (problem.dimension() == 0) {
+    std::cerr << fmt::format("{}: error: no param in {} has a range; nothing to calibrate "
+                             "(declare one as e.g. `param h = 5 [W/(m^2*K)] range 2 .. 10`)\n",
+                             me, o.model);
     return exit_failure;
-  } catch (const OutputError& e) {
-    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
-    return exit_usage;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
+  }
+  if (problem.cases().empty()) {
+    std::cerr << fmt::format("{}: error: no case in {} has measured data; nothing to compare "
+                             "(add `data \"file.csv\"` to a case)\n",
+                             me, o.model);
     return exit_failure;
-  } catch (const SolverError& e) {
-    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
+  }
+  OptimizerSettings settings;
+  settings.samples = o.samples;
+  settings.tolerance = o.tolerance;
+  settings.seed = o.seed;
+  settings.threads = o.threads;
+  const unsigned threads = o.threads > 0 ? static_cast<unsigned>(o.threads)
+                                         : std::max(1u, std::thread::hardware_concurrency());
+  std::cerr << fmt::format(
+      "{}: {} param{} over {} case{} ({} measured points), method {}, {} thread{}\n", me,
+      problem.dimension(), problem.dimension() == 1 ? "" : "s", problem.cases().size(),
+      problem.cases().size() == 1 ? "" : "s", problem.points(), method, threads,
+      threads == 1 ? "" : "s");
+
+  OptimizerResult r;
+  {
+    ProgressBar bar(progress_wanted());
+    settings.on_progress = [&bar](const Progress& p) { bar.update(p); };
+    SigintGuard guard;
+    settings.cancel = &g_interrupted;
+    r = plugin->create()->run(problem, settings);
+    bar.finish();
+    settings.on_progress = nullptr; // the bar goes out of scope
+    if (g_interrupted) r.cancelled = true;
+  }
+
+  std::cout << format_result_table(r, problem);
+  std::cout << "(param values in SI units)\n";
+  std::cout.flush();
+  for (const auto& note : r.notes)
+    std::cerr << fmt::format("{}: note: {}\n", me, note);
+  write_outputs(o, *model, problem, r);
+  if (r.cancelled) {
+    std::cerr << fmt::format("{}: interrupted; {}\n", me,
+                             r.found ? "best result so far written" : "no result to write");
+    return exit_failure;
+  }
+  if (!r.found) {
+    std::cerr << fmt::format("{}: error: no acceptable parameter set was found\n", me);
     return exit_failure;
   }
   return exit_ok;
@@ -263,7 +246,10 @@ void add_calibrate_command(CLI::App& app, int& status) {
                   "cases to compare (repeat --case or separate by commas; default: all with data)")
       ->allow_extra_args(false)
       ->delimiter(',');
-  cmd->callback([o, &status] { status = run_calibrate(*o); });
+  cmd->callback([o, &status] {
+    status = run_command("thermnet calibrate",
+                         [&](lang::SourceManager& sources) { return run_calibrate(*o, sources); });
+  });
 }
 
 } // namespace thermnet::cli

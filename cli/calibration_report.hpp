@@ -2,8 +2,8 @@
 /// The reports of `thermnet calibrate`: the screen table (like Table 3 of the aerial-camera study),
 /// the JSON report and the measured-vs-simulated figure.
 
-#include "cli/svg_plot.hpp"
 #include "kernel/calibration/optimizer.hpp"
+#include "plot/svg_plot.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -6,10 +6,11 @@
 #include "cli/atomic_file.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
-#include "cli/model_rewrite.hpp"
-#include "cli/svg_plot.hpp"
+#include "cli/run_command.hpp"
 #include "kernel/diagnosis/report.hpp"
-#include "lang/csv.hpp"
+#include "lang/rewrite/case_blocks.hpp"
+#include "lang/rewrite/param_values.hpp"
+#include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
 
@@ -32,43 +33,26 @@ struct DiagnoseOptions {
   std::size_t top = 5;
 };
 
-int run_diagnose(const DiagnoseOptions& o) {
+int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   const char* me = "thermnet diagnose";
-  lang::SourceManager sources;
   int status = exit_ok;
   auto model = load_checked_model(o.model, sources, status);
   if (!model) return status;
-  try {
-    DiagnosisOptions opt;
-    opt.cases = o.cases;
-    opt.threads = o.threads;
-    opt.top = o.top;
-    const DiagnosisReport rep = diagnose(*model, opt);
-    std::cout << diagnosis_text(rep);
-    std::cout.flush();
-    if (!o.json.empty()) write_file_atomically(o.json, diagnosis_json(rep).dump(2) + "\n");
-    if (!o.write.empty()) {
-      if (rep.findings.empty())
-        std::cerr << fmt::format("{}: note: no finding; {} not written\n", me, o.write);
-      else
-        write_file_atomically(o.write, extended_model_text(*model, rep.findings.front()));
-    }
-    if (!o.plot.empty()) write_file_atomically(o.plot, diagnosis_svg(rep));
-  } catch (const DiagnosisError& e) {
-    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
-    return exit_failure;
-  } catch (const lang::ModelError& e) {
-    return report_model_error(e, model->sources());
-  } catch (const lang::CsvError& e) {
-    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
-    return exit_failure;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
-    return exit_failure;
-  } catch (const OutputError& e) {
-    std::cerr << fmt::format("{}: error: {}\n", me, e.what());
-    return exit_usage;
+  DiagnosisOptions opt;
+  opt.cases = o.cases;
+  opt.threads = o.threads;
+  opt.top = o.top;
+  const DiagnosisReport rep = diagnose(*model, opt);
+  std::cout << diagnosis_text(rep);
+  std::cout.flush();
+  if (!o.json.empty()) write_file_atomically(o.json, diagnosis_json(rep).dump(2) + "\n");
+  if (!o.write.empty()) {
+    if (rep.findings.empty())
+      std::cerr << fmt::format("{}: note: no finding; {} not written\n", me, o.write);
+    else
+      write_file_atomically(o.write, extended_model_text(*model, rep.findings.front()));
   }
+  if (!o.plot.empty()) write_file_atomically(o.plot, diagnosis_svg(rep));
   return exit_ok;
 }
 
@@ -85,21 +69,21 @@ std::string extended_model_text(const lang::Model& model, const Finding& f) {
       f.candidate.kind, fmt::join(f.candidate.nodes, ", "),
       f.candidate.mechanism.empty() ? "" : " (" + f.candidate.mechanism + ")", f.evidence,
       f.rmse_before, f.rmse_after, f.validation_rmse_before, f.validation_rmse_after);
-  std::vector<TextEdit> edits;
+  std::vector<rewrite::TextEdit> edits;
   std::string applied;
-  if (f.candidate.kind == "parameter") {
-    std::vector<ParamUpdate> updates;
+  if (!f.param_rewrites.empty()) {
+    std::vector<rewrite::ParamUpdate> updates;
     for (const auto& p : model.params())
-      for (std::size_t j = 0; j < f.candidate.names.size(); ++j)
-        if (p.name == f.candidate.names[j]) updates.push_back({p, f.values[j]});
-    edits = param_edits(model.sources(), file, updates);
+      if (auto it = f.param_rewrites.find(p.name); it != f.param_rewrites.end())
+        updates.push_back({p, it->second});
+    edits = rewrite::param_edits(model.sources(), file, updates);
     applied = "# (the declared values of the ranged params above were rewritten)\n";
   } else {
     applied = f.statement.empty() ? "" : f.statement + "\n";
   }
   std::vector<std::string> elsewhere;
-  const auto inserts = case_block_edits(model, file, f.case_statements,
-                                        "# thermnet diagnose: " + f.candidate.kind, elsewhere);
+  const auto inserts = rewrite::case_block_edits(
+      model, file, f.case_statements, "# thermnet diagnose: " + f.candidate.kind, elsewhere);
   edits.insert(edits.end(), inserts.begin(), inserts.end());
   if (!inserts.empty()) applied += "# (with the lines marked in the case blocks above)\n";
   for (const auto& name : elsewhere) {
@@ -110,7 +94,7 @@ std::string extended_model_text(const lang::Model& model, const Finding& f) {
       lines.replace(p, 1, "\n#   ");
     applied += "#   " + lines + "\n";
   }
-  text = apply_edits(std::move(text), std::move(edits));
+  text = rewrite::apply_edits(std::move(text), std::move(edits));
   if (!text.empty() && text.back() != '\n') text += '\n';
   return text + "\n" + why + applied;
 }
@@ -170,7 +154,10 @@ void add_diagnose_command(CLI::App& app, int& status) {
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--top", o->top, "most findings reported")->check(CLI::PositiveNumber);
-  sub->callback([o, &status] { status = run_diagnose(*o); });
+  sub->callback([o, &status] {
+    status = run_command("thermnet diagnose",
+                         [&](lang::SourceManager& sources) { return run_diagnose(*o, sources); });
+  });
 }
 
 } // namespace thermnet::cli

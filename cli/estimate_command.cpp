@@ -3,11 +3,12 @@
 #include "cli/atomic_file.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
-#include "cli/svg_plot.hpp"
+#include "cli/run_command.hpp"
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/estimation/estimator.hpp"
 #include "lang/csv.hpp"
+#include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -198,7 +199,7 @@ int run_batch(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin& 
   return exit_ok;
 }
 
-int run(EstimateOptions& o) {
+int run_method(EstimateOptions& o, lang::SourceManager& sources) {
   const std::string who = "thermnet " + o.command;
   for (const auto& kv : o.sets) {
     auto eq = kv.find('=');
@@ -232,48 +233,33 @@ int run(EstimateOptions& o) {
     std::cerr << who << ": error: --stream reads standard input; give DATA as '-' or omit it\n";
     return exit_usage;
   }
-  lang::SourceManager sources;
   std::unique_ptr<lang::Model> model;
   std::optional<lang::NetworkSpec> spec;
   EstimatorContext ctx;
   ctx.settings = o.settings;
   std::string title = fmt::format("{} ({})", o.method, o.data.empty() ? "stdin" : o.data);
-  try {
-    if (wants_model) {
-      int status = exit_ok;
-      model = load_checked_model(o.model, sources, status);
-      if (!model) return status;
-      spec = model->instantiate(o.case_name);
-      ctx.network = &*spec;
-      if (o.data.empty() && !o.stream) o.data = spec->settings.data_path;
-      if (o.data.empty() && !o.stream) {
-        std::cerr << who << ": error: no DATA file given and the case has no 'data'\n";
-        return exit_usage;
-      }
-      title = fmt::format("{} — {} — case {}", o.method, model->name(), spec->settings.name);
-    } else if (o.data.empty() && !o.stream) {
-      std::cerr << who << ": error: give a DATA file, or --stream to read standard input\n";
+  if (wants_model) {
+    int status = exit_ok;
+    model = load_checked_model(o.model, sources, status);
+    if (!model) return status;
+    spec = model->instantiate(o.case_name);
+    ctx.network = &*spec;
+    if (o.data.empty() && !o.stream) o.data = spec->settings.data_path;
+    if (o.data.empty() && !o.stream) {
+      std::cerr << who << ": error: no DATA file given and the case has no 'data'\n";
       return exit_usage;
     }
-    return o.stream ? run_stream(o, ctx, *plugin) : run_batch(o, ctx, *plugin, title);
-  } catch (const lang::CsvError& e) {
-    std::cerr << who << ": error: " << e.what() << "\n";
-    return e.row == 0 ? exit_usage : exit_failure;
-  } catch (const lang::ModelError& e) {
-    return report_model_error(e, sources);
-  } catch (const EstimatorError& e) {
-    std::cerr << who << ": error: " << e.what() << "\n";
-    return exit_failure;
-  } catch (const SolverError& e) {
-    std::cerr << who << ": error: " << e.what() << "\n";
-    return exit_failure;
-  } catch (const NetworkError& e) {
-    std::cerr << who << ": error: " << e.what() << "\n";
-    return exit_failure;
-  } catch (const OutputError& e) {
-    std::cerr << who << ": error: " << e.what() << "\n";
+    title = fmt::format("{} — {} — case {}", o.method, model->name(), spec->settings.name);
+  } else if (o.data.empty() && !o.stream) {
+    std::cerr << who << ": error: give a DATA file, or --stream to read standard input\n";
     return exit_usage;
   }
+  return o.stream ? run_stream(o, ctx, *plugin) : run_batch(o, ctx, *plugin, title);
+}
+
+int run(EstimateOptions& o) {
+  return run_command("thermnet " + o.command,
+                     [&](lang::SourceManager& sources) { return run_method(o, sources); });
 }
 
 // An option that stores its text in the plugin settings under `key`.

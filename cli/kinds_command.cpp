@@ -2,6 +2,7 @@
 
 #include "cli/exit_status.hpp"
 #include "cli/lsp/schema_text.hpp"
+#include "cli/run_command.hpp"
 #include "kernel/calibration/optimizer.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "kernel/diagnosis/hypothesis.hpp"
@@ -191,7 +192,9 @@ void add_kinds_command(CLI::App& app, int& status) {
       ->check(CLI::IsMember({"element", "optimizer", "estimator", "hypothesis"}));
   cmd->add_option("--format", o->format, "output format")
       ->check(CLI::IsMember({"text", "markdown"}));
-  cmd->callback([o, &status] { status = run_kinds(*o); });
+  cmd->callback([o, &status] {
+    status = run_command("thermnet kinds", [&](lang::SourceManager&) { return run_kinds(*o); });
+  });
 }
 
 } // namespace thermnet::cli

@@ -2,6 +2,7 @@
 
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/run_command.hpp"
 
 #include <fmt/format.h>
 
@@ -18,8 +19,7 @@ struct LintOptions {
   bool werror = false;
 };
 
-int run_lint(const LintOptions& o) {
-  lang::SourceManager sources;
+int run_lint(const LintOptions& o, lang::SourceManager& sources) {
   lang::DiagnosticEngine diags(sources);
   bool unreadable = false;
   for (const auto& path : o.models) {
@@ -59,7 +59,10 @@ void add_lint_command(CLI::App& app, int& status) {
       ->check(CLI::IsMember({"text", "json", "sarif"}))
       ->default_str("text");
   cmd->add_flag("--werror", opts->werror, "treat warnings as errors (exit status 1)");
-  cmd->callback([opts, &status] { status = run_lint(*opts); });
+  cmd->callback([opts, &status] {
+    status = run_command("thermnet lint",
+                         [&](lang::SourceManager& sources) { return run_lint(*opts, sources); });
+  });
 }
 
 } // namespace thermnet::cli

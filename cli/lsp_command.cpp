@@ -1,6 +1,7 @@
 #include "cli/lsp_command.hpp"
 
 #include "cli/lsp/lsp_server.hpp"
+#include "cli/run_command.hpp"
 
 #include <iostream>
 #include <memory>
@@ -17,10 +18,12 @@ void add_lsp_command(CLI::App& app, int& status) {
                 "use standard input and output (the default and only transport)");
   cmd->add_option("--clientProcessId", *pid, "process id of the client (ignored)");
   cmd->callback([&status, stdio, pid] {
-    std::ios::sync_with_stdio(false);
-    std::cin.tie(nullptr);
-    lsp::Server server(std::cin, std::cout, std::cerr);
-    status = server.run();
+    status = run_command("thermnet lsp", [](lang::SourceManager&) {
+      std::ios::sync_with_stdio(false);
+      std::cin.tie(nullptr);
+      lsp::Server server(std::cin, std::cout, std::cerr);
+      return server.run();
+    });
   });
 }
 

@@ -1,8 +1,8 @@
 #include "cli/result_output.hpp"
 
-#include "cli/svg_plot.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/name_list.hpp"
+#include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
 

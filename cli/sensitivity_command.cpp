@@ -3,9 +3,9 @@
 #include "cli/atomic_file.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/run_command.hpp"
 #include "kernel/calibration/sensitivity.hpp"
 #include "kernel/core/simulation.hpp"
-#include "lang/csv.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -93,8 +93,7 @@ nlohmann::json to_json(const lang::Model& model, const SensitivityReport& r) {
           {"notes", r.notes}};
 }
 
-int run_sensitivity(const SensitivityCommandOptions& o) {
-  lang::SourceManager sources;
+int run_sensitivity(const SensitivityCommandOptions& o, lang::SourceManager& sources) {
   int status = exit_ok;
   auto model = load_checked_model(o.model, sources, status);
   if (!model) return status;
@@ -102,25 +101,12 @@ int run_sensitivity(const SensitivityCommandOptions& o) {
   opt.elements = o.elements;
   opt.cases = o.cases;
   opt.threads = o.threads;
-  try {
-    SensitivityReport r = compute_sensitivities(*model, opt);
-    std::cout << format_table(r);
-    for (const auto& n : r.notes)
-      std::cerr << "thermnet sensitivity: note: " << n << "\n";
-    std::cerr << fmt::format("thermnet sensitivity: {} simulations\n", r.simulations);
-    if (!o.json.empty()) write_file_atomically(o.json, to_json(*model, r).dump(2) + "\n");
-  } catch (const lang::ModelError& e) {
-    return report_model_error(e, sources);
-  } catch (const lang::CsvError& e) {
-    std::cerr << "thermnet sensitivity: error: " << e.what() << "\n";
-    return exit_failure;
-  } catch (const SolverError& e) {
-    std::cerr << "thermnet sensitivity: error: " << e.what() << "\n";
-    return exit_failure;
-  } catch (const OutputError& e) {
-    std::cerr << "thermnet sensitivity: error: " << e.what() << "\n";
-    return exit_usage;
-  }
+  SensitivityReport r = compute_sensitivities(*model, opt);
+  std::cout << format_table(r);
+  for (const auto& n : r.notes)
+    std::cerr << "thermnet sensitivity: note: " << n << "\n";
+  std::cerr << fmt::format("thermnet sensitivity: {} simulations\n", r.simulations);
+  if (!o.json.empty()) write_file_atomically(o.json, to_json(*model, r).dump(2) + "\n");
   return exit_ok;
 }
 
@@ -137,7 +123,11 @@ void add_sensitivity_command(CLI::App& app, int& status) {
   cmd->add_option("--case", o->cases, "case(s) to use (default: every case with data)");
   cmd->add_option("--threads", o->threads, "worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
-  cmd->callback([o, &status] { status = run_sensitivity(*o); });
+  cmd->callback([o, &status] {
+    status = run_command("thermnet sensitivity", [&](lang::SourceManager& sources) {
+      return run_sensitivity(*o, sources);
+    });
+  });
 }
 
 } // namespace thermnet::cli

@@ -4,6 +4,7 @@
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/result_output.hpp"
+#include "cli/run_command.hpp"
 #include "cli/uncertainty.hpp"
 #include "kernel/core/simulation.hpp"
 
@@ -36,6 +37,15 @@ struct SimulateOptions {
   int threads = 0;
 };
 
+/// Writes the CSV (to standard output without -o), then the plot if there is one.
+void write_outputs(const SimulateOptions& o, const std::string& csv, const std::string& svg) {
+  if (o.out.empty())
+    std::cout << csv;
+  else
+    write_file_atomically(o.out, csv);
+  if (!svg.empty()) write_file_atomically(o.plot, svg);
+}
+
 /// `--samples N`: bands over N draws of the ranged params instead of one run.
 void run_samples(const lang::Model& model, const SimulateOptions& o, const SimulationOptions& sim) {
   UncertaintyOptions u;
@@ -52,12 +62,7 @@ void run_samples(const lang::Model& model, const SimulateOptions& o, const Simul
     svg = plot_bands_svg(b, o.nodes,
                          fmt::format("{} — case {}, {} samples", model.name(),
                                      model.resolve_case(o.case_name), b.samples));
-  std::string csv = format_bands_csv(b);
-  if (o.out.empty())
-    std::cout << csv;
-  else
-    write_file_atomically(o.out, csv);
-  if (!svg.empty()) write_file_atomically(o.plot, svg);
+  write_outputs(o, format_bands_csv(b), svg);
 }
 
 LinearSolverKind solver_kind(const std::string& s) {
@@ -77,55 +82,31 @@ void print_stats(const SolverStats& s, double wall) {
       s.events, s.restarts, wall);
 }
 
-int run_simulate(const SimulateOptions& o) {
-  lang::SourceManager sources;
+int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   int status = exit_ok;
   auto model = load_checked_model(o.model, sources, status);
   if (!model) return status;
   SimulationOptions sim;
-  try {
-    if (!o.duration.empty()) sim.duration = parse_time(o.duration);
-    if (!o.output_interval.empty()) sim.output = parse_time(o.output_interval);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "thermnet simulate: error: " << e.what() << "\n";
-    return exit_usage;
-  }
+  if (!o.duration.empty()) sim.duration = parse_time(o.duration);
+  if (!o.output_interval.empty()) sim.output = parse_time(o.output_interval);
   sim.steady = o.steady;
   sim.solver.rtol = o.rtol;
   sim.solver.atol = o.atol;
   sim.solver.linear_solver = solver_kind(o.linear_solver);
-  try {
-    if (o.samples > 0) {
-      run_samples(*model, o, sim);
-      return exit_ok;
-    }
-    Network net(model->instantiate(o.case_name));
-    auto start = std::chrono::steady_clock::now();
-    SimulationResult r = simulate(net, sim);
-    double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (o.stats) print_stats(r.stats, wall);
-    std::string svg;
-    if (!o.plot.empty())
-      svg = plot_result_svg(r, o.nodes,
-                            fmt::format("{} — case {}", model->name(), net.spec().settings.name));
-    std::string csv = format_result_csv(r);
-    if (o.out.empty())
-      std::cout << csv;
-    else
-      write_file_atomically(o.out, csv);
-    if (!svg.empty()) write_file_atomically(o.plot, svg);
-  } catch (const lang::ModelError& e) {
-    return report_model_error(e, sources);
-  } catch (const SolverError& e) {
-    std::cerr << "thermnet simulate: error: " << e.what() << "\n";
-    return exit_failure;
-  } catch (const OutputError& e) {
-    std::cerr << "thermnet simulate: error: " << e.what() << "\n";
-    return exit_usage;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "thermnet simulate: error: " << e.what() << "\n";
-    return exit_usage;
+  if (o.samples > 0) {
+    run_samples(*model, o, sim);
+    return exit_ok;
   }
+  Network net(model->instantiate(o.case_name));
+  auto start = std::chrono::steady_clock::now();
+  SimulationResult r = simulate(net, sim);
+  double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (o.stats) print_stats(r.stats, wall);
+  std::string svg;
+  if (!o.plot.empty())
+    svg = plot_result_svg(r, o.nodes,
+                          fmt::format("{} — case {}", model->name(), net.spec().settings.name));
+  write_outputs(o, format_result_csv(r), svg);
   return exit_ok;
 }
 
@@ -159,7 +140,12 @@ void add_simulate_command(CLI::App& app, int& status) {
       ->delimiter(',');
   cmd->add_option("--threads", o->threads, "worker threads of --samples (0: all cores)")
       ->check(CLI::NonNegativeNumber);
-  cmd->callback([o, &status] { status = run_simulate(*o); });
+  // Its std::invalid_argument errors come from its options (times, --nodes, --percentiles): usage.
+  cmd->callback([o, &status] {
+    status = run_command(
+        "thermnet simulate",
+        [&](lang::SourceManager& sources) { return run_simulate(*o, sources); }, exit_usage);
+  });
 }
 
 } // namespace thermnet::cli

@@ -8,11 +8,11 @@
 #include "cli/uncertainty.hpp"
 
 #include "cli/result_output.hpp"
-#include "cli/svg_plot.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/parallel.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/name_list.hpp"
+#include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
 

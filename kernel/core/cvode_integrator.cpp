@@ -1,8 +1,7 @@
 // CVODE BDF stepper for systems whose every node has a heat capacity: dT/dt = F(t, T) / C.
 
 #include "kernel/core/fast_kernels.hpp"
-#include "kernel/core/linear_solver_choice.hpp"
-#include "kernel/core/transient_stepper.hpp"
+#include "kernel/core/sundials_stepper.hpp"
 
 #include <cvode/cvode.h>
 #include <cvode/cvode_ls.h>
@@ -87,21 +86,33 @@ int cv_events(sunrealtype t, N_Vector y, sunrealtype* g, void* user_data) {
   return evaluator(user_data).events(t, NV_DATA_S(y), g);
 }
 
-class CvodeStepper final : public TransientStepper {
+const IntegratorApi kCvode{.api = Api::cvode,
+                           .name = "cvode-bdf",
+                           .root_return = CV_ROOT_RETURN,
+                           .tstop_return = CV_TSTOP_RETURN,
+                           .too_much_work = CV_TOO_MUCH_WORK,
+                           .repeated_rhs = CV_REPTD_RHSFUNC_ERR,
+                           .success = CV_SUCCESS,
+                           .num_steps = CVodeGetNumSteps,
+                           .num_lin_solv_setups = CVodeGetNumLinSolvSetups,
+                           .num_err_test_fails = CVodeGetNumErrTestFails,
+                           .nonlin_solv_stats = CVodeGetNonlinSolvStats,
+                           .num_lin_iters = CVodeGetNumLinIters,
+                           .current_time = CVodeGetCurrentTime,
+                           .err_weights = CVodeGetErrWeights,
+                           .est_local_errors = CVodeGetEstLocalErrors,
+                           .dky = CVodeGetDky,
+                           .dky_name = "CVodeGetDky",
+                           .root_info = CVodeGetRootInfo,
+                           .root_info_name = "CVodeGetRootInfo"};
+
+class CvodeStepper final : public SundialsStepper {
 public:
   CvodeStepper(SystemEvaluator& ev, LinearSolverKind kind, const SolverOptions& opt, double t0,
                const double* T0, double stop)
-      : ev_(ev), kind_(kind), n_(ev.size()), t_restart_(t0) {
-    chk_.pending = &ev_.pending;
-    chk_.describe_failure = [this] { return failure_report(); };
-    const SUNContext ctx = ctx_.get();
-    y_.reset(chk_.created(N_VNew_Serial(n_, ctx), "N_VNew_Serial"));
-    out_.reset(chk_.created(N_VNewEmpty_Serial(n_, ctx), "N_VNewEmpty_Serial"));
-    accelerate_vector(y_.get()); // before CVodeInit and the solvers clone it
-    accelerate_vector(out_.get());
-    std::copy(T0, T0 + n_, NV_DATA_S(y_.get()));
-
-    mem_.reset(chk_.created(CVodeCreate(CV_BDF, ctx), "CVodeCreate"));
+      : SundialsStepper(kCvode, "CVODE", ev, kind), t_restart_(t0) {
+    create_state(T0);
+    mem_.reset(chk_.created(CVodeCreate(CV_BDF, ctx_.get()), "CVodeCreate"));
     void* mem = mem_.get();
     chk_.call(Api::cvode, "CVodeSetErrHandlerFn", CVodeSetErrHandlerFn, mem,
               &sundials::Checker::handler, static_cast<void*>(&chk_));
@@ -113,7 +124,7 @@ public:
     if (opt.max_step > 0.0)
       chk_.call(Api::cvode, "CVodeSetMaxStep", CVodeSetMaxStep, mem, opt.max_step);
 
-    ls_ = make_linear_system(kind_, ev_.jacobian_storage(), y_.get(), ctx, chk_);
+    ls_ = make_linear_system(kind_, ev_.jacobian_storage(), y_.get(), ctx_.get(), chk_);
     chk_.call(Api::cvode_ls, "CVodeSetLinearSolver", CVodeSetLinearSolver, mem, ls_.solver.get(),
               ls_.matrix.get());
     if (kind_ == LinearSolverKind::krylov) {
@@ -124,10 +135,9 @@ public:
       chk_.call(Api::cvode_ls, "CVodeSetLinSysFn", CVodeSetLinSysFn, mem, cv_linsys);
     }
 
-    const int nev = ev_.system().event_count();
-    if (nev > 0) {
-      roots_.assign(static_cast<std::size_t>(nev), 0);
-      chk_.call(Api::cvode, "CVodeRootInit", CVodeRootInit, mem, nev, cv_events);
+    if (!roots_.empty()) {
+      chk_.call(Api::cvode, "CVodeRootInit", CVodeRootInit, mem, static_cast<int>(roots_.size()),
+                cv_events);
       chk_.call(Api::cvode, "CVodeSetNoInactiveRootWarn", CVodeSetNoInactiveRootWarn, mem);
     }
     chk_.call(Api::cvode, "CVodeSetStopTime", CVodeSetStopTime, mem, stop);
@@ -143,19 +153,8 @@ public:
 
   StepResult step(double stop, double& t) override {
     started_ = true;
-    const int flag =
-        chk_.check(Api::cvode, CVode(mem_.get(), stop, y_.get(), &t, CV_ONE_STEP), "CVode");
-    if (flag == CV_ROOT_RETURN) {
-      chk_.call(Api::cvode, "CVodeGetRootInfo", CVodeGetRootInfo, mem_.get(), roots_.data());
-      return StepResult::root_found;
-    }
-    if (flag == CV_TSTOP_RETURN) return StepResult::stop_reached;
-    return StepResult::advanced;
-  }
-
-  void interpolate(double t, double* out) override {
-    N_VSetArrayPointer(out, out_.get());
-    chk_.call(Api::cvode, "CVodeGetDky", CVodeGetDky, mem_.get(), t, 0, out_.get());
+    return outcome(
+        chk_.check(Api::cvode, CVode(mem_.get(), stop, y_.get(), &t, CV_ONE_STEP), "CVode"));
   }
 
   void derivative(double* out) override {
@@ -164,85 +163,10 @@ public:
     ev_.pending = nullptr;
   }
 
-  double* state() override { return NV_DATA_S(y_.get()); }
-  const int* roots() override { return roots_.data(); }
-
-  long steps() override {
-    long nst = 0;
-    CVodeGetNumSteps(mem_.get(), &nst);
-    return acc_.steps + nst;
-  }
-
-  void collect(SolverStats& stats) override {
-    accumulate();
-    stats.integrator = "cvode-bdf";
-    stats.linear_solver = linear_solver_name(kind_);
-    add_counters(stats, acc_, ev_.rhs_evals, ev_.jac_evals);
-    stats.prec_setups += ev_.jacobian_storage().ilu_factorizations();
-    acc_ = SolverStats{};
-  }
-
-  sundials::Checker& checker() override { return chk_; }
-  int too_much_work_flag() const override { return CV_TOO_MUCH_WORK; }
-  int repeated_rhs_flag() const override { return CV_REPTD_RHSFUNC_ERR; }
-  std::string flag_name(int flag) const override { return sundials::flag_name(Api::cvode, flag); }
-
 private:
-  /// Adds the counters of the current segment (CVodeReInit resets CVODE's own).
-  void accumulate() {
-    void* mem = mem_.get();
-    long nst = 0, nsetups = 0, netf = 0, nni = 0, ncfn = 0;
-    CVodeGetNumSteps(mem, &nst);
-    CVodeGetNumLinSolvSetups(mem, &nsetups);
-    CVodeGetNumErrTestFails(mem, &netf);
-    CVodeGetNonlinSolvStats(mem, &nni, &ncfn);
-    acc_.steps += nst;
-    acc_.linear_setups += nsetups;
-    acc_.error_test_fails += netf;
-    acc_.nonlinear_iters += nni;
-    acc_.nonlinear_fails += ncfn;
-    if (kind_ == LinearSolverKind::krylov) {
-      long nli = 0;
-      CVodeGetNumLinIters(mem, &nli);
-      acc_.linear_iters += nli;
-    }
-  }
+  void* memory() const override { return mem_.get(); }
 
-  /// Time reached, and the unknowns with the largest weighted local error estimates.
-  sundials::FailureReport failure_report() {
-    sundials::FailureReport d;
-    void* mem = mem_.get();
-    CVodeGetCurrentTime(mem, &d.time);
-    d.note = ev_.describe_nonfinite();
-    if (ev_.nonfinite().seen) d.worst.push_back(ev_.name(ev_.nonfinite().index));
-    if (started_) {
-      std::vector<double> w(static_cast<std::size_t>(n_)), e(static_cast<std::size_t>(n_));
-      sundials::NVector wv(N_VMake_Serial(n_, w.data(), ctx_.get()));
-      sundials::NVector ev_vec(N_VMake_Serial(n_, e.data(), ctx_.get()));
-      if (wv && ev_vec && CVodeGetErrWeights(mem, wv.get()) == CV_SUCCESS &&
-          CVodeGetEstLocalErrors(mem, ev_vec.get()) == CV_SUCCESS) {
-        for (std::size_t i = 0; i < w.size(); ++i)
-          e[i] *= w[i];
-        for (std::string& name : ev_.worst_unknowns(e.data()))
-          if (d.worst.empty() || d.worst.front() != name) d.worst.push_back(std::move(name));
-      }
-    }
-    d.worst_label = "largest local errors at nodes";
-    return d;
-  }
-
-  SystemEvaluator& ev_;
-  LinearSolverKind kind_;
-  int n_;
-  sundials::Checker chk_{"CVODE"};
-  sundials::Context ctx_;
-  sundials::NVector y_;
-  sundials::NVector out_;
-  LinearSystem ls_;
   sundials::CvodeMemory mem_;
-  std::vector<int> roots_;
-  SolverStats acc_;
-  bool started_ = false;
   double t_restart_ = 0.0;
 };
 

@@ -1,8 +1,7 @@
 // IDA stepper for systems with algebraic (zero-capacity) nodes: residual C T' - F(t, T) = 0.
 
 #include "kernel/core/fast_kernels.hpp"
-#include "kernel/core/linear_solver_choice.hpp"
-#include "kernel/core/transient_stepper.hpp"
+#include "kernel/core/sundials_stepper.hpp"
 
 #include <ida/ida.h>
 #include <ida/ida_ls.h>
@@ -81,37 +80,42 @@ int ida_events(sunrealtype t, N_Vector y, N_Vector /*yp*/, sunrealtype* g, void*
   return evaluator(user_data).events(t, NV_DATA_S(y), g);
 }
 
-class IdaStepper final : public TransientStepper {
+const IntegratorApi kIda{.api = Api::ida,
+                         .name = "ida",
+                         .root_return = IDA_ROOT_RETURN,
+                         .tstop_return = IDA_TSTOP_RETURN,
+                         .too_much_work = IDA_TOO_MUCH_WORK,
+                         .repeated_rhs = IDA_REP_RES_ERR,
+                         .success = IDA_SUCCESS,
+                         .num_steps = IDAGetNumSteps,
+                         .num_lin_solv_setups = IDAGetNumLinSolvSetups,
+                         .num_err_test_fails = IDAGetNumErrTestFails,
+                         .nonlin_solv_stats = IDAGetNonlinSolvStats,
+                         .num_lin_iters = IDAGetNumLinIters,
+                         .current_time = IDAGetCurrentTime,
+                         .err_weights = IDAGetErrWeights,
+                         .est_local_errors = IDAGetEstLocalErrors,
+                         .dky = IDAGetDky,
+                         .dky_name = "IDAGetDky",
+                         .root_info = IDAGetRootInfo,
+                         .root_info_name = "IDAGetRootInfo"};
+
+class IdaStepper final : public SundialsStepper {
 public:
   IdaStepper(SystemEvaluator& ev, LinearSolverKind kind, const SolverOptions& opt, double t0,
              const double* T0, double stop)
-      : ev_(ev), kind_(kind), n_(ev.size()) {
-    chk_.pending = &ev_.pending;
-    chk_.describe_failure = [this] { return failure_report(); };
+      : SundialsStepper(kIda, "IDA", ev, kind) {
+    create_state(T0);
     const SUNContext ctx = ctx_.get();
-    y_.reset(chk_.created(N_VNew_Serial(n_, ctx), "N_VNew_Serial"));
     yp_.reset(chk_.created(N_VNew_Serial(n_, ctx), "N_VNew_Serial"));
     id_.reset(chk_.created(N_VNew_Serial(n_, ctx), "N_VNew_Serial"));
-    out_.reset(chk_.created(N_VNewEmpty_Serial(n_, ctx), "N_VNewEmpty_Serial"));
-    for (N_Vector v : {y_.get(), yp_.get(), id_.get(), out_.get()})
-      accelerate_vector(v);
-    std::copy(T0, T0 + n_, NV_DATA_S(y_.get()));
+    accelerate_vector(yp_.get());
+    accelerate_vector(id_.get());
     const std::vector<double>& c = ev_.capacities();
     double* id = NV_DATA_S(id_.get());
     for (int i = 0; i < n_; ++i)
       id[i] = c[static_cast<std::size_t>(i)] > 0.0 ? 1.0 : 0.0;
-
-    // Initial guess of T': F/C on capacitive nodes (IDACalcIC corrects it), 0 on algebraic ones.
-    ev_.set_window(t0, stop);
-    double* tp = NV_DATA_S(yp_.get());
-    if (ev_.heat_balance(t0, T0, tp) == 0) {
-      const std::vector<double>& inv_c = ev_.inverse_capacities();
-      for (int i = 0; i < n_; ++i)
-        tp[i] *= inv_c[static_cast<std::size_t>(i)];
-    } else {
-      std::fill(tp, tp + n_, 0.0);
-      ev_.pending = nullptr; // IDACalcIC will meet the same failure and report it
-    }
+    initial_derivative_guess(t0, T0, stop);
 
     mem_.reset(chk_.created(IDACreate(ctx), "IDACreate"));
     void* mem = mem_.get();
@@ -135,10 +139,9 @@ public:
       chk_.call(Api::ida_ls, "IDASetJacFn", IDASetJacFn, mem, ida_jacobian);
     }
 
-    const int nev = ev_.system().event_count();
-    if (nev > 0) {
-      roots_.assign(static_cast<std::size_t>(nev), 0);
-      chk_.call(Api::ida, "IDARootInit", IDARootInit, mem, nev, ida_events);
+    if (!roots_.empty()) {
+      chk_.call(Api::ida, "IDARootInit", IDARootInit, mem, static_cast<int>(roots_.size()),
+                ida_events);
       chk_.call(Api::ida, "IDASetNoInactiveRootWarn", IDASetNoInactiveRootWarn, mem);
     }
     chk_.call(Api::ida, "IDASetStopTime", IDASetStopTime, mem, stop);
@@ -155,19 +158,8 @@ public:
 
   StepResult step(double stop, double& t) override {
     started_ = true;
-    const int flag = chk_.check(
-        Api::ida, IDASolve(mem_.get(), stop, &t, y_.get(), yp_.get(), IDA_ONE_STEP), "IDASolve");
-    if (flag == IDA_ROOT_RETURN) {
-      chk_.call(Api::ida, "IDAGetRootInfo", IDAGetRootInfo, mem_.get(), roots_.data());
-      return StepResult::root_found;
-    }
-    if (flag == IDA_TSTOP_RETURN) return StepResult::stop_reached;
-    return StepResult::advanced;
-  }
-
-  void interpolate(double t, double* out) override {
-    N_VSetArrayPointer(out, out_.get());
-    chk_.call(Api::ida, "IDAGetDky", IDAGetDky, mem_.get(), t, 0, out_.get());
+    return outcome(chk_.check(
+        Api::ida, IDASolve(mem_.get(), stop, &t, y_.get(), yp_.get(), IDA_ONE_STEP), "IDASolve"));
   }
 
   void derivative(double* out) override {
@@ -175,30 +167,23 @@ public:
     std::copy(tp, tp + n_, out);
   }
 
-  double* state() override { return NV_DATA_S(y_.get()); }
-  const int* roots() override { return roots_.data(); }
-
-  long steps() override {
-    long nst = 0;
-    IDAGetNumSteps(mem_.get(), &nst);
-    return acc_.steps + nst;
-  }
-
-  void collect(SolverStats& stats) override {
-    accumulate();
-    stats.integrator = "ida";
-    stats.linear_solver = linear_solver_name(kind_);
-    add_counters(stats, acc_, ev_.rhs_evals, ev_.jac_evals);
-    stats.prec_setups += ev_.jacobian_storage().ilu_factorizations();
-    acc_ = SolverStats{};
-  }
-
-  sundials::Checker& checker() override { return chk_; }
-  int too_much_work_flag() const override { return IDA_TOO_MUCH_WORK; }
-  int repeated_rhs_flag() const override { return IDA_REP_RES_ERR; }
-  std::string flag_name(int flag) const override { return sundials::flag_name(Api::ida, flag); }
-
 private:
+  void* memory() const override { return mem_.get(); }
+
+  /// Initial guess of T': F/C on capacitive nodes (IDACalcIC corrects it), 0 on algebraic ones.
+  void initial_derivative_guess(double t0, const double* T0, double stop) {
+    ev_.set_window(t0, stop);
+    double* tp = NV_DATA_S(yp_.get());
+    if (ev_.heat_balance(t0, T0, tp) == 0) {
+      const std::vector<double>& inv_c = ev_.inverse_capacities();
+      for (int i = 0; i < n_; ++i)
+        tp[i] *= inv_c[static_cast<std::size_t>(i)];
+    } else {
+      std::fill(tp, tp + n_, 0.0);
+      ev_.pending = nullptr; // IDACalcIC will meet the same failure and report it
+    }
+  }
+
   /// Algebraic temperatures and all T' consistent with the differential temperatures at the start.
   void consistent_initial_conditions(double stop) {
     void* mem = mem_.get();
@@ -206,71 +191,21 @@ private:
     chk_.call(Api::ida, "IDAGetConsistentIC", IDAGetConsistentIC, mem, y_.get(), yp_.get());
   }
 
-  /// Adds the counters of the current segment (IDAReInit resets IDA's own).
-  void accumulate() {
-    void* mem = mem_.get();
-    long nst = 0, nsetups = 0, netf = 0, nni = 0, ncfn = 0;
-    IDAGetNumSteps(mem, &nst);
-    IDAGetNumLinSolvSetups(mem, &nsetups);
-    IDAGetNumErrTestFails(mem, &netf);
-    IDAGetNonlinSolvStats(mem, &nni, &ncfn);
-    acc_.steps += nst;
-    acc_.linear_setups += nsetups;
-    acc_.error_test_fails += netf;
-    acc_.nonlinear_iters += nni;
-    acc_.nonlinear_fails += ncfn;
-    if (kind_ == LinearSolverKind::krylov) {
-      long nli = 0;
-      IDAGetNumLinIters(mem, &nli);
-      acc_.linear_iters += nli;
-    }
+  /// Consistent initial conditions failed: names the arithmetic nodes connected to nothing, the
+  /// likely cause of a singular system.
+  void explain_start_failure(sundials::FailureReport& d) const override {
+    const std::vector<std::string> loose = ev_.zero_diagonal_unknowns(true);
+    if (loose.empty()) return;
+    if (!d.note.empty()) d.note += "; ";
+    d.note += fmt::format("{} {} {} no conductance to anything",
+                          loose.size() == 1 ? "arithmetic node" : "arithmetic nodes",
+                          fmt::join(loose, ", "), loose.size() == 1 ? "has" : "have");
+    d.worst = loose;
   }
 
-  sundials::FailureReport failure_report() {
-    sundials::FailureReport d;
-    void* mem = mem_.get();
-    IDAGetCurrentTime(mem, &d.time);
-    d.note = ev_.describe_nonfinite();
-    if (ev_.nonfinite().seen) d.worst.push_back(ev_.name(ev_.nonfinite().index));
-    if (!started_) { // consistent initial conditions failed: name suspects of a singular system
-      const std::vector<std::string> loose = ev_.zero_diagonal_unknowns(true);
-      if (!loose.empty()) {
-        if (!d.note.empty()) d.note += "; ";
-        d.note += fmt::format("{} {} {} no conductance to anything",
-                              loose.size() == 1 ? "arithmetic node" : "arithmetic nodes",
-                              fmt::join(loose, ", "), loose.size() == 1 ? "has" : "have");
-        d.worst = loose;
-      }
-      return d; // the note names them; worst carries them for the caller
-    }
-    std::vector<double> w(static_cast<std::size_t>(n_)), e(static_cast<std::size_t>(n_));
-    sundials::NVector wv(N_VMake_Serial(n_, w.data(), ctx_.get()));
-    sundials::NVector ev_vec(N_VMake_Serial(n_, e.data(), ctx_.get()));
-    if (wv && ev_vec && IDAGetErrWeights(mem, wv.get()) == IDA_SUCCESS &&
-        IDAGetEstLocalErrors(mem, ev_vec.get()) == IDA_SUCCESS) {
-      for (std::size_t i = 0; i < w.size(); ++i)
-        e[i] *= w[i];
-      for (std::string& name : ev_.worst_unknowns(e.data()))
-        if (d.worst.empty() || d.worst.front() != name) d.worst.push_back(std::move(name));
-    }
-    d.worst_label = "largest local errors at nodes";
-    return d;
-  }
-
-  SystemEvaluator& ev_;
-  LinearSolverKind kind_;
-  int n_;
-  sundials::Checker chk_{"IDA"};
-  sundials::Context ctx_;
-  sundials::NVector y_;
   sundials::NVector yp_;
   sundials::NVector id_;
-  sundials::NVector out_;
-  LinearSystem ls_;
   sundials::IdaMemory mem_;
-  std::vector<int> roots_;
-  SolverStats acc_;
-  bool started_ = false;
 };
 
 } // namespace

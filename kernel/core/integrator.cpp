@@ -12,7 +12,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace thermnet {
 
@@ -63,6 +66,246 @@ void validate(const ThermalSystem& sys, const std::vector<double>& T, double t0,
     throw std::invalid_argument("integrate: tolerances and max_steps must be positive");
 }
 
+/// The first segment that is longer than the time resolution (or the last one).
+std::size_t first_segment(const std::vector<double>& stops, double t0) {
+  std::size_t seg = 0;
+  while (seg + 1 < stops.size() && stops[seg] - t0 <= time_resolution(t0, stops[seg]))
+    ++seg;
+  return seg;
+}
+
+/// Delivers the state at each requested output time, in order, through the caller's callback.
+class OutputSchedule {
+public:
+  /// The times of `times` from t0 on are still to come; states have n unknowns.
+  OutputSchedule(const std::vector<double>& times, double t0, int n, const OutputCallback& out)
+      : times_(times), next_(static_cast<std::size_t>(
+                           std::lower_bound(times.begin(), times.end(), t0) - times.begin())),
+        buf_(static_cast<std::size_t>(n)), out_(out) {}
+
+  /// Emits state y for every time up to t still to come.
+  void emit_up_to(double t, const double* y) {
+    for (; next_ < times_.size() && times_[next_] <= t; ++next_)
+      emit_state(times_[next_], y);
+  }
+
+  /// Emits every time passed by the step that ended at t in state y: y itself at t, dense output
+  /// of the stepper before it.
+  void emit_passed(double t, const double* y, detail::TransientStepper& stepper) {
+    for (; next_ < times_.size() && times_[next_] <= t; ++next_) {
+      const double to = times_[next_];
+      if (to == t) {
+        emit_state(to, y);
+      } else {
+        stepper.interpolate(to, buf_.data());
+        if (out_) out_(to, buf_);
+      }
+    }
+  }
+
+private:
+  void emit_state(double t, const double* y) {
+    std::copy(y, y + buf_.size(), buf_.begin());
+    if (out_) out_(t, buf_);
+  }
+
+  const std::vector<double>& times_;
+  std::size_t next_;
+  std::vector<double> buf_;
+  const OutputCallback& out_;
+};
+
+/// One transient run over its segments: steps, events and restarts, and the guards against
+/// runaway runs (step budget, steps that no longer advance, events that keep firing).
+class TransientRun {
+public:
+  /// A run of `stepper` from t0 through the segments ending at `stops`, starting with `seg`.
+  TransientRun(ThermalSystem& sys, detail::SystemEvaluator& ev, detail::TransientStepper& stepper,
+               const std::vector<double>& stops, std::size_t seg, double t0,
+               const SolverOptions& opt, SolverStats& stats, OutputSchedule& outputs)
+      : sys_(sys), ev_(ev), stepper_(stepper), chk_(stepper.checker()),
+        step_call_(ev.has_algebraic() ? "IDASolve" : "CVode"), stops_(stops), seg_(seg), opt_(opt),
+        stats_(stats), outputs_(outputs), y_(stepper.state()), n_(ev.size()),
+        nev_(sys.event_count()), t_(t0), fired_(static_cast<std::size_t>(nev_), 0),
+        g0_(static_cast<std::size_t>(nev_)), g1_(static_cast<std::size_t>(nev_)) {}
+
+  /// Switches (thermostats) start from the temperatures they sense, but arithmetic nodes only
+  /// have theirs once IDA made the state consistent. Moving the state there from the guess T0 is
+  /// a change like any other: an event function that changed sign on the way fires, as it would
+  /// in a step.
+  void settle_initial_events(const std::vector<double>& T0) {
+    if (nev_ == 0 || !ev_.has_algebraic()) return;
+    std::vector<double> g_guess(static_cast<std::size_t>(nev_)), g_ic(g_guess.size());
+    std::vector<int> crossed(g_guess.size());
+    std::vector<double> guess(T0.begin(), T0.end());
+    for (int pass = 0; pass < 4; ++pass) {
+      ev_.events(t_, guess.data(), g_guess.data());
+      ev_.events(t_, y_, g_ic.data());
+      if (!events_crossed(g_guess, g_ic, crossed) || !sys_.apply_events(t_, y_, crossed)) break;
+      std::copy(y_, y_ + n_, guess.begin());
+      stepper_.restart(t_, stops_[seg_]);
+    }
+  }
+
+  /// Steps to the end of the last segment, emitting the outputs passed on the way.
+  void run() {
+    for (;;) {
+      check_step_budget();
+      const double t_before = t_;
+      const detail::StepResult r = stepper_.step(stops_[seg_], t_);
+      if (r == detail::StepResult::stop_reached) t_ = stops_[seg_];
+      // A non-finite heat balance met by a rejected attempt stays on record (for the message)
+      // until the integration has passed the time where it occurred.
+      if (ev_.nonfinite().seen && t_ > ev_.nonfinite().time) ev_.clear_nonfinite();
+      check_progress(r, t_before);
+      outputs_.emit_passed(t_, y_, stepper_);
+      if (r == detail::StepResult::root_found && !apply_events()) return;
+      if (r == detail::StepResult::stop_reached && !next_segment()) return;
+    }
+  }
+
+private:
+  /// Fails once the steps of the whole run reach max_steps.
+  void check_step_budget() {
+    if (stepper_.steps() >= opt_.max_steps)
+      chk_.fail(step_call_, stepper_.too_much_work_flag(),
+                stepper_.flag_name(stepper_.too_much_work_flag()),
+                fmt::format("the maximum of {} internal steps (max_steps) was reached before "
+                            "t = {:.10g} s",
+                            opt_.max_steps, stops_.back()));
+  }
+
+  /// Steps that no longer advance time (typically creeping towards a time where the heat balance
+  /// stops being finite) would otherwise run on until max_steps: fails after kMaxStalledSteps.
+  void check_progress(detail::StepResult r, double t_before) {
+    stalled_steps_ =
+        (r == detail::StepResult::advanced && t_ - t_before <= time_resolution(t_, t_before))
+            ? stalled_steps_ + 1
+            : 0;
+    if (stalled_steps_ < kMaxStalledSteps) return;
+    if (ev_.nonfinite().seen)
+      chk_.fail(step_call_, stepper_.repeated_rhs_flag(),
+                stepper_.flag_name(stepper_.repeated_rhs_flag()),
+                "the heat balance failed repeatedly (the steps shrank to nothing)");
+    chk_.fail(step_call_, 0, "step size underflow",
+              "the step size shrank to the round-off of the time (a discontinuity may lack a "
+              "breakpoint)");
+  }
+
+  /// Restarts at t towards the next segment end far enough away; false when t1 is reached.
+  bool restart_at(double t) {
+    while (stops_[seg_] - t <= time_resolution(t, stops_[seg_])) {
+      if (seg_ + 1 == stops_.size()) return false;
+      ++seg_;
+    }
+    stepper_.restart(t, stops_[seg_]);
+    ++stats_.restarts;
+    return true;
+  }
+
+  /// At the end of a segment: on to the next one; false when it was the last.
+  bool next_segment() {
+    if (seg_ + 1 == stops_.size()) return false;
+    ++seg_;
+    return restart_at(t_);
+  }
+
+  /// Applies the events of a root, then any immediate re-firings, all at the current time, and
+  /// restarts after each; false when that restart reached the end of the run.
+  bool apply_events() {
+    const int* roots = stepper_.roots();
+    std::copy(roots, roots + nev_, fired_.begin());
+    while (sys_.apply_events(t_, y_, fired_)) {
+      count_events();
+      if (!restart_at(t_)) return false;
+      if (!refires(t_)) break;
+    }
+    return true;
+  }
+
+  /// Counts the events in `fired_`; fails when events keep firing without time advancing or
+  /// their total exceeds max_steps.
+  void count_events() {
+    stats_.events += std::count_if(fired_.begin(), fired_.end(), [](int f) { return f != 0; });
+    events_at_same_time_ =
+        std::abs(t_ - last_event_) <= event_resolution(t_) ? events_at_same_time_ + 1 : 1;
+    last_event_ = t_;
+    if (events_at_same_time_ > kMaxEventsAtOneTime) {
+      std::vector<std::string> which;
+      for (int k = 0; k < nev_; ++k)
+        if (fired_[static_cast<std::size_t>(k)] != 0) which.push_back(fmt::format("#{}", k));
+      chk_.fail("apply_events", 0, "event loop",
+                fmt::format("events keep firing without time advancing ({} events at this "
+                            "time, the last by event function {}); a thermostat or switch "
+                            "probably has no hysteresis",
+                            events_at_same_time_ - 1, fmt::join(which, ", ")));
+    }
+    if (stats_.events > opt_.max_steps)
+      chk_.fail("apply_events", 0, "event limit",
+                fmt::format("more than {} events (max_steps) were applied", opt_.max_steps));
+  }
+
+  /// After a restart at an event, an event function that fired may sit exactly on zero (a
+  /// switch without hysteresis). CVODE/IDA then ignore its next crossing, so look a little
+  /// ahead: if it leaves zero opposite to the way it crossed, it re-fires at once. Returns
+  /// whether `fired_` now holds such immediate re-firings.
+  bool refires(double t) {
+    ev_.events(t, y_, g0_.data());
+    bool any_zero = false;
+    for (int k = 0; k < nev_; ++k) {
+      const auto ku = static_cast<std::size_t>(k);
+      any_zero = any_zero || (fired_[ku] != 0 && g0_[ku] == 0.0);
+    }
+    if (!any_zero) return false;
+    ydot_.resize(static_cast<std::size_t>(n_));
+    ylook_.resize(static_cast<std::size_t>(n_));
+    stepper_.derivative(ydot_.data());
+    const double dt =
+        std::sqrt(std::numeric_limits<double>::epsilon()) * std::max(1.0, std::abs(t));
+    for (std::size_t i = 0; i < ylook_.size(); ++i)
+      ylook_[i] = y_[i] + dt * ydot_[i];
+    ev_.events(t + dt, ylook_.data(), g1_.data());
+    bool any = false;
+    for (int k = 0; k < nev_; ++k) {
+      const auto ku = static_cast<std::size_t>(k);
+      const int s = (fired_[ku] != 0 && g0_[ku] == 0.0) ? sign_of(g1_[ku]) : 0;
+      fired_[ku] = (s != 0 && s == -sign_of(fired_[ku])) ? s : 0;
+      any = any || fired_[ku] != 0;
+    }
+    return any;
+  }
+
+  ThermalSystem& sys_;
+  detail::SystemEvaluator& ev_;
+  detail::TransientStepper& stepper_;
+  sundials::Checker& chk_;
+  const char* step_call_; // the SUNDIALS call named in failures
+  const std::vector<double>& stops_;
+  std::size_t seg_;
+  const SolverOptions& opt_;
+  SolverStats& stats_;
+  OutputSchedule& outputs_;
+  double* y_; // the stepper's state
+  int n_;
+  int nev_;
+  double t_;
+  double last_event_ = std::numeric_limits<double>::quiet_NaN();
+  int events_at_same_time_ = 0;
+  int stalled_steps_ = 0;
+  std::vector<int> fired_;
+  std::vector<double> g0_, g1_, ydot_, ylook_;
+};
+
+/// With nothing to integrate: an IDA start still makes the arithmetic nodes of T consistent.
+void make_consistent(detail::SystemEvaluator& ev, LinearSolverKind kind, const SolverOptions& opt,
+                     double t0, std::vector<double>& T, SolverStats& stats) {
+  if (ev.size() == 0 || !ev.has_algebraic()) return;
+  auto stepper =
+      detail::make_ida_stepper(ev, kind, opt, t0, T.data(), t0 + std::max(1.0, std::abs(t0)));
+  std::copy(stepper->state(), stepper->state() + ev.size(), T.begin());
+  stepper->collect(stats);
+}
+
 } // namespace
 
 SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, double t1,
@@ -73,198 +316,31 @@ SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, dou
   const int n = ev.size();
   const LinearSolverKind kind = detail::resolve_linear_solver(
       opt.linear_solver, n, opt.dense_threshold, opt.krylov_threshold);
-
   SolverStats stats;
   stats.integrator = ev.has_algebraic() ? "ida" : "cvode-bdf";
   stats.linear_solver = detail::linear_solver_name(kind);
-
-  const int nev = sys.event_count();
-  if (nev > 0) sys.init_events(t0, T.data());
+  if (sys.event_count() > 0) sys.init_events(t0, T.data());
 
   const std::vector<double> stops = segment_ends(sys, t0, t1);
-  std::size_t seg = 0;
-  while (seg + 1 < stops.size() && stops[seg] - t0 <= time_resolution(t0, stops[seg]))
-    ++seg;
-
-  auto next_out = static_cast<std::size_t>(
-      std::lower_bound(output_times.begin(), output_times.end(), t0) - output_times.begin());
-  std::vector<double> buf(static_cast<std::size_t>(n));
-  const auto emit_state = [&](double t, const double* y) {
-    std::copy(y, y + n, buf.begin());
-    if (out) out(t, buf);
-  };
-  const auto emit_remaining = [&](const double* y) {
-    for (; next_out < output_times.size() && output_times[next_out] <= t1; ++next_out)
-      emit_state(output_times[next_out], y);
-  };
-
+  const std::size_t seg = first_segment(stops, t0);
+  OutputSchedule outputs(output_times, t0, n, out);
   // Nothing to integrate: an empty system, or an interval within the time resolution.
   if (n == 0 || stops[seg] - t0 <= time_resolution(t0, stops[seg])) {
-    if (n > 0 && ev.has_algebraic()) { // still make the arithmetic nodes consistent
-      auto stepper =
-          detail::make_ida_stepper(ev, kind, opt, t0, T.data(), t0 + std::max(1.0, std::abs(t0)));
-      std::copy(stepper->state(), stepper->state() + n, T.begin());
-      stepper->collect(stats);
-    }
-    emit_remaining(T.data());
+    make_consistent(ev, kind, opt, t0, T, stats);
+    outputs.emit_up_to(t1, T.data());
     return stats;
   }
 
   std::unique_ptr<detail::TransientStepper> stepper =
       ev.has_algebraic() ? detail::make_ida_stepper(ev, kind, opt, t0, T.data(), stops[seg])
                          : detail::make_cvode_stepper(ev, kind, opt, t0, T.data(), stops[seg]);
-  double* y = stepper->state();
-  sundials::Checker& chk = stepper->checker();
-  const char* step_call = ev.has_algebraic() ? "IDASolve" : "CVode";
-
+  const double* y = stepper->state();
+  TransientRun run(sys, ev, *stepper, stops, seg, t0, opt, stats, outputs);
   try {
-    // Switches (thermostats) start from the temperatures they sense, but arithmetic nodes only
-    // have theirs once IDA made the state consistent. Moving the state there is a change like
-    // any other: an event function that changed sign on the way fires, as it would in a step.
-    if (nev > 0 && ev.has_algebraic()) {
-      std::vector<double> g_guess(static_cast<std::size_t>(nev)), g_ic(g_guess.size());
-      std::vector<int> crossed(g_guess.size());
-      std::vector<double> guess(T.begin(), T.end());
-      for (int pass = 0; pass < 4; ++pass) {
-        ev.events(t0, guess.data(), g_guess.data());
-        ev.events(t0, y, g_ic.data());
-        if (!events_crossed(g_guess, g_ic, crossed) || !sys.apply_events(t0, y, crossed)) break;
-        std::copy(y, y + n, guess.begin());
-        stepper->restart(t0, stops[seg]);
-      }
-    }
-    for (; next_out < output_times.size() && output_times[next_out] <= t0; ++next_out)
-      emit_state(output_times[next_out], y);
-
-    // Restarts at t towards the next segment end far enough away; false when t1 is reached.
-    const auto restart_at = [&](double t) {
-      while (stops[seg] - t <= time_resolution(t, stops[seg])) {
-        if (seg + 1 == stops.size()) return false;
-        ++seg;
-      }
-      stepper->restart(t, stops[seg]);
-      ++stats.restarts;
-      return true;
-    };
-
-    std::vector<int> fired(static_cast<std::size_t>(nev), 0);
-    std::vector<double> g0(static_cast<std::size_t>(nev)), g1(static_cast<std::size_t>(nev));
-    std::vector<double> ydot, ylook;
-
-    // After a restart at an event, an event function that fired may sit exactly on zero (a
-    // switch without hysteresis). CVODE/IDA then ignore its next crossing, so look a little
-    // ahead: if it leaves zero opposite to the way it crossed, it re-fires at once. Returns
-    // whether `fired` now holds such immediate re-firings.
-    const auto refires = [&](double t) {
-      ev.events(t, y, g0.data());
-      bool any_zero = false;
-      for (int k = 0; k < nev; ++k) {
-        const auto ku = static_cast<std::size_t>(k);
-        any_zero = any_zero || (fired[ku] != 0 && g0[ku] == 0.0);
-      }
-      if (!any_zero) return false;
-      ydot.resize(static_cast<std::size_t>(n));
-      ylook.resize(static_cast<std::size_t>(n));
-      stepper->derivative(ydot.data());
-      const double dt =
-          std::sqrt(std::numeric_limits<double>::epsilon()) * std::max(1.0, std::abs(t));
-      for (std::size_t i = 0; i < ylook.size(); ++i)
-        ylook[i] = y[i] + dt * ydot[i];
-      ev.events(t + dt, ylook.data(), g1.data());
-      bool any = false;
-      for (int k = 0; k < nev; ++k) {
-        const auto ku = static_cast<std::size_t>(k);
-        const int s = (fired[ku] != 0 && g0[ku] == 0.0) ? sign_of(g1[ku]) : 0;
-        fired[ku] = (s != 0 && s == -sign_of(fired[ku])) ? s : 0;
-        any = any || fired[ku] != 0;
-      }
-      return any;
-    };
-
-    double t = t0;
-    double last_event = std::numeric_limits<double>::quiet_NaN();
-    int events_at_same_time = 0;
-    int stalled_steps = 0;
-    bool finished = false;
-    while (!finished) {
-      if (stepper->steps() >= opt.max_steps)
-        chk.fail(step_call, stepper->too_much_work_flag(),
-                 stepper->flag_name(stepper->too_much_work_flag()),
-                 fmt::format("the maximum of {} internal steps (max_steps) was reached before "
-                             "t = {:.10g} s",
-                             opt.max_steps, t1));
-      const double end = stops[seg];
-      const double t_before = t;
-      const detail::StepResult r = stepper->step(end, t);
-      if (r == detail::StepResult::stop_reached) t = end;
-
-      // A non-finite heat balance met by a rejected attempt stays on record (for the message)
-      // until the integration has passed the time where it occurred.
-      if (ev.nonfinite().seen && t > ev.nonfinite().time) ev.clear_nonfinite();
-      // Steps that no longer advance time (typically creeping towards a time where the heat
-      // balance stops being finite) would otherwise run on until max_steps.
-      stalled_steps =
-          (r == detail::StepResult::advanced && t - t_before <= time_resolution(t, t_before))
-              ? stalled_steps + 1
-              : 0;
-      if (stalled_steps >= kMaxStalledSteps) {
-        if (ev.nonfinite().seen)
-          chk.fail(step_call, stepper->repeated_rhs_flag(),
-                   stepper->flag_name(stepper->repeated_rhs_flag()),
-                   "the heat balance failed repeatedly (the steps shrank to nothing)");
-        chk.fail(step_call, 0, "step size underflow",
-                 "the step size shrank to the round-off of the time (a discontinuity may lack a "
-                 "breakpoint)");
-      }
-
-      // Dense output for every requested time passed by this step.
-      for (; next_out < output_times.size() && output_times[next_out] <= t; ++next_out) {
-        const double to = output_times[next_out];
-        if (to == t) {
-          emit_state(to, y);
-        } else {
-          stepper->interpolate(to, buf.data());
-          if (out) out(to, buf);
-        }
-      }
-
-      if (r == detail::StepResult::root_found) {
-        const int* roots = stepper->roots();
-        std::copy(roots, roots + nev, fired.begin());
-        // Apply the events, then any immediate re-firings, all at time t.
-        while (sys.apply_events(t, y, fired)) {
-          stats.events += std::count_if(fired.begin(), fired.end(), [](int f) { return f != 0; });
-          events_at_same_time =
-              std::abs(t - last_event) <= event_resolution(t) ? events_at_same_time + 1 : 1;
-          last_event = t;
-          if (events_at_same_time > kMaxEventsAtOneTime) {
-            std::vector<std::string> which;
-            for (int k = 0; k < nev; ++k)
-              if (fired[static_cast<std::size_t>(k)] != 0) which.push_back(fmt::format("#{}", k));
-            chk.fail("apply_events", 0, "event loop",
-                     fmt::format("events keep firing without time advancing ({} events at this "
-                                 "time, the last by event function {}); a thermostat or switch "
-                                 "probably has no hysteresis",
-                                 events_at_same_time - 1, fmt::join(which, ", ")));
-          }
-          if (stats.events > opt.max_steps)
-            chk.fail("apply_events", 0, "event limit",
-                     fmt::format("more than {} events (max_steps) were applied", opt.max_steps));
-          if (!restart_at(t)) {
-            finished = true;
-            break;
-          }
-          if (!refires(t)) break;
-        }
-        continue;
-      }
-      if (r == detail::StepResult::stop_reached) {
-        if (seg + 1 == stops.size()) break;
-        ++seg;
-        if (!restart_at(t)) break;
-      }
-    }
-    emit_remaining(y);
+    run.settle_initial_events(T);
+    outputs.emit_up_to(t0, y);
+    run.run();
+    outputs.emit_up_to(t1, y);
   } catch (...) {
     std::copy(y, y + n, T.begin()); // the last state reached
     throw;

@@ -17,6 +17,8 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace thermnet {
 
@@ -56,6 +58,155 @@ int kin_jac(N_Vector u, N_Vector /*fu*/, SUNMatrix J, void* user_data, N_Vector,
   return 0;
 }
 
+/// The KINSOL problem of one steady state: the unknowns with their scales and constraints, and
+/// the solver set up for Newton's method with line search.
+class SteadyProblem {
+public:
+  /// Sets up F(t, T) = 0 from the guess T with the linear solver `kind` (not automatic).
+  SteadyProblem(detail::SystemEvaluator& ev, double t, const std::vector<double>& T,
+                LinearSolverKind kind, const SolverOptions& opt)
+      : ev_(ev), t_(t), n_(ev.size()), data_{&ev, t} {
+    chk_.steady = true;
+    chk_.pending = &ev_.pending;
+    const SUNContext sc = ctx_.get();
+    u_.reset(chk_.created(N_VNew_Serial(n_, sc), "N_VNew_Serial"));
+    uscale_.reset(chk_.created(N_VNew_Serial(n_, sc), "N_VNew_Serial"));
+    fscale_.reset(chk_.created(N_VNew_Serial(n_, sc), "N_VNew_Serial"));
+    constraints_.reset(chk_.created(N_VNew_Serial(n_, sc), "N_VNew_Serial"));
+    for (N_Vector v : {u_.get(), uscale_.get(), fscale_.get(), constraints_.get()})
+      detail::accelerate_vector(v);
+    std::copy(T.begin(), T.end(), NV_DATA_S(u_.get()));
+    N_VConst(1.0, uscale_.get());
+    scale_residuals();
+    // Temperatures are absolute: keep the iterates above 0 K when the guess is.
+    const bool positive = std::all_of(T.begin(), T.end(), [](double x) { return x > 0.0; });
+    N_VConst(positive ? 2.0 : 0.0, constraints_.get());
+    kin_.reset(chk_.created(KINCreate(sc), "KINCreate"));
+    chk_.describe_failure = [this] { return failure_report(); };
+    configure(kind, opt, positive);
+  }
+
+  /// Solves and writes the temperatures found to T; throws SolverError when there are none.
+  void solve(std::vector<double>& T, const SolverOptions& opt) {
+    ev_.clear_nonfinite();
+    const int flag = chk_.check(
+        Api::kinsol, KINSol(kin_.get(), u_.get(), KIN_LINESEARCH, uscale_.get(), fscale_.get()),
+        "KINSol");
+    if (flag == KIN_STEP_LT_STPTOL && !(largest_scaled_residual() <= opt.atol))
+      chk_.fail("KINSol", flag, sundials::flag_name(Api::kinsol, flag),
+                sundials::flag_description(Api::kinsol, flag));
+    const double* uu = NV_DATA_S(u_.get());
+    std::copy(uu, uu + n_, T.begin());
+  }
+
+  /// Newton iterations, Jacobian evaluations and the evaluator's call counts.
+  void collect(SolverStats& stats) const {
+    long nni = 0, nje = 0;
+    KINGetNumNonlinSolvIters(kin_.get(), &nni);
+    KINGetNumJacEvals(kin_.get(), &nje);
+    stats.steps = nni;
+    stats.nonlinear_iters = nni;
+    stats.linear_setups = nje;
+    stats.rhs_evals = ev_.rhs_evals;
+    stats.jac_evals = ev_.jac_evals;
+  }
+
+private:
+  /// Residuals are scaled by 1/|dF_i/dT_i| (K/W): each reads as the temperature change of node i
+  /// that would balance it, so one tolerance in kelvin fits small and large heat flows alike.
+  void scale_residuals() {
+    double* fs = NV_DATA_S(fscale_.get());
+    std::fill(fs, fs + n_, 1.0);
+    if (ev_.jacobian(t_, NV_DATA_S(u_.get())) == 0) {
+      for (int i = 0; i < n_; ++i) {
+        const double g = std::abs(ev_.jacobian_storage().diagonal(i));
+        if (g > 0.0 && std::isfinite(g)) fs[i] = 1.0 / g;
+      }
+    } else if (ev_.pending) {
+      std::rethrow_exception(ev_.pending);
+    }
+  }
+
+  /// The user data, the linear solver, the tolerances (residuals below kResidualFraction * atol,
+  /// steps below kStepFraction * atol), exact Newton, the iteration cap and the constraints.
+  void configure(LinearSolverKind kind, const SolverOptions& opt, bool positive) {
+    void* mem = kin_.get();
+    chk_.call(Api::kinsol, "KINSetErrHandlerFn", KINSetErrHandlerFn, mem,
+              &sundials::Checker::handler, static_cast<void*>(&chk_));
+    chk_.call(Api::kinsol, "KINInit", KINInit, mem, kin_func, u_.get());
+    chk_.call(Api::kinsol, "KINSetUserData", KINSetUserData, mem, static_cast<void*>(&data_));
+    ls_ = detail::make_linear_system(kind, ev_.jacobian_storage(), u_.get(), ctx_.get(), chk_);
+    chk_.call(Api::kinsol_ls, "KINSetLinearSolver", KINSetLinearSolver, mem, ls_.solver.get(),
+              ls_.matrix.get());
+    chk_.call(Api::kinsol_ls, "KINSetJacFn", KINSetJacFn, mem, kin_jac);
+    chk_.call(Api::kinsol, "KINSetFuncNormTol", KINSetFuncNormTol, mem,
+              kResidualFraction * opt.atol);
+    // KINSOL measures steps relative to |T| + 1/uscale; express kStepFraction * atol in kelvin.
+    const double t_max = N_VMaxNorm(u_.get());
+    chk_.call(Api::kinsol, "KINSetScaledStepTol", KINSetScaledStepTol, mem,
+              kStepFraction * opt.atol / (1.0 + t_max));
+    chk_.call(Api::kinsol, "KINSetMaxSetupCalls", KINSetMaxSetupCalls, mem, 1L); // exact Newton
+    chk_.call(Api::kinsol, "KINSetNumMaxIters", KINSetNumMaxIters, mem,
+              std::min(opt.max_steps, kMaxNewtonIterations));
+    if (positive)
+      chk_.call(Api::kinsol, "KINSetConstraints", KINSetConstraints, mem, constraints_.get());
+  }
+
+  /// The largest residual at the current iterate as a temperature (infinite when the heat balance
+  /// cannot be evaluated): steps that became negligible are accepted only when it is small too.
+  double largest_scaled_residual() {
+    const double* fs = NV_DATA_S(fscale_.get());
+    std::vector<double> f(static_cast<std::size_t>(n_));
+    double worst = 0.0;
+    if (ev_.heat_balance(t_, NV_DATA_S(u_.get()), f.data()) == 0)
+      for (int i = 0; i < n_; ++i)
+        worst = std::max(worst, std::abs(f[static_cast<std::size_t>(i)]) * fs[i]);
+    else
+      worst = HUGE_VAL;
+    return worst;
+  }
+
+  /// The nodes with the largest scaled residuals, and the nodes with no conductance to anything.
+  sundials::FailureReport failure_report() {
+    sundials::FailureReport d;
+    d.time = t_;
+    d.note = ev_.describe_nonfinite();
+    const double* fs = NV_DATA_S(fscale_.get());
+    std::vector<double> f(static_cast<std::size_t>(n_));
+    if (ev_.heat_balance(t_, NV_DATA_S(u_.get()), f.data()) >= 0) {
+      for (int i = 0; i < n_; ++i)
+        f[static_cast<std::size_t>(i)] *= fs[i];
+      d.worst = ev_.worst_unknowns(f.data());
+    }
+    ev_.pending = nullptr;
+    const std::vector<std::string> loose = ev_.zero_diagonal_unknowns(false);
+    if (!loose.empty()) {
+      if (!d.note.empty()) d.note += "; ";
+      d.note +=
+          fmt::format("{} {} {} no conductance to anything", loose.size() == 1 ? "node" : "nodes",
+                      fmt::join(loose, ", "), loose.size() == 1 ? "has" : "have");
+      for (auto it = loose.rbegin(); it != loose.rend(); ++it)
+        if (std::find(d.worst.begin(), d.worst.end(), *it) == d.worst.end())
+          d.worst.insert(d.worst.begin(), *it);
+    }
+    d.worst_label = "largest residuals at nodes";
+    return d;
+  }
+
+  detail::SystemEvaluator& ev_;
+  double t_;
+  int n_;
+  sundials::Checker chk_{"KINSOL"};
+  sundials::Context ctx_;
+  sundials::NVector u_;
+  sundials::NVector uscale_;
+  sundials::NVector fscale_;
+  sundials::NVector constraints_;
+  SteadyData data_;
+  sundials::KinsolMemory kin_;
+  detail::LinearSystem ls_;
+};
+
 } // namespace
 
 SolverStats solve_steady(ThermalSystem& sys, std::vector<double>& T, double t,
@@ -74,113 +225,9 @@ SolverStats solve_steady(ThermalSystem& sys, std::vector<double>& T, double t,
   stats.integrator = "kinsol";
   stats.linear_solver = detail::linear_solver_name(kind);
   if (n == 0) return stats;
-
-  sundials::Checker chk("KINSOL");
-  chk.steady = true;
-  chk.pending = &ev.pending;
-  sundials::Context ctx;
-  const SUNContext sc = ctx.get();
-  sundials::NVector u(chk.created(N_VNew_Serial(n, sc), "N_VNew_Serial"));
-  sundials::NVector uscale(chk.created(N_VNew_Serial(n, sc), "N_VNew_Serial"));
-  sundials::NVector fscale(chk.created(N_VNew_Serial(n, sc), "N_VNew_Serial"));
-  sundials::NVector constraints(chk.created(N_VNew_Serial(n, sc), "N_VNew_Serial"));
-  for (N_Vector v : {u.get(), uscale.get(), fscale.get(), constraints.get()})
-    detail::accelerate_vector(v);
-  double* uu = NV_DATA_S(u.get());
-  std::copy(T.begin(), T.end(), uu);
-  N_VConst(1.0, uscale.get());
-
-  // Residuals are scaled by 1/|dF_i/dT_i| (K/W): each reads as the temperature change of node i
-  // that would balance it, so one tolerance in kelvin fits small and large heat flows alike.
-  double* fs = NV_DATA_S(fscale.get());
-  std::fill(fs, fs + n, 1.0);
-  if (ev.jacobian(t, uu) == 0) {
-    for (int i = 0; i < n; ++i) {
-      const double g = std::abs(ev.jacobian_storage().diagonal(i));
-      if (g > 0.0 && std::isfinite(g)) fs[i] = 1.0 / g;
-    }
-  } else if (ev.pending) {
-    std::rethrow_exception(ev.pending);
-  }
-
-  // Temperatures are absolute: keep the iterates above 0 K when the guess is.
-  const bool positive = std::all_of(T.begin(), T.end(), [](double x) { return x > 0.0; });
-  N_VConst(positive ? 2.0 : 0.0, constraints.get());
-
-  SteadyData data{&ev, t};
-  sundials::KinsolMemory kin(chk.created(KINCreate(sc), "KINCreate"));
-  void* mem = kin.get();
-  const auto worst_residuals = [&]() {
-    sundials::FailureReport d;
-    d.time = t;
-    d.note = ev.describe_nonfinite();
-    std::vector<double> f(static_cast<std::size_t>(n));
-    if (ev.heat_balance(t, uu, f.data()) >= 0) {
-      for (int i = 0; i < n; ++i)
-        f[static_cast<std::size_t>(i)] *= fs[i];
-      d.worst = ev.worst_unknowns(f.data());
-    }
-    ev.pending = nullptr;
-    const std::vector<std::string> loose = ev.zero_diagonal_unknowns(false);
-    if (!loose.empty()) {
-      if (!d.note.empty()) d.note += "; ";
-      d.note +=
-          fmt::format("{} {} {} no conductance to anything", loose.size() == 1 ? "node" : "nodes",
-                      fmt::join(loose, ", "), loose.size() == 1 ? "has" : "have");
-      for (auto it = loose.rbegin(); it != loose.rend(); ++it)
-        if (std::find(d.worst.begin(), d.worst.end(), *it) == d.worst.end())
-          d.worst.insert(d.worst.begin(), *it);
-    }
-    d.worst_label = "largest residuals at nodes";
-    return d;
-  };
-  chk.describe_failure = worst_residuals;
-  chk.call(Api::kinsol, "KINSetErrHandlerFn", KINSetErrHandlerFn, mem, &sundials::Checker::handler,
-           static_cast<void*>(&chk));
-  chk.call(Api::kinsol, "KINInit", KINInit, mem, kin_func, u.get());
-  chk.call(Api::kinsol, "KINSetUserData", KINSetUserData, mem, static_cast<void*>(&data));
-  detail::LinearSystem ls =
-      detail::make_linear_system(kind, ev.jacobian_storage(), u.get(), sc, chk);
-  chk.call(Api::kinsol_ls, "KINSetLinearSolver", KINSetLinearSolver, mem, ls.solver.get(),
-           ls.matrix.get());
-  chk.call(Api::kinsol_ls, "KINSetJacFn", KINSetJacFn, mem, kin_jac);
-  chk.call(Api::kinsol, "KINSetFuncNormTol", KINSetFuncNormTol, mem, kResidualFraction * opt.atol);
-  // KINSOL measures steps relative to |T| + 1/uscale; express kStepFraction * atol in kelvin.
-  const double t_max = N_VMaxNorm(u.get());
-  chk.call(Api::kinsol, "KINSetScaledStepTol", KINSetScaledStepTol, mem,
-           kStepFraction * opt.atol / (1.0 + t_max));
-  chk.call(Api::kinsol, "KINSetMaxSetupCalls", KINSetMaxSetupCalls, mem, 1L); // exact Newton
-  chk.call(Api::kinsol, "KINSetNumMaxIters", KINSetNumMaxIters, mem,
-           std::min(opt.max_steps, kMaxNewtonIterations));
-  if (positive)
-    chk.call(Api::kinsol, "KINSetConstraints", KINSetConstraints, mem, constraints.get());
-
-  ev.clear_nonfinite();
-  const int flag = chk.check(
-      Api::kinsol, KINSol(mem, u.get(), KIN_LINESEARCH, uscale.get(), fscale.get()), "KINSol");
-  if (flag == KIN_STEP_LT_STPTOL) {
-    // Steps became negligible: accept only if the residual is small as well.
-    std::vector<double> f(static_cast<std::size_t>(n));
-    double worst = 0.0;
-    if (ev.heat_balance(t, uu, f.data()) == 0)
-      for (int i = 0; i < n; ++i)
-        worst = std::max(worst, std::abs(f[static_cast<std::size_t>(i)]) * fs[i]);
-    else
-      worst = HUGE_VAL;
-    if (!(worst <= opt.atol))
-      chk.fail("KINSol", flag, sundials::flag_name(Api::kinsol, flag),
-               sundials::flag_description(Api::kinsol, flag));
-  }
-  std::copy(uu, uu + n, T.begin());
-
-  long nni = 0, nje = 0;
-  KINGetNumNonlinSolvIters(mem, &nni);
-  KINGetNumJacEvals(mem, &nje);
-  stats.steps = nni;
-  stats.nonlinear_iters = nni;
-  stats.linear_setups = nje;
-  stats.rhs_evals = ev.rhs_evals;
-  stats.jac_evals = ev.jac_evals;
+  SteadyProblem problem(ev, t, T, kind, opt);
+  problem.solve(T, opt);
+  problem.collect(stats);
   return stats;
 }
 

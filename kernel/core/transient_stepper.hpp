@@ -56,18 +56,4 @@ std::unique_ptr<TransientStepper> make_ida_stepper(SystemEvaluator& ev, LinearSo
                                                    const SolverOptions& opt, double t0,
                                                    const double* T0, double stop);
 
-/// Adds the counters a stepper accumulated over its segments, and its evaluator's call counts,
-/// into `stats` (shared by the CVODE and IDA steppers, whose own counters reset at every restart).
-inline void add_counters(SolverStats& stats, const SolverStats& segments, long rhs_evals,
-                         long jac_evals) {
-  stats.steps += segments.steps;
-  stats.linear_setups += segments.linear_setups;
-  stats.nonlinear_iters += segments.nonlinear_iters;
-  stats.nonlinear_fails += segments.nonlinear_fails;
-  stats.linear_iters += segments.linear_iters;
-  stats.error_test_fails += segments.error_test_fails;
-  stats.rhs_evals += rhs_evals;
-  stats.jac_evals += jac_evals;
-}
-
 } // namespace thermnet::detail

@@ -55,8 +55,9 @@ struct Finding {
   std::vector<double> std_errors;      ///< their standard errors (NaN when unknown)
   std::string statement;               ///< netlist statements that add it (top level)
   CaseLines case_statements;           ///< lines that complete it inside case blocks, by case
+  lang::ParamValues param_rewrites;    ///< params --write rewrites instead (name -> SI value)
   std::string evidence;                ///< the evidence in words
-  bool mechanism_identified = true;    ///< missing_link: the data tell linear and radiation apart
+  bool mechanism_identified = true;    ///< the data tell the kind's mechanisms apart
   std::string mechanism_note;          ///< e.g. "linear and radiation fit equally; kept linear"
   double mechanism_z = 0.0;            ///< SSE difference of the mechanisms / its spread
   int given = 0;                       ///< findings applied before this one (ranks 1..given)

@@ -1,14 +1,14 @@
 #pragma once
-/// The diagnosis engine (internal to kernel/diagnosis*.cpp): evidence, simulation of candidates,
-/// fits with validation folds (leave one case out, or a held-back stretch of time), the screen's
-/// shortlist and the greedy forward selection of findings.
+/// The diagnosis's evidence/fit engine (internal to kernel/diagnosis): the data and the baseline,
+/// the screen's evidence, simulation of candidates on top of applied findings, fits with
+/// validation folds (leave one case out, or a held-back stretch of time) and the gain of a
+/// candidate. What to refit and what to report is decided by the selection (selection.hpp).
 
+#include "kernel/diagnosis/composites.hpp"
 #include "kernel/diagnosis/diagnosis.hpp"
-#include "kernel/diagnosis/statistics.hpp"
 
 #include <Eigen/Dense>
 
-#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -24,95 +24,6 @@ using CaseSims = std::vector<std::vector<Series>>;
 struct Part {
   enum What { all, train, test } what = all; ///< which points
   std::size_t fold = 0;                      ///< fold (the held-out case when leaving cases out)
-};
-
-/// A finding applied with its fitted values held fixed.
-struct Applied {
-  const Hypothesis* h = nullptr; ///< its hypothesis
-  Candidate c;                   ///< its candidate
-  std::vector<double> p;         ///< its values
-};
-
-/// A free candidate on top of applied findings (fixed values), as one hypothesis; with no free
-/// hypothesis it is the applied findings alone.
-class Stack final : public Hypothesis {
-public:
-  /// Applied findings plus (optionally) a free candidate.
-  Stack(const std::vector<Applied>* applied, const Hypothesis* free, const Candidate* fc)
-      : applied_(applied), free_(free), fc_(fc) {}
-  std::vector<Candidate> propose(const Evidence&) const override { return {}; }
-  lang::ParamValues overrides(const Candidate&, const std::vector<double>& p) const override;
-  void extend(const Candidate&, const std::vector<double>& p,
-              lang::NetworkSpec& spec) const override;
-  void correct(const Candidate&, const std::vector<double>& p, int node,
-               const std::vector<double>& times, std::vector<double>& sim) const override;
-  std::string statement(const Candidate&, const std::vector<double>& p,
-                        const Evidence& ev) const override;
-  CaseLines case_statements(const Candidate&, const std::vector<double>& p,
-                            const Evidence& ev) const override;
-
-private:
-  const std::vector<Applied>* applied_;
-  const Hypothesis* free_;
-  const Candidate* fc_;
-};
-
-/// A model-side candidate refitted together with the model's ranged params (the joint refit):
-/// parameters = the candidate's own, then every ranged param (the `parameter` candidate's).
-class Joint final : public Hypothesis {
-public:
-  /// The inner candidate of `inner` joined with the `parameter` candidate `pc` of `par`.
-  Joint(const Hypothesis* inner, Candidate ic, const Hypothesis* par, Candidate pc)
-      : inner_(inner), ic_(std::move(ic)), par_(par), pc_(std::move(pc)) {}
-  /// The joint candidate: the inner one with the ranged params appended (started at `ranged`).
-  Candidate candidate(const std::vector<double>& ranged) const;
-  /// The inner hypothesis and candidate (the candidate's own parameters only).
-  const Hypothesis* inner() const { return inner_; }
-  /// The inner candidate.
-  const Candidate& inner_candidate() const { return ic_; }
-  std::vector<Candidate> propose(const Evidence&) const override { return {}; }
-  lang::ParamValues overrides(const Candidate&, const std::vector<double>& p) const override;
-  void extend(const Candidate&, const std::vector<double>& p,
-              lang::NetworkSpec& spec) const override;
-  void correct(const Candidate&, const std::vector<double>& p, int node,
-               const std::vector<double>& times, std::vector<double>& sim) const override;
-  std::string statement(const Candidate&, const std::vector<double>& p,
-                        const Evidence& ev) const override;
-  CaseLines case_statements(const Candidate&, const std::vector<double>& p,
-                            const Evidence& ev) const override;
-
-private:
-  std::vector<double> head(const std::vector<double>& p) const;
-  std::vector<double> tail(const std::vector<double>& p) const;
-  const Hypothesis* inner_;
-  Candidate ic_;
-  const Hypothesis* par_;
-  Candidate pc_;
-};
-
-/// Several candidates refitted together (the findings selected so far, re-estimated at each step
-/// of the forward selection): the parameters are theirs, concatenated in order.
-class Compose final : public Hypothesis {
-public:
-  /// The parts, each a hypothesis with its candidate.
-  explicit Compose(std::vector<Applied> parts) : parts_(std::move(parts)) {}
-  /// The composed candidate (started at the parts' values).
-  Candidate candidate() const;
-  /// The parameters of part i within p.
-  std::vector<double> slice(const std::vector<double>& p, std::size_t i) const;
-  std::vector<Candidate> propose(const Evidence&) const override { return {}; }
-  lang::ParamValues overrides(const Candidate&, const std::vector<double>& p) const override;
-  void extend(const Candidate&, const std::vector<double>& p,
-              lang::NetworkSpec& spec) const override;
-  void correct(const Candidate&, const std::vector<double>& p, int node,
-               const std::vector<double>& times, std::vector<double>& sim) const override;
-  std::string statement(const Candidate&, const std::vector<double>& p,
-                        const Evidence& ev) const override;
-  CaseLines case_statements(const Candidate&, const std::vector<double>& p,
-                            const Evidence& ev) const override;
-
-private:
-  std::vector<Applied> parts_;
 };
 
 /// The model candidates are compared with: the declared model plus the findings applied so far.
@@ -141,13 +52,44 @@ struct Evaluated {
   double holdout_sse = 0.0;           ///< SSE on the held-out points of every fold
 };
 
-/// The diagnosis of one model.
+/// The evidence of one model's cases with data and the fits of candidates against it.
 class Engine {
 public:
-  /// An engine for `model` (kept by reference) with the options.
-  Engine(const lang::Model& model, const DiagnosisOptions& opt) : model_(model), opt_(opt) {}
-  /// Runs the whole diagnosis.
-  DiagnosisReport run();
+  /// Loads the data of the cases (options.cases, or every case with data), simulates the declared
+  /// model and builds the screen's evidence; throws DiagnosisError, lang::ModelError or
+  /// lang::CsvError. `model` is kept by reference.
+  Engine(const lang::Model& model, const DiagnosisOptions& options);
+
+  /// The evidence at the declared model.
+  const Evidence& evidence() const { return ev_; }
+  /// The declared model as a base (the baseline).
+  const Base& declared() const { return base0_; }
+  /// Validation folds: the cases (leave one case out), or 1 (held-back time).
+  std::size_t folds() const { return loco_ ? ev_.cases.size() : 1; }
+  /// True when the validation leaves one case out (two cases or more).
+  bool leave_one_case_out() const { return loco_; }
+  /// Measured points, all data.
+  std::size_t points() const { return n_all_; }
+  /// Measured points held out over every fold.
+  std::size_t held_out_points() const { return n_test_; }
+
+  /// The declared model with findings applied at their values.
+  Base make_base(std::vector<Applied> applied) const;
+  /// The screen's evidence on top of a base (a sensor found faulty is screened with its simulated
+  /// temperature).
+  Evidence evidence_at(const Base& base) const;
+  /// Fits a candidate on top of a base on all data (the reported values) and in every validation
+  /// fold, and measures its gain; a joint refit (many parameters) stops earlier.
+  Evaluated evaluate(const Entry& e, const Base& base, bool joint = false) const;
+  /// evaluate() of every entry, in parallel (options.threads).
+  std::vector<Evaluated> evaluate_all(const std::vector<Entry>& entries, const Base& base,
+                                      bool joint = false) const;
+  /// n ln((SSE_after + f n) / (SSE_before + f n)) + k ln n over all data (f: a small noise floor).
+  double delta_bic(double sse_after, double sse_before, double k) const;
+  /// The longest trend disagreement of the nodes in words (empty if none).
+  std::string trend_words(const FitMetrics& m, const std::vector<std::string>& nodes) const;
+  /// Per case: measured, baseline and `after` (if it applies findings) series of every node.
+  std::vector<DiagnosisReport::Curves> curves(const Base& after) const;
 
 private:
   struct Fit {
@@ -155,15 +97,16 @@ private:
     std::vector<double> p;
     std::vector<double> se;
     double sse = 0.0;
-    Eigen::MatrixXd J; // residual Jacobian (scaled coordinates) at the last linearisation
-    Eigen::VectorXd r; // residuals at p
+    Eigen::MatrixXd J;     // residual Jacobian (working coordinates) at the last linearisation
+    std::vector<double> r; // residuals at p
   };
 
-  // diagnosis_engine.cpp
-  void collect_evidence();
+  // evidence.cpp
+  void load_cases();
+  void simulate_baseline();
   void build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all,
                     double& screen_total, const std::set<int>& distrusted = {}) const;
-  std::size_t folds() const { return loco_ ? ev_.cases.size() : 1; }
+  // case_simulation.cpp
   bool case_used(std::size_t c, Part part) const;
   bool in_part(std::size_t c, std::size_t k, Part part) const;
   CaseSims model_sims(const Hypothesis* h, const Candidate* c, const std::vector<double>& p,
@@ -175,38 +118,36 @@ private:
   void residuals(const CaseSims& sims, Part part, std::vector<double>& r) const;
   std::vector<char> rows_in(Part part) const;
   double sst(Part part) const;
+  // candidate_fit.cpp
   Fit fit(const Hypothesis& h, const Candidate& c, const std::vector<double>& start, Part part,
           const Base& base, int max_iter, double rtol, const Fit* warm = nullptr) const;
+  // engine.cpp
+  bool validate(const Hypothesis& h, const Candidate& c, const Fit& all, const Base& base,
+                int max_iter, double rtol, double& holdout_sse) const;
+  void measure_gain(Finding& f, const Base& base, double sse, double holdout_sse) const;
+  // fit_metrics.cpp
   FitMetrics metrics(const CaseSims& sims) const;
   bool at_floor(const FitMetrics& m) const;
-  Base make_base(std::vector<Applied> applied) const;
-  Evidence evidence_at(const Base& base) const;
-  Evaluated evaluate(const Entry& e, const Base& base, bool joint = false) const;
-  std::string trend_words(const FitMetrics& m, const std::vector<std::string>& nodes) const;
-
-  // diagnosis_select.cpp
-  std::vector<Entry> propose(const Evidence& ev) const;
-  std::vector<std::size_t> shortlist(const std::vector<Entry>& side, const Evidence& ev,
-                                     std::size_t sites) const;
-  std::vector<Evaluated> evaluate_all(const std::vector<Entry>& entries, const Base& base,
-                                      bool joint = false) const;
-  void judge(std::vector<Evaluated>& res) const;
-  void merge_mechanisms(std::vector<Evaluated>& res) const;
-  double score(const Finding& f) const;
-  std::vector<std::size_t> ranked(const std::vector<Evaluated>& res) const;
-  void add_curves(DiagnosisReport& rep, const Base& after) const;
 
   const lang::Model& model_;
   DiagnosisOptions opt_;
   Evidence ev_;
-  std::vector<std::unique_ptr<Hypothesis>> hyps_;
   std::vector<double> split_; // per case: first held-back time (time-split validation)
   bool loco_ = false;         // leave one case out (>= 2 cases)
   std::size_t n_all_ = 0, n_test_ = 0;
   Base base0_; // the declared model
 };
 
+/// Simulates a case at the measured times: temperatures of every node (spec order), K.
+std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
+                                               const std::vector<double>& times);
+
 /// Two candidates at the same site with the same mechanism.
 bool same_candidate(const Candidate& a, const Candidate& b);
+
+/// Sets what a finding writes (statements, case lines, rewritten params): its hypothesis's text
+/// for the candidate at p.
+void write_extension(Finding& f, const Hypothesis& h, const Candidate& c,
+                     const std::vector<double>& p, const Evidence& ev);
 
 } // namespace thermnet::detail

@@ -69,7 +69,7 @@ struct Candidate {
   std::string kind;               ///< finding kind (the plugin's name)
   std::vector<std::string> nodes; ///< nodes it concerns
   std::string element;            ///< element it concerns (heater_gain)
-  std::string mechanism;          ///< missing_link: "linear" or "radiation"
+  std::string mechanism;          ///< one of the kind's mechanisms (missing_link: "linear"...)
   std::vector<std::string> names; ///< names of the extra parameters (e.g. "G")
   std::vector<double> start;      ///< starting values
   std::vector<double> lo;         ///< lower bounds
@@ -86,12 +86,22 @@ using CaseLines = std::map<std::string, std::string>;
 /// Appends `more` to `lines` (a line break between the lines of a case).
 void merge_case_lines(CaseLines& lines, const CaseLines& more);
 
-/// One finding kind: proposes candidates and applies them.
+/// One finding kind: proposes candidates, applies them and says how they are written. Everything
+/// the engine, the report and `--write` do differently for a kind is asked of its hypothesis (or
+/// read from the candidates it proposes: `measurement_side`, `mechanism`, `element`).
 class Hypothesis {
 public:
   virtual ~Hypothesis() = default;
   /// Candidates from the evidence (scored by the screen where the kind allows).
   virtual std::vector<Candidate> propose(const Evidence& ev) const = 0;
+  /// The alternative mechanisms its candidates name (e.g. linear, radiation), in the order the
+  /// report lists them; candidates of one site with different mechanisms are compared, and one is
+  /// kept (default: none).
+  virtual std::vector<std::string> mechanisms() const { return {}; }
+  /// True when it recalibrates the model's ranged params: always refitted (not shortlisted by
+  /// the screen), the basis of the joint refit, and not proposed again once a finding has
+  /// recalibrated them (default: false).
+  virtual bool recalibrates() const { return false; }
   /// Param overrides for Model::instantiate at parameters p (default: none).
   virtual lang::ParamValues overrides(const Candidate&, const std::vector<double>&) const {
     return {};
@@ -108,6 +118,11 @@ public:
   /// top-level statements alone would not reproduce the fit (default: none).
   virtual CaseLines case_statements(const Candidate&, const std::vector<double>&,
                                     const Evidence&) const {
+    return {};
+  }
+  /// Params whose declared values `--write` rewrites to apply the finding (name -> SI value),
+  /// in place of appending its statements (default: none).
+  virtual lang::ParamValues rewrites(const Candidate&, const std::vector<double>&) const {
     return {};
   }
 };

@@ -50,14 +50,14 @@ nlohmann::json finding_json(const Finding& f) {
   x["kind"] = f.candidate.kind;
   x["nodes"] = f.candidate.nodes;
   if (!f.candidate.element.empty()) x["element"] = f.candidate.element;
-  if (f.candidate.kind == "missing_link") {
+  if (!f.candidate.mechanism.empty()) {
     x["mechanism"] = f.candidate.mechanism;
     x["mechanism_identified"] = f.mechanism_identified;
     x["mechanism_z"] = f.mechanism_z;
     if (!f.mechanism_note.empty()) x["mechanism_note"] = f.mechanism_note;
   }
   x["values"] = finding_values(f);
-  if (f.candidate.kind == "parameter") x["params"] = finding_values(f);
+  if (!f.param_rewrites.empty()) x["params"] = f.param_rewrites;
   nlohmann::json se = nlohmann::json::object();
   for (std::size_t k = 0; k < f.std_errors.size() && k < f.candidate.names.size(); ++k)
     if (std::isfinite(f.std_errors[k])) se[f.candidate.names[k]] = f.std_errors[k];

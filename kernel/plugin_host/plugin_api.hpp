@@ -10,8 +10,9 @@
 
 /// Version of the plugin ABI: bumped whenever a type a plugin sees (ElementPlugin, Element,
 /// ElementSchema, OptimizerPlugin, EstimatorPlugin, HypothesisPlugin, ...) changes layout or
-/// meaning. 2: hypotheses join the plugin families; one Registry template.
-#define THERMNET_PLUGIN_ABI 2
+/// meaning. 2: hypotheses join the plugin families; one Registry template. 3: Hypothesis gains
+/// mechanisms(), recalibrates() and rewrites().
+#define THERMNET_PLUGIN_ABI 3
 
 namespace thermnet {
 

@@ -22,6 +22,8 @@ double drive(bool radiative, double to, double from) {
 
 class MissingLink final : public Hypothesis {
 public:
+  std::vector<std::string> mechanisms() const override { return {"linear", "radiation"}; }
+
   std::vector<Candidate> propose(const Evidence& ev) const override {
     std::vector<Candidate> out;
     if (ev.cases.empty()) return out;

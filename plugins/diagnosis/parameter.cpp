@@ -9,6 +9,8 @@ namespace {
 
 class Parameter final : public Hypothesis {
 public:
+  bool recalibrates() const override { return true; }
+
   std::vector<Candidate> propose(const Evidence& ev) const override {
     Candidate c;
     c.kind = "parameter";
@@ -38,6 +40,10 @@ public:
       s += fmt::format("{}# param {}: {} (SI; rewrite the declared value)", j ? "\n" : "",
                        c.names[j], netlist_number(p[j]));
     return s;
+  }
+
+  lang::ParamValues rewrites(const Candidate& c, const std::vector<double>& p) const override {
+    return overrides(c, p);
   }
 };
 

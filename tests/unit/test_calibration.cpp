@@ -4,7 +4,6 @@
 // rewriter. "Measurements" are thermnet's own simulation of known params plus Gaussian noise.
 
 #include "cli/calibration_report.hpp"
-#include "cli/model_rewrite.hpp"
 #include "cli/progress_bar.hpp"
 #include "kernel/calibration/calibration_problem.hpp"
 #include "kernel/calibration/optimizer.hpp"
@@ -13,6 +12,7 @@
 #include "kernel/core/network.hpp"
 #include "kernel/core/parallel.hpp"
 #include "kernel/core/simulation.hpp"
+#include "lang/rewrite/param_values.hpp"
 
 #include <doctest/doctest.h>
 #include <fmt/format.h>
@@ -470,21 +470,21 @@ TEST_CASE("mc: a tight tolerance rejects everything; cancel returns the best so 
 TEST_CASE("format_param_value: the written unit is kept") {
   lang::ParamInfo k;
   k.dim = lang::dim::conductivity;
-  CHECK(cli::format_param_value("160 [W/(m*K)]", k, 123.5) == "123.5 [W/(m*K)]");
+  CHECK(rewrite::format_param_value("160 [W/(m*K)]", k, 123.5) == "123.5 [W/(m*K)]");
   lang::ParamInfo len;
   len.dim = lang::dim::length;
-  CHECK(cli::format_param_value("3 [mm]", len, 0.0045) == "4.5 [mm]");
+  CHECK(rewrite::format_param_value("3 [mm]", len, 0.0045) == "4.5 [mm]");
   lang::ParamInfo t;
   t.dim = lang::dim::temperature;
-  CHECK(cli::format_param_value("20 [degC]", t, 298.15) == "25 [degC]");
-  CHECK(cli::format_param_value("-10 [degC]", t, 258.15) == "-15 [degC]");
-  CHECK(cli::format_param_value("293.15 [K]", t, 298.15) == "298.15 [K]");
-  CHECK(cli::format_param_value("20", t, 298.15) == "25"); // bare temperatures are degC
+  CHECK(rewrite::format_param_value("20 [degC]", t, 298.15) == "25 [degC]");
+  CHECK(rewrite::format_param_value("-10 [degC]", t, 258.15) == "-15 [degC]");
+  CHECK(rewrite::format_param_value("293.15 [K]", t, 298.15) == "298.15 [K]");
+  CHECK(rewrite::format_param_value("20", t, 298.15) == "25"); // bare temperatures are degC
   lang::ParamInfo bare;
-  CHECK(cli::format_param_value("0.4", bare, 0.25) == "0.25");
+  CHECK(rewrite::format_param_value("0.4", bare, 0.25) == "0.25");
   lang::ParamInfo g;
   g.dim = lang::dim::conductance;
-  CHECK(cli::format_param_value("2 * 3 [W/K]", g, 4.0) == "4 [W/K]"); // an expression: SI form
+  CHECK(rewrite::format_param_value("2 * 3 [W/K]", g, 4.0) == "4 [W/K]"); // an expression: SI form
 }
 
 TEST_CASE("rewrite_params: only the value bytes change; comments and layout survive") {
@@ -499,12 +499,12 @@ TEST_CASE("rewrite_params: only the value bytes change; comments and layout surv
                            "conductance g n amb G = k * eps\n";
   Loaded m(dir.write("r.tnet", text));
   auto params = m.model->params();
-  std::vector<cli::ParamUpdate> updates;
+  std::vector<rewrite::ParamUpdate> updates;
   for (const auto& p : params)
     updates.push_back({p, p.name == "h_gap" ? 7.25 : p.name == "eps" ? 0.125 : 2.5});
   const long root = m.sources.find(m.model->path());
   REQUIRE(root >= 0);
-  auto rw = cli::rewrite_params(m.sources, static_cast<lang::FileId>(root), updates);
+  auto rw = rewrite::rewrite_params(m.sources, static_cast<lang::FileId>(root), updates);
   CHECK(rw.text == "# header comment\n"
                    "include \"inc.tnet\"\n"
                    "param  h_gap = 7.25 [W/(m^2*K)]   range 1 .. 10 \"gas gap\"  # note\n"

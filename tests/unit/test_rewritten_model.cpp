@@ -3,8 +3,8 @@
 // with the new values, units kept in expressions, and outputs written all-or-nothing.
 
 #include "cli/atomic_file.hpp"
-#include "cli/rewritten_model.hpp"
 #include "kernel/core/element_registry.hpp"
+#include "lang/rewrite/model_files.hpp"
 
 #include <doctest/doctest.h>
 
@@ -65,8 +65,8 @@ struct Tree {
   std::string path(const std::string& name) const { return (dir.path / name).string(); }
 };
 
-std::vector<cli::ParamUpdate> updates_for(const lang::Model& m) {
-  std::vector<cli::ParamUpdate> u;
+std::vector<rewrite::ParamUpdate> updates_for(const lang::Model& m) {
+  std::vector<rewrite::ParamUpdate> u;
   for (const auto& p : m.params())
     u.push_back({p, p.name == "G" ? 2.25 : p.name == "Ca" ? 1250.0 : 7.5});
   return u;
@@ -79,7 +79,7 @@ TEST_CASE("rewrite_model: the files declaring params and their includers, beside
   Loaded m(t.path("main.tnet"));
   fs::create_directories(t.dir.path / "out");
   auto files =
-      cli::rewrite_model(m.sources, m.root(), updates_for(*m.model), t.path("out/cal.tnet"));
+      rewrite::rewrite_model(m.sources, m.root(), updates_for(*m.model), t.path("out/cal.tnet"));
   REQUIRE(files.size() == 3);
   CHECK(files[0].path == t.path("out/cal.tnet"));
   CHECK(files[0].text == "model m  # root\n"
@@ -118,13 +118,13 @@ TEST_CASE(
     "rewrite_model: only the root when every param is declared there; same folder keeps paths") {
   Tree t;
   Loaded m(t.path("main.tnet"));
-  std::vector<cli::ParamUpdate> only_h;
+  std::vector<rewrite::ParamUpdate> only_h;
   for (const auto& u : updates_for(*m.model))
     if (u.param.name == "h") only_h.push_back(u);
-  auto files = cli::rewrite_model(m.sources, m.root(), only_h, t.path("cal.tnet"));
+  auto files = rewrite::rewrite_model(m.sources, m.root(), only_h, t.path("cal.tnet"));
   REQUIRE(files.size() == 1);
-  CHECK(files[0].text ==
-        cli::apply_edits(m.sources.text(m.root()), cli::param_edits(m.sources, m.root(), only_h)));
+  CHECK(files[0].text == rewrite::apply_edits(m.sources.text(m.root()),
+                                              rewrite::param_edits(m.sources, m.root(), only_h)));
   CHECK(files[0].text.find("include \"lib/mid.tnet\"") != std::string::npos);
   CHECK(files[0].text.find("data \"heat.csv\"") != std::string::npos);
 }
@@ -133,12 +133,12 @@ TEST_CASE("rewrite_model: the user's inputs are never targets, except the root o
   Tree t;
   Loaded m(t.path("main.tnet"));
   const auto updates = updates_for(*m.model);
-  CHECK_THROWS_AS(cli::rewrite_model(m.sources, m.root(), updates, t.path("lib/params.tnet")),
-                  cli::OutputError);
-  CHECK_THROWS_AS(cli::rewrite_model(m.sources, m.root(), updates, t.path("heat.csv")),
-                  cli::OutputError);
+  CHECK_THROWS_AS(rewrite::rewrite_model(m.sources, m.root(), updates, t.path("lib/params.tnet")),
+                  rewrite::RewriteError);
+  CHECK_THROWS_AS(rewrite::rewrite_model(m.sources, m.root(), updates, t.path("heat.csv")),
+                  rewrite::RewriteError);
   // In place: the root is the target; its included copies are new files named after it.
-  auto in_place = cli::rewrite_model(m.sources, m.root(), updates, t.path("main.tnet"));
+  auto in_place = rewrite::rewrite_model(m.sources, m.root(), updates, t.path("main.tnet"));
   REQUIRE(in_place.size() == 3);
   CHECK(in_place[1].path == t.path("main.mid.tnet"));
   CHECK(in_place[2].path == t.path("main.params.tnet"));
@@ -149,7 +149,7 @@ TEST_CASE("rewrite_model: the user's inputs are never targets, except the root o
   t.dir.write("main.tnet", read(t.dir.path / "main.tnet") + "include \"cal.mid.tnet\"\n");
   Loaded m2(t.path("main.tnet"));
   auto files =
-      cli::rewrite_model(m2.sources, m2.root(), updates_for(*m2.model), t.path("cal.tnet"));
+      rewrite::rewrite_model(m2.sources, m2.root(), updates_for(*m2.model), t.path("cal.tnet"));
   REQUIRE(files.size() == 3);
   CHECK(files[1].path == t.path("cal.mid-2.tnet"));
   CHECK(files[0].text.find("include \"cal.mid-2.tnet\"") != std::string::npos);
@@ -159,16 +159,16 @@ TEST_CASE("rewrite_model: the user's inputs are never targets, except the root o
 TEST_CASE("format_param_value: an expression keeps the one unit it is written in") {
   lang::ParamInfo k;
   k.dim = lang::dim::conductivity;
-  CHECK(cli::format_param_value("2 * 1.25 [W/(m*K)]", k, 3.5) == "3.5 [W/(m*K)]");
+  CHECK(rewrite::format_param_value("2 * 1.25 [W/(m*K)]", k, 3.5) == "3.5 [W/(m*K)]");
   lang::ParamInfo len;
   len.dim = lang::dim::length;
-  CHECK(cli::format_param_value("3 [mm] + 0.5 [mm]", len, 0.004) == "4 [mm]");
-  CHECK(cli::format_param_value("1 [mm] + 1 [cm]", len, 0.011) == "0.011 [m]"); // two units: SI
+  CHECK(rewrite::format_param_value("3 [mm] + 0.5 [mm]", len, 0.004) == "4 [mm]");
+  CHECK(rewrite::format_param_value("1 [mm] + 1 [cm]", len, 0.011) == "0.011 [m]"); // two units: SI
   lang::ParamInfo ratio;
   ratio.dim = lang::Dimension{};
-  CHECK(cli::format_param_value("2 [mm] / 1 [mm]", ratio, 1.5) == "1.5");
+  CHECK(rewrite::format_param_value("2 [mm] / 1 [mm]", ratio, 1.5) == "1.5");
   lang::ParamInfo bare;
-  CHECK(cli::format_param_value("k0 * 1.1", bare, 0.25) == "0.25");
+  CHECK(rewrite::format_param_value("k0 * 1.1", bare, 0.25) == "0.25");
 }
 
 TEST_CASE("write_files_atomically: all or nothing") {

@@ -1,4 +1,7 @@
-#include "cli/svg_plot.hpp"
+#include "plot/style.hpp"
+#include "plot/svg_plot.hpp"
+#include "plot/text.hpp"
+#include "plot/ticks.hpp"
 
 #include <doctest/doctest.h>
 #include <fmt/format.h>

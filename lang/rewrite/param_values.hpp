@@ -4,26 +4,18 @@
 /// byte-identical.
 
 #include "lang/model.hpp"
+#include "lang/rewrite/text_edit.hpp"
 
-#include <cstdint>
-#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
 
-namespace thermnet::cli {
+namespace thermnet::rewrite {
 
 /// A param and its new value (SI, as ParamInfo::value).
 struct ParamUpdate {
   lang::ParamInfo param; ///< the param (value_span locates its expression)
   double value = 0.0;    ///< new value, SI
-};
-
-/// A replacement of the bytes [begin, end) of one file's text.
-struct TextEdit {
-  std::uint32_t begin = 0; ///< first byte replaced
-  std::uint32_t end = 0;   ///< one past the last byte replaced
-  std::string text;        ///< the new bytes
 };
 
 /// The rewritten root file and the params that could not be written there.
@@ -44,20 +36,9 @@ std::string format_param_value(std::string_view written, const lang::ParamInfo& 
 std::vector<TextEdit> param_edits(const lang::SourceManager& sources, lang::FileId file,
                                   const std::vector<ParamUpdate>& updates);
 
-/// Applies non-overlapping edits (in any order) to a text.
-std::string apply_edits(std::string text, std::vector<TextEdit> edits);
-
-/// The edits that insert each named case's lines (one per line, each indented and followed by
-/// `comment`) just before the closing brace of its block (replacing the blanks before it) in file
-/// `file`; the names of the cases whose block is not in that file (or unknown) go to `elsewhere`.
-std::vector<TextEdit> case_block_edits(const lang::Model& model, lang::FileId file,
-                                       const std::map<std::string, std::string>& lines,
-                                       const std::string& comment,
-                                       std::vector<std::string>& elsewhere);
-
 /// Replaces the value expression of each param declared in file `root` by its new value
 /// (format_param_value); params declared in other files are listed in `skipped`.
 RewriteResult rewrite_params(const lang::SourceManager& sources, lang::FileId root,
                              const std::vector<ParamUpdate>& updates);
 
-} // namespace thermnet::cli
+} // namespace thermnet::rewrite

@@ -3,12 +3,19 @@
 /// every included file that declares a rewritten param or includes such a file, with the paths
 /// written in the copies adjusted so that the new model reads the copies and the original data.
 
-#include "cli/model_rewrite.hpp"
+#include "lang/rewrite/param_values.hpp"
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace thermnet::cli {
+namespace thermnet::rewrite {
+
+/// A rewritten model that cannot go where it was asked to (onto one of its inputs, or to a path
+/// a model file cannot name).
+struct RewriteError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 /// One file of a rewritten model.
 struct RewrittenFile {
@@ -23,9 +30,9 @@ struct RewrittenFile {
 /// file, includes of a copied file name the copy, and relative include/data/table/plugin paths
 /// are re-expressed from the new directory when it differs from the original's. Files that do not
 /// change are not copied; the user's inputs are never targets, except the root when `out` names
-/// it. Throws OutputError when `out` names another input of the model (an included or data file).
+/// it. Throws RewriteError when `out` names another input of the model (an included or data file).
 std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lang::FileId root,
                                          const std::vector<ParamUpdate>& updates,
                                          const std::string& out);
 
-} // namespace thermnet::cli
+} // namespace thermnet::rewrite

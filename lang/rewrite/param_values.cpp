@@ -1,4 +1,4 @@
-#include "cli/model_rewrite.hpp"
+#include "lang/rewrite/param_values.hpp"
 
 #include "lang/units.hpp"
 
@@ -8,7 +8,7 @@
 #include <charconv>
 #include <optional>
 
-namespace thermnet::cli {
+namespace thermnet::rewrite {
 
 namespace {
 
@@ -20,15 +20,11 @@ struct Written {
   std::optional<std::string> unit; ///< the unit text between the brackets
 };
 
-bool is_space(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\n';
-}
-
 Written classify(std::string_view s) {
   Written w;
   std::size_t i = 0;
   const auto skip = [&] {
-    while (i < s.size() && is_space(s[i]))
+    while (i < s.size() && is_blank(s[i]))
       ++i;
   };
   skip();
@@ -47,7 +43,7 @@ Written classify(std::string_view s) {
   const std::size_t close = s.find(']', i);
   if (close == std::string_view::npos) return w;
   std::size_t j = close + 1;
-  while (j < s.size() && is_space(s[j]))
+  while (j < s.size() && is_blank(s[j]))
     ++j;
   if (j != s.size()) return w;
   w.literal = true;
@@ -62,7 +58,7 @@ std::vector<std::string> units_in(std::string_view s) {
     const std::size_t close = s.find(']', open);
     if (close == std::string_view::npos) break;
     std::string u(s.substr(open + 1, close - open - 1));
-    u.erase(std::remove_if(u.begin(), u.end(), is_space), u.end());
+    u.erase(std::remove_if(u.begin(), u.end(), is_blank), u.end());
     if (std::find(units.begin(), units.end(), u) == units.end()) units.push_back(u);
     open = close;
   }
@@ -116,45 +112,6 @@ std::vector<TextEdit> param_edits(const lang::SourceManager& sources, lang::File
   return edits;
 }
 
-std::string apply_edits(std::string text, std::vector<TextEdit> edits) {
-  // From the end of the text backwards, so earlier offsets stay valid.
-  std::sort(edits.begin(), edits.end(),
-            [](const TextEdit& a, const TextEdit& b) { return a.begin > b.begin; });
-  for (const auto& e : edits)
-    text.replace(e.begin, e.end - e.begin, e.text);
-  return text;
-}
-
-std::vector<TextEdit> case_block_edits(const lang::Model& model, lang::FileId file,
-                                       const std::map<std::string, std::string>& lines,
-                                       const std::string& comment,
-                                       std::vector<std::string>& elsewhere) {
-  const std::string& text = model.sources().text(file);
-  std::vector<TextEdit> edits;
-  for (const auto& [name, body] : lines) {
-    const auto c = std::find_if(model.cases().begin(), model.cases().end(),
-                                [&](const lang::CaseDecl& d) { return d.name == name; });
-    if (c == model.cases().end() || c->file != file || c->where.end == 0 ||
-        c->where.end > text.size() || text[c->where.end - 1] != '}') {
-      elsewhere.push_back(name);
-      continue;
-    }
-    std::string insert = "\n";
-    std::string_view rest = body;
-    while (!rest.empty()) {
-      const std::size_t eol = std::min(rest.find('\n'), rest.size());
-      insert += fmt::format("  {} {}\n", rest.substr(0, eol), comment);
-      rest.remove_prefix(std::min(eol + 1, rest.size()));
-    }
-    // Replaces the blanks before the brace, so that no line is left with trailing blanks.
-    std::uint32_t from = c->where.end - 1;
-    while (from > c->where.begin && is_space(text[from - 1]))
-      --from;
-    edits.push_back({from, c->where.end - 1, std::move(insert)});
-  }
-  return edits;
-}
-
 RewriteResult rewrite_params(const lang::SourceManager& sources, lang::FileId root,
                              const std::vector<ParamUpdate>& updates) {
   RewriteResult r;
@@ -164,4 +121,4 @@ RewriteResult rewrite_params(const lang::SourceManager& sources, lang::FileId ro
   return r;
 }
 
-} // namespace thermnet::cli
+} // namespace thermnet::rewrite

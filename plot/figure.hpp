@@ -1,9 +1,8 @@
 #pragma once
-/// A small self-contained SVG chart renderer for the plots of simulate/calibrate/diagnose (--plot).
+/// What a chart shows: figures of panels holding series (curves) and bands.
 
 #include <optional>
 #include <string>
-#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -60,44 +59,5 @@ struct Figure {
   int width = 960;           ///< total width in px
   int panel_height = 420;    ///< height of each panel row in px
 };
-
-/// The unit in which time axes are shown.
-struct TimeAxis {
-  std::string unit;     ///< "s", "min" or "h"
-  double divisor = 1.0; ///< seconds per unit (1, 60 or 3600)
-};
-
-/// Unit for a time axis reaching t_max_seconds: s up to 600 s, min up to 7200 s (2 h), h beyond.
-TimeAxis choose_time_axis(double t_max_seconds);
-
-/// Tick positions of a linear axis.
-struct Ticks {
-  std::vector<double> values; ///< tick positions, ascending, k * step exactly rounded
-  double step = 1.0;          ///< distance between ticks: 1, 2 or 5 times a power of ten
-};
-
-/// At most max_ticks (3 if 2 cannot do) "nice" ticks, 1-2-5 x 10^k apart, first <= lo, last >= hi.
-Ticks nice_ticks(double lo, double hi, int max_ticks = 8);
-
-/// Tick labels: decimals as the step needs, zeros trimmed, exponent form >= 1e6 or < 1e-3.
-std::vector<std::string> tick_labels(const Ticks& ticks);
-
-/// A number to `digits` significant digits, zeros trimmed ("0.3", "1.5e6", "-2e-5").
-std::string format_number(double value, int digits = 6);
-
-/// Text escaped for XML content and attributes; control characters become spaces, bad UTF-8 U+FFFD.
-std::string xml_escape(std::string_view text);
-
-/// Number of distinct colours in the palette (Okabe-Ito).
-int palette_size();
-
-/// Colour of a palette index as "#rrggbb" (indices wrap around).
-std::string palette_color(int index);
-
-/// Renders a figure as a standalone SVG 1.1 document (deterministic: same figure, same bytes).
-std::string render_svg(const Figure& fig);
-
-/// Renders a figure and writes it to a file; throws std::runtime_error if it cannot be written.
-void write_svg(const Figure& fig, const std::string& path);
 
 } // namespace thermnet::plot

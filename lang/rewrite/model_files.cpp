@@ -1,6 +1,5 @@
-#include "cli/rewritten_model.hpp"
+#include "lang/rewrite/model_files.hpp"
 
-#include "cli/atomic_file.hpp"
 #include "lang/parser.hpp"
 
 #include <fmt/format.h>
@@ -11,7 +10,7 @@
 #include <optional>
 #include <set>
 
-namespace thermnet::cli {
+namespace thermnet::rewrite {
 
 namespace {
 
@@ -106,7 +105,7 @@ std::string path_from(const fs::path& dir, const fs::path& target) {
 /// A string literal of the language for a path (\" and \\ escaped).
 std::string string_literal(const std::string& path) {
   if (path.find_first_of("\r\n") != std::string::npos)
-    throw OutputError(fmt::format("cannot name '{}' in a model file (line break)", path));
+    throw RewriteError(fmt::format("cannot name '{}' in a model file (line break)", path));
   std::string s = "\"";
   for (char c : path) {
     if (c == '"' || c == '\\') s += '\\';
@@ -115,23 +114,24 @@ std::string string_literal(const std::string& path) {
   return s + "\"";
 }
 
-} // namespace
-
-std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lang::FileId root,
-                                         const std::vector<ParamUpdate>& updates,
-                                         const std::string& out) {
-  std::map<fs::path, lang::FileId> by_path;
+/// The model files reachable from the root (root first) with their path literals, and every path
+/// the model reads (its files and the files they name).
+struct ModelFiles {
+  std::vector<lang::FileId> order;
+  std::map<lang::FileId, FileRefs> refs;
   std::set<fs::path> inputs;
+};
+
+ModelFiles collect_files(const lang::SourceManager& sources, lang::FileId root) {
+  ModelFiles m;
+  std::map<fs::path, lang::FileId> by_path;
   for (lang::FileId id = 0; id < sources.size(); ++id) {
     by_path.emplace(real_path(sources.path(id)), id);
-    inputs.insert(real_path(sources.path(id)));
+    m.inputs.insert(real_path(sources.path(id)));
   }
-
-  // The model files reachable from the root, with their path literals.
-  std::vector<lang::FileId> order{root};
-  std::map<lang::FileId, FileRefs> files;
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    const lang::FileId f = order[i];
+  m.order.push_back(root);
+  for (std::size_t i = 0; i < m.order.size(); ++i) {
+    const lang::FileId f = m.order[i];
     lang::DiagnosticEngine diags(sources);
     const ast::File parsed = lang::parse_file(f, sources, diags);
     FileRefs info;
@@ -142,22 +142,26 @@ std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lan
       std::optional<lang::FileId> target;
       if (r.include) {
         if (auto it = by_path.find(named); it != by_path.end()) target = it->second;
-        if (target && std::find(order.begin(), order.end(), *target) == order.end())
-          order.push_back(*target);
+        if (target && std::find(m.order.begin(), m.order.end(), *target) == m.order.end())
+          m.order.push_back(*target);
       }
-      inputs.insert(named);
+      m.inputs.insert(named);
       info.targets.push_back(target);
     }
-    files.emplace(f, std::move(info));
+    m.refs.emplace(f, std::move(info));
   }
+  return m;
+}
 
-  // The files that change: the root, those declaring an updated param, and their includers.
+/// The files that change: the root, those declaring an updated param, and their includers.
+std::set<lang::FileId> changed_files(const ModelFiles& m, lang::FileId root,
+                                     const std::vector<ParamUpdate>& updates) {
   std::set<lang::FileId> changed{root};
   for (const auto& u : updates)
-    if (files.count(u.param.value_span.file)) changed.insert(u.param.value_span.file);
+    if (m.refs.count(u.param.value_span.file)) changed.insert(u.param.value_span.file);
   for (bool grew = true; grew;) {
     grew = false;
-    for (const auto& [f, info] : files)
+    for (const auto& [f, info] : m.refs)
       if (!changed.count(f))
         for (const auto& t : info.targets)
           if (t && changed.count(*t)) {
@@ -166,18 +170,25 @@ std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lan
             break;
           }
   }
+  return changed;
+}
 
-  // Where each goes: never onto an input, except the root onto itself.
+/// Where each changed file goes: the root to `out`, the others beside it; never onto an input,
+/// except the root onto itself.
+std::map<lang::FileId, fs::path> destinations(const lang::SourceManager& sources,
+                                              const ModelFiles& m,
+                                              const std::set<lang::FileId>& changed,
+                                              lang::FileId root, const std::string& out) {
   const fs::path out_path(out);
   const fs::path out_key = real_path(out_path);
-  if (inputs.count(out_key) && out_key != real_path(sources.path(root)))
-    throw OutputError(fmt::format("-o '{}' would overwrite a file the model reads; write the "
-                                  "calibrated model to a new file",
-                                  out));
+  if (m.inputs.count(out_key) && out_key != real_path(sources.path(root)))
+    throw RewriteError(fmt::format("-o '{}' would overwrite a file the model reads; write the "
+                                   "calibrated model to a new file",
+                                   out));
   std::map<lang::FileId, fs::path> dest{{root, out_path}};
-  std::set<fs::path> taken = inputs;
+  std::set<fs::path> taken = m.inputs;
   taken.insert(out_key);
-  for (lang::FileId f : order) {
+  for (lang::FileId f : m.order) {
     if (f == root || !changed.count(f)) continue;
     const fs::path original(sources.path(f));
     const std::string stem = out_path.stem().string() + "." + original.stem().string();
@@ -188,27 +199,45 @@ std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lan
     taken.insert(real_path(p));
     dest.emplace(f, p);
   }
+  return dest;
+}
 
-  std::vector<RewrittenFile> result;
-  for (lang::FileId f : order) {
-    if (!changed.count(f)) continue;
-    const fs::path from_dir = directory_of(sources.path(f));
-    const fs::path to_dir = directory_of(dest.at(f));
-    const bool moved = real_path(from_dir) != real_path(to_dir);
-    std::vector<TextEdit> edits = param_edits(sources, f, updates);
-    const FileRefs& info = files.at(f);
-    for (std::size_t k = 0; k < info.refs.size(); ++k) {
-      const PathRef& r = info.refs[k];
-      std::optional<std::string> path;
-      if (info.targets[k] && changed.count(*info.targets[k]))
-        path = path_from(to_dir, dest.at(*info.targets[k]));
-      else if (moved && fs::path(r.text).is_relative())
-        path = path_from(to_dir, from_dir / r.text);
-      if (path && *path != r.text) edits.push_back({r.begin, r.end, string_literal(*path)});
-    }
-    result.push_back({dest.at(f).string(), apply_edits(sources.text(f), std::move(edits)), f});
+/// File `f` with its params updated and its path literals naming the copies (and, when it moves
+/// to another directory, its relative paths re-expressed from there).
+std::string rewritten_text(const lang::SourceManager& sources, lang::FileId f,
+                           const std::vector<ParamUpdate>& updates, const FileRefs& info,
+                           const std::set<lang::FileId>& changed,
+                           const std::map<lang::FileId, fs::path>& dest) {
+  const fs::path from_dir = directory_of(sources.path(f));
+  const fs::path to_dir = directory_of(dest.at(f));
+  const bool moved = real_path(from_dir) != real_path(to_dir);
+  std::vector<TextEdit> edits = param_edits(sources, f, updates);
+  for (std::size_t k = 0; k < info.refs.size(); ++k) {
+    const PathRef& r = info.refs[k];
+    std::optional<std::string> path;
+    if (info.targets[k] && changed.count(*info.targets[k]))
+      path = path_from(to_dir, dest.at(*info.targets[k]));
+    else if (moved && fs::path(r.text).is_relative())
+      path = path_from(to_dir, from_dir / r.text);
+    if (path && *path != r.text) edits.push_back({r.begin, r.end, string_literal(*path)});
   }
+  return apply_edits(sources.text(f), std::move(edits));
+}
+
+} // namespace
+
+std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lang::FileId root,
+                                         const std::vector<ParamUpdate>& updates,
+                                         const std::string& out) {
+  const ModelFiles m = collect_files(sources, root);
+  const std::set<lang::FileId> changed = changed_files(m, root, updates);
+  const std::map<lang::FileId, fs::path> dest = destinations(sources, m, changed, root, out);
+  std::vector<RewrittenFile> result;
+  for (lang::FileId f : m.order)
+    if (changed.count(f))
+      result.push_back({dest.at(f).string(),
+                        rewritten_text(sources, f, updates, m.refs.at(f), changed, dest), f});
   return result;
 }
 
-} // namespace thermnet::cli
+} // namespace thermnet::rewrite

@@ -1,0 +1,53 @@
+#include "cli/run_command.hpp"
+
+#include "cli/atomic_file.hpp"
+#include "cli/model_loading.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/core/solver_types.hpp"
+#include "kernel/diagnosis/diagnosis.hpp"
+#include "kernel/estimation/estimator.hpp"
+#include "lang/csv.hpp"
+#include "lang/model.hpp"
+#include "lang/rewrite/model_files.hpp"
+
+#include <fmt/format.h>
+
+#include <iostream>
+#include <stdexcept>
+
+namespace thermnet::cli {
+namespace {
+
+int report(const std::string& who, const std::exception& e, int status) {
+  std::cerr << fmt::format("{}: error: {}\n", who, e.what());
+  return status;
+}
+
+} // namespace
+
+int run_command(const std::string& who, const CommandBody& body, int invalid_argument_status) {
+  lang::SourceManager sources;
+  try {
+    return body(sources);
+  } catch (const lang::ModelError& e) {
+    return report_model_error(e, sources);
+  } catch (const lang::CsvError& e) {
+    return report(who, e, e.row == 0 ? exit_usage : exit_failure); // row 0: the file is unreadable
+  } catch (const OutputError& e) {
+    return report(who, e, exit_usage);
+  } catch (const rewrite::RewriteError& e) {
+    return report(who, e, exit_usage);
+  } catch (const SolverError& e) {
+    return report(who, e, exit_failure);
+  } catch (const NetworkError& e) {
+    return report(who, e, exit_failure);
+  } catch (const EstimatorError& e) {
+    return report(who, e, exit_failure);
+  } catch (const DiagnosisError& e) {
+    return report(who, e, exit_failure);
+  } catch (const std::invalid_argument& e) {
+    return report(who, e, invalid_argument_status);
+  }
+}
+
+} // namespace thermnet::cli

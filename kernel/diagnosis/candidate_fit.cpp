@@ -1,0 +1,109 @@
+// A candidate's fit: its parameters against the data of a validation part, by the least-squares
+// core, warm-started for a fold's refit.
+
+#include "kernel/diagnosis/engine.hpp"
+
+#include "kernel/calibration/least_squares.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+namespace thermnet::detail {
+
+namespace {
+
+/// A candidate's parameters against the data of a part, as a residual problem: log scale where the
+/// lower bound is positive, finite differences of 1e-3 in ln x (log) or of 1e-5 max(1, |x|) of the
+/// range (linear).
+class CandidateResiduals final : public ResidualProblem {
+public:
+  using Residuals = std::function<bool(const std::vector<double>&, std::vector<double>&)>;
+  CandidateResiduals(const Candidate& c, Residuals f) : f_(std::move(f)) {
+    for (std::size_t j = 0; j < c.start.size(); ++j)
+      params_.push_back({c.lo[j], c.hi[j], c.lo[j] > 0 ? ParamScale::log : ParamScale::linear});
+  }
+  const std::vector<BoundedParam>& params() const override { return params_; }
+  bool residuals(const std::vector<double>& x, std::vector<double>& r) const override {
+    return f_(x, r);
+  }
+  double difference_step(std::size_t j, const std::vector<double>& x) const override {
+    const BoundedParam& b = params_[j];
+    if (b.scale == ParamScale::log) return 1e-3 / (std::log(b.hi) - std::log(b.lo));
+    const double width = b.hi - b.lo;
+    return 1e-3 * std::max(1.0, std::abs(x[j])) * std::max(1e-6, width * 1e-2) / width;
+  }
+
+private:
+  std::vector<BoundedParam> params_;
+  Residuals f_;
+};
+
+} // namespace
+
+/// The candidate's parameters fitted by the least-squares core. A warm fit (a validation fold's
+/// refit) starts at the warm fit's optimum with its Jacobian and residuals restricted to the
+/// part's points, so its first step needs no new Jacobian. Standard errors come from the last
+/// Jacobian (NaN when the parameters are not all determined).
+Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vector<double>& start,
+                        Part part, const Base& base, int max_iter, double rtol,
+                        const Fit* warm) const {
+  const CandidateResiduals problem(c, [&](const std::vector<double>& x, std::vector<double>& r) {
+    try {
+      residuals(simulate(&h, &c, x, part, base), part, r);
+      return std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); });
+    } catch (const std::exception&) {
+      return false;
+    }
+  });
+  const WorkingCoordinates coords(problem.params());
+  const auto np = static_cast<long>(start.size());
+  LeastSquaresStart from;
+  from.u = coords.to_u(start);
+  if (warm && warm->J.rows() == static_cast<long>(warm->r.size()) && warm->J.cols() == np) {
+    const std::vector<char> in = rows_in(part);
+    long rows = 0;
+    for (char x : in)
+      rows += x;
+    from.jacobian.resize(rows, np);
+    for (long i = 0, j = 0; i < static_cast<long>(in.size()); ++i)
+      if (in[static_cast<std::size_t>(i)]) {
+        from.r.push_back(warm->r[static_cast<std::size_t>(i)]);
+        from.jacobian.row(j++) = warm->J.row(i);
+      }
+    from.u = coords.to_u(warm->p);
+  }
+  // The diagnosis's settings of the core (its results were validated with them; the calibration's
+  // xtol and hold_at_bounds move joint refits that end on a bound): the damping falls by 5 and
+  // rises by 8 with at most 8 rejected steps per iteration and an iteration cap, which bound the
+  // cost of hundreds of candidate and fold refits; only the SSE decrease stops a fit early; steps
+  // are projected into the box; the reported errors use the last Jacobian (no final one).
+  LeastSquaresOptions o;
+  o.ftol = rtol;
+  o.xtol = 0.0;
+  o.max_iterations = max_iter;
+  o.damping_down = 5.0;
+  o.damping_min = 1e-9;
+  o.damping_up = 8.0;
+  o.damping_max = std::numeric_limits<double>::infinity();
+  o.max_rejections = 8;
+  o.hold_at_bounds = false;
+  o.final_jacobian = false;
+  const LeastSquaresResult res = solve_least_squares(problem, std::move(from), o);
+  Fit f;
+  if (!res.ok) return f;
+  f.ok = true;
+  f.p = res.x;
+  f.sse = res.sse;
+  f.r = res.r;
+  f.J = res.jacobian;
+  f.se.assign(start.size(), std::numeric_limits<double>::quiet_NaN());
+  if (f.J.rows() == static_cast<long>(f.r.size()) && f.J.cols() == np) {
+    const LeastSquaresCovariance cov = least_squares_covariance(problem, f.p, f.J, f.sse);
+    if (cov.determined()) f.se = cov.std_errors;
+  }
+  return f;
+}
+
+} // namespace thermnet::detail

@@ -1,0 +1,151 @@
+// The diagnosis's evidence: the cases with data, the baseline simulation, the noise floor, and the
+// screen's unexplained heat flows (at the declared model or on top of applied findings).
+
+#include "kernel/diagnosis/engine.hpp"
+
+#include "kernel/core/network.hpp"
+#include "lang/elaborator.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace thermnet::detail {
+
+void Engine::load_cases() {
+  ev_.model = &model_;
+  // What the findings' netlist text is written against: the declarations, and every case block.
+  const lang::Reporter fail = [](lang::Diagnostic d) {
+    if (d.severity == lang::Severity::error) throw lang::ModelError(std::move(d));
+  };
+  ev_.declared.spec = lang::Elaborator(model_, fail, nullptr, {}, false).run();
+  for (const auto& name : model_.case_names())
+    ev_.declared_cases.push_back({name, model_.instantiate(name)});
+  std::vector<std::string> names = opt_.cases;
+  const bool all = names.empty();
+  if (all) {
+    names = model_.case_names();
+    if (names.empty()) names.push_back(model_.resolve_case(""));
+  }
+  std::set<std::string> seen;
+  for (const auto& requested : names) {
+    const std::string name = model_.resolve_case(requested);
+    if (!seen.insert(name).second) continue;
+    lang::NetworkSpec spec = model_.instantiate(name);
+    if (spec.settings.data_path.empty()) {
+      if (all) continue;
+      throw DiagnosisError(fmt::format("case '{}' has no measured data (add `data \"file.csv\"` "
+                                       "to the case)",
+                                       name));
+    }
+    CaseEvidence ce;
+    ce.name = name;
+    ce.measured = load_measured(spec.settings.data_path, spec);
+    ce.spec = std::move(spec);
+    if (ce.measured.times.size() < 10 || ce.measured.series.empty())
+      throw DiagnosisError(
+          fmt::format("case '{}': too few measured samples to diagnose (need at least 10)", name));
+    ev_.cases.push_back(std::move(ce));
+  }
+  if (ev_.cases.empty())
+    throw DiagnosisError("no case of the model has measured data; nothing to diagnose (add "
+                         "`data \"file.csv\"` to a case)");
+  loco_ = ev_.cases.size() >= 2;
+}
+
+void Engine::simulate_baseline() {
+  // The declared model's series, the noise floor and the screen's evidence.
+  std::vector<double> sigmas;
+  for (auto& ce : ev_.cases) {
+    const auto all_nodes = simulate_case(ce.spec, ce.times());
+    ce.simulated.assign(ce.measured.series.size(), {});
+    for (std::size_t s = 0; s < ce.measured.series.size(); ++s) {
+      for (const auto& row : all_nodes)
+        ce.simulated[s].push_back(row[static_cast<std::size_t>(ce.measured.series[s].node_index)]);
+      const auto& node = ce.spec.nodes[static_cast<std::size_t>(ce.measured.series[s].node_index)];
+      if (!node.boundary) sigmas.push_back(estimate_noise(ce.measured.series[s].values));
+    }
+    build_screen(ce, all_nodes, ev_.screen_total);
+    const auto& t = ce.times();
+    split_.push_back(t.front() + (1.0 - opt_.holdout) * (t.back() - t.front()));
+  }
+  double s2 = 0.0;
+  for (double s : sigmas)
+    s2 += s * s;
+  ev_.noise_floor = sigmas.empty() ? 0.0 : std::sqrt(s2 / static_cast<double>(sigmas.size()));
+}
+
+void Engine::build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all,
+                          double& screen_total, const std::set<int>& distrusted) const {
+  const auto& t = ce.times();
+  const std::size_t nk = t.size(), nn = ce.spec.nodes.size();
+  constexpr int half = 4;
+  ce.T = all;
+  ce.dTdt.assign(nk, std::vector<double>(nn, 0.0));
+  ce.q.assign(nk, std::vector<double>(nn, std::numeric_limits<double>::quiet_NaN()));
+  ce.rows.clear();
+  Network net(ce.spec);
+  std::vector<int> unknown_of(nn, -1);
+  for (std::size_t u = 0; u < net.unknown_nodes().size(); ++u)
+    unknown_of[static_cast<std::size_t>(net.unknown_nodes()[u])] = static_cast<int>(u);
+  std::vector<double> sm, sl;
+  for (const auto& s : ce.measured.series) {
+    const auto i = static_cast<std::size_t>(s.node_index);
+    // A sensor found faulty (an applied measurement-side finding) is not trusted: its node is
+    // screened with its simulated temperature, like an unmeasured one.
+    if (distrusted.count(s.node_index) != 0) continue;
+    smooth_series(t, s.values, half, sm, sl);
+    for (std::size_t k = 0; k < nk; ++k)
+      if (std::isfinite(sm[k]) && !ce.spec.nodes[i].boundary) {
+        ce.T[k][i] = sm[k];
+        ce.dTdt[k][i] = sl[k];
+      }
+    if (!ce.spec.nodes[i].boundary && ce.spec.nodes[i].C > 0.0 && unknown_of[i] >= 0)
+      ce.rows.push_back(s.node_index);
+  }
+  // Samples whose smoothing window straddles a jump of a source or boundary are left out.
+  const std::vector<double> corners = net.breakpoints(t.front(), t.back());
+  std::vector<double> Tu(static_cast<std::size_t>(net.size())), F(Tu.size());
+  for (std::size_t k = 0; k < nk; ++k) {
+    const double ta = t[k >= half ? k - half : 0], tb = t[std::min(nk - 1, k + half)];
+    bool straddles = false;
+    for (double c : corners)
+      if (c > ta && c < tb) straddles = true;
+    if (straddles) continue;
+    for (std::size_t u = 0; u < Tu.size(); ++u)
+      Tu[u] = ce.T[k][static_cast<std::size_t>(net.unknown_nodes()[u])];
+    net.heat_balance(t[k], Tu.data(), F.data());
+    for (int node : ce.rows) {
+      const auto i = static_cast<std::size_t>(node);
+      const double C = ce.spec.nodes[i].C;
+      const double v = C * ce.dTdt[k][i] - F[static_cast<std::size_t>(unknown_of[i])];
+      ce.q[k][i] = std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN();
+      if (std::isfinite(v)) screen_total += v * v / (C * C);
+    }
+  }
+}
+
+Evidence Engine::evidence_at(const Base& base) const {
+  Evidence ev = ev_;
+  ev.screen_total = 0.0;
+  std::set<int> distrusted;
+  for (const auto& a : base.applied)
+    if (a.c.measurement_side)
+      for (int i : a.c.index)
+        distrusted.insert(i);
+  const Stack stack(&base.applied, nullptr, nullptr);
+  const Candidate none;
+  for (std::size_t c = 0; c < ev.cases.size(); ++c) {
+    CaseEvidence& ce = ev.cases[c];
+    const lang::ParamValues ov = stack.overrides(none, {});
+    ce.spec = ov.empty() ? ev_.cases[c].spec : model_.instantiate(ce.name, ov);
+    stack.extend(none, {}, ce.spec);
+    ce.simulated = base.sims[c];
+    build_screen(ce, simulate_case(ce.spec, ce.times()), ev.screen_total, distrusted);
+  }
+  return ev;
+}
+
+} // namespace thermnet::detail

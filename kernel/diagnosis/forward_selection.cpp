@@ -1,0 +1,155 @@
+// The greedy forward selection: the best finding is applied, and the next one is searched for
+// given it -- the screen repeated on the extended model plus every other significant candidate,
+// refitted on top of it -- until nothing is significant, the error is at the noise floor or the
+// report is full. Each step re-estimates the selected findings together and stands only if that
+// keeps its gain on held-out data.
+
+#include "kernel/diagnosis/selection.hpp"
+
+#include <algorithm>
+
+namespace thermnet::detail {
+
+Base Selection::select_forward(DiagnosisReport& rep) const {
+  std::vector<Applied> applied;
+  Base best = engine_.declared();
+  if (!first_.empty()) {
+    const std::size_t b = first_.front();
+    applied.push_back({chosen_[b].h, chosen_[b].c, res_[b].f.values});
+    rep.findings.push_back(res_[b].f);
+    best = engine_.make_base(applied);
+  }
+  Base base = best;
+  // The ranged params are not recalibrated again once a finding has recalibrated them.
+  const bool params_applied = !applied.empty() && applied.front().h->recalibrates();
+  while (!applied.empty() && rep.findings.size() < opt_.top && !base.at_floor) {
+    std::vector<Entry> next;
+    try {
+      next = next_entries(base, applied, params_applied);
+    } catch (const std::exception&) {
+      break;
+    }
+    std::vector<Evaluated> nres = engine_.evaluate_all(next, base);
+    rep.refitted += next.size();
+    judge(nres);
+    merge_mechanisms(next, nres);
+    const auto order = ranked(nres);
+    if (order.empty()) break;
+    const std::size_t b = order.front();
+    applied.push_back({next[b].h, next[b].c, nres[b].f.values});
+    if (!reestimate(applied, nres[b].f, rep)) break;
+    base = engine_.make_base(applied);
+  }
+  return best;
+}
+
+std::vector<Entry> Selection::next_entries(const Base& base, const std::vector<Applied>& applied,
+                                           bool params_applied) const {
+  const Evidence ev = engine_.evidence_at(base);
+  Screened s = screen(ev);
+  std::vector<Entry> next;
+  for (auto& e : s.others)
+    if (!(e.own_h->recalibrates() && params_applied)) next.push_back(std::move(e));
+  for (auto& e : shortlisted(s.side, ev, opt_.refits, nullptr))
+    next.push_back(std::move(e));
+  for (std::size_t i : first_) {
+    Entry e;
+    e.h = e.own_h = chosen_[i].own_h;
+    e.c = e.own = chosen_[i].own;
+    if (std::none_of(next.begin(), next.end(),
+                     [&](const Entry& x) { return same_candidate(x.c, e.c); }))
+      next.push_back(std::move(e));
+  }
+  next.erase(std::remove_if(next.begin(), next.end(),
+                            [&](const Entry& x) {
+                              return std::any_of(
+                                  applied.begin(), applied.end(),
+                                  [&](const Applied& a) { return same_candidate(a.c, x.c); });
+                            }),
+             next.end());
+  return next;
+}
+
+bool Selection::reestimate(std::vector<Applied>& applied, Finding f, DiagnosisReport& rep) const {
+  // The selected findings are re-estimated together (the earlier ones were fitted without this
+  // one): their values, and this step's gain, come from the joint refit.
+  const Compose all(applied);
+  Entry je;
+  je.h = &all;
+  je.c = all.candidate();
+  Evaluated joint = engine_.evaluate(je, engine_.declared(), true);
+  rep.refitted += 1;
+  if (joint.f.values.empty()) return false;
+  rep.findings.push_back(f);
+  redecide_mechanisms(applied, all, joint, rep);
+  f = rep.findings.back();
+  rep.findings.pop_back();
+  // The step stands only if the joint refit keeps its gain on held-out data.
+  if (joint.f.validation_rmse_after >
+      rep.findings.back().validation_rmse_after + 0.1 * engine_.evidence().noise_floor) {
+    applied.pop_back();
+    return false;
+  }
+  for (std::size_t i = 0; i < applied.size(); ++i)
+    applied[i].p = all.slice(joint.f.values, i); // the variants share the layout
+  f.values = applied.back().p;
+  f.rmse_after = joint.f.rmse_after;
+  f.r2_after = joint.f.r2_after;
+  f.validation_rmse_before = rep.findings.back().validation_rmse_after;
+  f.validation_r2_before = rep.findings.back().validation_r2_after;
+  f.validation_rmse_after = joint.f.validation_rmse_after;
+  f.validation_r2_after = joint.f.validation_r2_after;
+  const Evidence& ev = engine_.evidence();
+  for (std::size_t i = 0; i < rep.findings.size(); ++i) {
+    rep.findings[i].values = applied[i].p;
+    write_extension(rep.findings[i], *applied[i].h, applied[i].c, applied[i].p, ev);
+  }
+  write_extension(f, *applied.back().h, applied.back().c, applied.back().p, ev);
+  rep.findings.push_back(std::move(f));
+  return true;
+}
+
+void Selection::redecide_mechanisms(std::vector<Applied>& applied, const Compose& all,
+                                    Evaluated& joint, DiagnosisReport& rep) const {
+  // A finding whose mechanism was not told apart is decided again given the other findings: the
+  // joint refit with its other mechanism is compared with this one (rep.findings holds the step's
+  // new finding last, alongside `applied`).
+  for (std::size_t i = 0; i < applied.size(); ++i) {
+    Finding& fi = rep.findings[i];
+    // (a finding refitted with the ranged params keeps its mechanism: the variant would not be)
+    if (fi.mechanism_identified || applied[i].h->recalibrates()) continue;
+    auto other = std::find_if(side_.begin(), side_.end(), [&](const Entry& x) {
+      return site(x.c) == site(fi.candidate) && x.c.mechanism != fi.candidate.mechanism;
+    });
+    if (other == side_.end()) continue;
+    std::vector<Applied> variant = applied;
+    for (std::size_t j = 0; j < variant.size(); ++j)
+      variant[j].p = all.slice(joint.f.values, j);
+    variant[i] = {other->own_h, other->own, other->own.start};
+    const Compose vall(variant);
+    Entry ve;
+    ve.h = &vall;
+    ve.c = vall.candidate();
+    const Evaluated v = engine_.evaluate(ve, engine_.declared(), true);
+    rep.refitted += 1;
+    if (v.f.values.empty()) continue;
+    const FitComparison cmp = compare_fits({joint.r, joint.holdout_sse}, {v.r, v.holdout_sse},
+                                           engine_.evidence().noise_floor);
+    // The note compares the two joint refits; the finding's own gain stays its step's.
+    Finding now = fi, alt = fi;
+    now.rmse_after = joint.f.rmse_after, now.validation_rmse_after = joint.f.validation_rmse_after;
+    alt.candidate = variant[i].c;
+    alt.rmse_after = v.f.rmse_after, alt.validation_rmse_after = v.f.validation_rmse_after;
+    Finding& keep = cmp.first_better ? now : alt;
+    note_mechanism(keep, cmp.first_better ? alt : now, cmp, other->own_h->mechanisms());
+    if (!cmp.first_better) fi.evidence = keep.candidate.evidence;
+    fi.candidate = keep.candidate, fi.mechanism_note = keep.mechanism_note;
+    fi.mechanism_identified = keep.mechanism_identified, fi.mechanism_z = keep.mechanism_z;
+    if (!cmp.first_better) {
+      applied[i] = variant[i];
+      joint = v;
+    }
+  }
+}
+
+} // namespace thermnet::detail

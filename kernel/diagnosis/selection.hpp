@@ -1,0 +1,88 @@
+#pragma once
+/// The diagnosis's decisions (internal to kernel/diagnosis), on top of the evidence/fit engine:
+/// which candidates are refitted (the screen's shortlist, widened when the screen is a poor
+/// guide), the joint refit with the ranged params, significance, one finding per site, ranking,
+/// and the greedy forward selection of findings.
+
+#include "kernel/diagnosis/engine.hpp"
+#include "kernel/diagnosis/statistics.hpp"
+
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace thermnet::detail {
+
+/// Where a candidate acts (a link's two mechanisms are one site).
+std::string site(const Candidate& c);
+
+/// Distinct sites in the order of the entries (the screen's order).
+std::vector<std::string> site_order(const std::vector<Entry>& side);
+
+/// True when a candidate is refitted as a model extension and compared by its screen score.
+bool model_side(const Entry& e);
+
+/// Records on `keep` how its mechanism compared with the other one (`drop`); `mechanisms` are its
+/// kind's, in order.
+void note_mechanism(Finding& keep, const Finding& drop, const FitComparison& cmp,
+                    const std::vector<std::string>& mechanisms);
+
+/// The screen's candidates: model-side ones by falling screen score, and the others (always
+/// refitted), in proposal order.
+struct Screened {
+  std::vector<Entry> side;   ///< model-side, best screen score first
+  std::vector<Entry> others; ///< measurement-side and recalibrating
+};
+
+/// The selection of findings from every registered hypothesis.
+class Selection {
+public:
+  /// A selection over the engine's evidence (both kept by reference).
+  Selection(const Engine& engine, const DiagnosisOptions& options);
+  /// Screens, refits, judges and selects: fills the report's findings, alternatives, rejected
+  /// and counts; returns the base with the findings applied (the declared one if none).
+  Base run(DiagnosisReport& rep);
+
+private:
+  // The stages, in order (selection.cpp, joint_refit.cpp, forward_selection.cpp).
+  void refit_shortlist(DiagnosisReport& rep);
+  void widen(std::size_t sites, std::set<std::size_t>& taken);
+  std::vector<double> joint_refit(DiagnosisReport& rep);
+  void add_recalibrated_shortlist(std::size_t recal, const std::vector<double>& ranged,
+                                  std::vector<double>& vs_recalibration);
+  void refit_jointly(std::size_t recal, const std::vector<double>& ranged,
+                     std::vector<double>& vs_recalibration, DiagnosisReport& rep);
+  void rank_first(const std::vector<double>& vs_recalibration);
+  Base select_forward(DiagnosisReport& rep) const;
+  std::vector<Entry> next_entries(const Base& base, const std::vector<Applied>& applied,
+                                  bool params_applied) const;
+  bool reestimate(std::vector<Applied>& applied, Finding f, DiagnosisReport& rep) const;
+  void redecide_mechanisms(std::vector<Applied>& applied, const Compose& all, Evaluated& joint,
+                           DiagnosisReport& rep) const;
+  void finish(DiagnosisReport& rep);
+
+  // shortlist.cpp
+  std::vector<Entry> propose(const Evidence& ev) const;
+  Screened screen(const Evidence& ev) const;
+  std::vector<std::size_t> shortlist(const std::vector<Entry>& side, const Evidence& ev,
+                                     std::size_t sites) const;
+  std::vector<Entry> shortlisted(const std::vector<Entry>& side, const Evidence& ev,
+                                 std::size_t sites, std::set<std::size_t>* taken) const;
+  // judgement.cpp
+  void judge(std::vector<Evaluated>& res) const;
+  void merge_mechanisms(const std::vector<Entry>& entries, std::vector<Evaluated>& res) const;
+  double score(const Finding& f) const;
+  std::vector<std::size_t> ranked(const std::vector<Evaluated>& res) const;
+
+  const Engine& engine_;
+  const DiagnosisOptions& opt_;
+  std::vector<std::unique_ptr<Hypothesis>> hyps_;
+  std::vector<Entry> side_;                    // the declared model's screen, model-side
+  std::vector<Entry> chosen_;                  // refitted on the declared model
+  std::vector<Evaluated> res_;                 // their refits
+  std::vector<std::unique_ptr<Joint>> joints_; // the joint refits' hypotheses
+  std::vector<std::size_t> first_;             // significant refits, best first
+};
+
+} // namespace thermnet::detail
