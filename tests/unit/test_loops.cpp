@@ -399,3 +399,27 @@ TEST_CASE("data: names with commas read from quoted and bracketed headers") {
   CHECK(t.columns == std::vector<std::string>{"time", "p[1,2]", "p[3,4]", "q\"x"});
   CHECK(t.cells[2][0] == 2);
 }
+
+TEST_CASE("examples: the 10 x 10 panel and the four boxes in models/examples lint clean") {
+  const std::string dir = std::string(THERMNET_TEST_DIR) + "/../models/examples/";
+  SourceManager sources;
+  DiagnosticEngine diags(sources);
+  auto panel = Model::load(dir + "panel.tnet", element_catalog(), sources, diags);
+  auto boxes = Model::load(dir + "boxes.tnet", element_catalog(), sources, diags);
+  REQUIRE(panel);
+  REQUIRE(boxes);
+  panel->lint(diags);
+  boxes->lint(diags);
+  INFO(render_text(diags));
+  CHECK(diags.all().empty()); // no error and no warning
+  NetworkSpec p = panel->instantiate("orbit");
+  int cells = 0;
+  for (const auto& n : p.nodes)
+    cells += n.name.starts_with("p[") ? 1 : 0;
+  CHECK(cells == 100);
+  CHECK(p.node_index("p[10,10]") >= 0);
+  NetworkSpec b = boxes->instantiate("flight");
+  for (const char* unit : {"radio", "computer", "recorder", "camera"})
+    CHECK(b.node_index(std::string(unit) + ".pcb") >= 0);
+  CHECK(b.nodes[b.node_index("radio.pcb")].T0.value() == doctest::Approx(303.15));
+}
