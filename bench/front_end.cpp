@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <string>
 #include <sys/resource.h>
+#include <utility>
 
 using namespace thermnet;
 
@@ -72,9 +73,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s has %zu errors\n", path.c_str(), diags.error_count());
     return 1;
   }
-  auto spec = model->network(case_name);
+  // As `simulate` does: the case's network moves out of the model's cache into the Network.
+  lang::NetworkSpec spec = model->take_network(case_name);
   stage("network");
-  Network net(*spec);
+  Network net(std::move(spec));
   stage("build");
   const double total = wall_now() - w0, peak = peak_rss_mb();
   std::printf("front end: %.1f MB in %.3f s wall, %.3f s cpu (%.1f MB/s), peak RSS %.0f MB (%.1f "

@@ -97,7 +97,7 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
     run_samples(*model, o, sim);
     return exit_ok;
   }
-  Network net(model->instantiate(o.case_name));
+  Network net(model->take_network(o.case_name));
   auto start = std::chrono::steady_clock::now();
   SimulationResult r = simulate(net, sim);
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

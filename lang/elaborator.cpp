@@ -432,15 +432,19 @@ bool Elaborator::check_range(double v, const Place& p, Span at, Span mark) {
   return false;
 }
 
+void Elaborator::report_at(const EvalError& err, Span at) {
+  if (err.diag.code.empty()) return; // already reported where it arose
+  Diagnostic d = err.diag;
+  d.at = at;
+  report(std::move(d));
+}
+
 std::optional<double> Elaborator::number(const ast::Expr& e, FileId f, const Place& p, Span at) {
   try {
     Restore<bool> time(time_allowed_, false);
     return to_place(evaluator(f, context_).eval(e), p, at, span_of(f, e));
   } catch (const EvalError& err) {
-    if (err.diag.code.empty()) return std::nullopt;
-    Diagnostic d = err.diag;
-    d.at = at;
-    report(std::move(d));
+    report_at(err, at);
     return std::nullopt;
   }
 }
@@ -472,10 +476,7 @@ std::optional<Signal> Elaborator::time_signal(const ast::Expr& e, FileId f, cons
     if (!check_range(s.at(0.0), p, at, span_of(f, e))) return std::nullopt;
     return s;
   } catch (const EvalError& err) {
-    if (err.diag.code.empty()) return std::nullopt;
-    Diagnostic d = err.diag;
-    d.at = at;
-    report(std::move(d));
+    report_at(err, at);
     return std::nullopt;
   }
 }
@@ -867,11 +868,7 @@ void Elaborator::apply_param_overrides() {
       }
       pending_params_[decl.name] = q.value;
     } catch (const EvalError& err) {
-      if (!err.diag.code.empty()) {
-        Diagnostic d = err.diag;
-        d.at = at;
-        report(std::move(d));
-      }
+      report_at(err, at);
     }
   }
   for (const auto& [k, v] : pending_params_)
@@ -921,12 +918,7 @@ void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseI
   for (const auto& item : items) {
     if (const auto* loop = std::get_if<ast::CaseFor>(&item)) {
       // A loop over settings: each iteration applies its items with the loop's variables.
-      Scope partial;
-      partial.kind = Scope::Kind::loop;
-      partial.parent = scope;
-      partial.file = f;
-      partial.where = Span{f, loop->begin, loop->ranges.back().end};
-      partial.ranges = &loop->ranges;
+      Scope partial = Scope::loop(scope, f, loop->begin, loop->ranges);
       std::function<void()> iterate = [&] {
         const std::size_t k = partial.values.size();
         if (k == loop->ranges.size()) {

@@ -73,6 +73,8 @@ private:
   std::optional<double> number(const ast::Expr& e, FileId f, const Place& p, Span at);
   std::optional<Signal> signal(const ast::Value& v, FileId f, const Place& p, Span at);
   std::optional<Signal> time_signal(const ast::Expr& e, FileId f, const Place& p, Span at);
+  /// Reports a failed evaluation at the statement `at` (unless it was reported already).
+  void report_at(const EvalError& err, Span at);
   bool check_range(double v, const Place& p, Span at, Span mark);
   void report(Diagnostic d);
 

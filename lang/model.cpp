@@ -139,7 +139,7 @@ void Model::lint(DiagnosticEngine& diags) const {
 
 void Model::remember(const std::string& case_name, NetworkSpec net) const {
   std::lock_guard lock(cache_mutex_);
-  cache_[case_name] = std::make_shared<const NetworkSpec>(std::move(net));
+  cache_[case_name] = std::make_shared<NetworkSpec>(std::move(net));
 }
 
 std::shared_ptr<const NetworkSpec> Model::network(const std::string& case_name) const {
@@ -148,9 +148,22 @@ std::shared_ptr<const NetworkSpec> Model::network(const std::string& case_name) 
     std::lock_guard lock(cache_mutex_);
     if (auto it = cache_.find(name); it != cache_.end()) return it->second;
   }
-  auto net = std::make_shared<const NetworkSpec>(instantiate(name));
+  auto net = std::make_shared<NetworkSpec>(instantiate(name));
   std::lock_guard lock(cache_mutex_);
   return cache_.emplace(name, std::move(net)).first->second;
+}
+
+NetworkSpec Model::take_network(const std::string& case_name) const {
+  const std::string name = resolve_case(case_name);
+  {
+    std::lock_guard lock(cache_mutex_);
+    if (auto it = cache_.find(name); it != cache_.end() && it->second.use_count() == 1) {
+      NetworkSpec net = std::move(*it->second);
+      cache_.erase(it);
+      return net;
+    }
+  }
+  return instantiate(name);
 }
 
 NetworkSpec Model::instantiate(const std::string& case_name, const ParamValues& params) const {

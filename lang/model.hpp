@@ -62,6 +62,10 @@ struct Scope {
   std::vector<int> terminals;                  ///< node of each terminal (-1: unresolved)
   std::size_t slot = 0;                        ///< first value slot of the instance (elaboration)
 
+  /// The scope of one iteration of a loop whose header starts at `begin` in `file`, inside
+  /// `parent`; its variables' values are filled in by the caller as it iterates.
+  static Scope loop(const Scope* parent, FileId file, std::uint32_t begin,
+                    const std::vector<ast::LoopRange>& ranges);
   /// The innermost instance this scope belongs to (itself for an instance), or nullptr.
   const Scope* instance() const;
   /// The value of a loop variable visible here (in loops up to the instance), if any.
@@ -172,6 +176,9 @@ public:
   /// The network of a case without param overrides, elaborated once and shared (lint() elaborates
   /// every case and keeps those without errors); throws ModelError.
   std::shared_ptr<const NetworkSpec> network(const std::string& case_name = "") const;
+  /// The network of a case moved out of the cache when nothing else holds it (no copy of a large
+  /// network for a single run), else instantiate(case_name).
+  NetworkSpec take_network(const std::string& case_name = "") const;
 
   /// Names of the declared cases, in order (empty when the model has none).
   std::vector<std::string> case_names() const;
@@ -262,7 +269,7 @@ private:
   std::unordered_map<std::string_view, int> submodel_index_;
   // Networks of cases without param overrides, elaborated once per run and shared.
   mutable std::mutex cache_mutex_;
-  mutable std::map<std::string, std::shared_ptr<const NetworkSpec>> cache_;
+  mutable std::map<std::string, std::shared_ptr<NetworkSpec>> cache_;
 };
 
 } // namespace thermnet::lang

@@ -358,12 +358,7 @@ private:
     } else if (const auto* c = std::get_if<ast::CompositeStmt>(&s)) {
       declare_elements(nullptr, c, f, scope);
     } else if (const auto* loop = std::get_if<ast::ForStmt>(&s); loop && !bad_loops_.count(loop)) {
-      Scope partial;
-      partial.kind = Scope::Kind::loop;
-      partial.parent = scope;
-      partial.file = f;
-      partial.where = Span{f, loop->begin, loop->ranges.back().end};
-      partial.ranges = &loop->ranges;
+      Scope partial = Scope::loop(scope, f, loop->begin, loop->ranges);
       iterate(*loop, partial);
     }
     // Anything else in a body was reported by check_block (or is a submodel's param or const).

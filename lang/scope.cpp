@@ -7,6 +7,17 @@
 
 namespace thermnet::lang {
 
+Scope Scope::loop(const Scope* parent, FileId file, std::uint32_t begin,
+                  const std::vector<ast::LoopRange>& ranges) {
+  Scope s;
+  s.kind = Kind::loop;
+  s.parent = parent;
+  s.file = file;
+  s.where = Span{file, begin, ranges.back().end};
+  s.ranges = &ranges;
+  return s;
+}
+
 const Scope* Scope::instance() const {
   const Scope* s = this;
   while (s && s->kind != Kind::instance)
