@@ -17,7 +17,7 @@ template <typename Rule, typename Attr> bool Grammar::run(It& p, const Rule& rul
 }
 
 It Grammar::skip(It p) const {
-  x3::parse(p, builder_.end, *x3_rules::line_space);
+  x3::parse(p, builder_.end, -x3_rules::line_space);
   return p;
 }
 

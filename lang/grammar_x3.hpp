@@ -57,9 +57,39 @@ inline const auto ident_start = x3::char_("a-zA-Z_");
 inline const auto ident_char = x3::char_("a-zA-Z0-9_");
 inline const auto digits = +x3::char_("0-9");
 
-/// Blanks, '\r', comments and `\` continuations; newlines stay significant.
-inline const auto line_space = x3::char_(" \t\r") | (lit('#') >> *~x3::char_("\n\r")) |
-                               (lit('\\') >> *x3::char_(" \t") >> x3::eol);
+/// The skipper: a run of blanks, '\r', comments and `\` continuations; newlines stay significant.
+/// It runs before every token, so it is one primitive parser with a plain loop rather than an
+/// alternative of X3 parsers (`char_(" \t\r") | '#' >> *~char_("\n\r") | '\\' >> *blank >> eol`),
+/// which X3 would try one by one for each character (a tenth of the parse time).
+struct line_space_parser : x3::parser<line_space_parser> {
+  using attribute_type = x3::unused_type;
+  static const bool has_attribute = false;
+
+  template <typename Iterator, typename Context, typename RContext, typename Attribute>
+  bool parse(Iterator& first, const Iterator& last, const Context&, RContext&, Attribute&) const {
+    Iterator p = first;
+    while (p != last) {
+      if (*p == ' ' || *p == '\t' || *p == '\r') {
+        ++p;
+      } else if (*p == '#') {
+        while (p != last && *p != '\n' && *p != '\r')
+          ++p;
+      } else if (*p == '\\') {
+        Iterator q = p + 1;
+        while (q != last && (*q == ' ' || *q == '\t'))
+          ++q;
+        if (q == last || (*q != '\n' && *q != '\r')) break;
+        p = *q == '\r' && q + 1 != last && q[1] == '\n' ? q + 2 : q + 1;
+      } else {
+        break;
+      }
+    }
+    const bool skipped = p != first;
+    first = p;
+    return skipped;
+  }
+};
+inline const line_space_parser line_space{};
 
 /// A keyword only as a whole word (`node` but not `node2`).
 inline auto keyword(const char* word) {
@@ -70,9 +100,18 @@ inline auto keyword(const char* word) {
 inline const auto decimal_point = lit('.') >> !lit('.');
 /// An unsigned real: a leading dot is allowed, a trailing one is not; never glued to letters or
 /// to a further '.' (so `3mm` and `1.2.3` are not numbers, while `1..10` is a range).
-inline const auto number_token =
-    lexeme[((digits >> -(decimal_point >> digits)) | (decimal_point >> digits)) >>
-           -(x3::char_("eE") >> -x3::char_("+-") >> digits) >> !(ident_char | decimal_point)];
+/// (Used inside lexeme[].)
+inline const auto number_token = ((digits >> -(decimal_point >> digits)) |
+                                  (decimal_point >> digits)) >>
+                                 -(x3::char_("eE") >> -x3::char_("+-") >> digits) >>
+                                 !(ident_char | decimal_point);
+
+/// The words that start a statement (no element kind may be called so).
+inline const x3::symbols<> statement_keywords({"model", "include", "plugin", "const", "param",
+                                               "node", "boundary", "series", "parallel"});
+/// The operators of a term and of a sum.
+inline const x3::symbols<Op> multiplicative({{"*", Op::multiply}, {"/", Op::divide}});
+inline const x3::symbols<Op> additive({{"+", Op::add}, {"-", Op::subtract}});
 
 // --- attributes that carry a rule's locals ----------------------------------------------------
 
@@ -99,6 +138,11 @@ struct Callee {
   std::uint32_t end = 0;     ///< end of the call's ')'
   bool call = false;         ///< a call, not a name
 };
+/// `op operand` after the first operand of a term or a sum.
+struct Operation {
+  Op op = Op::add;            ///< the operator
+  ast::Index rhs = ast::none; ///< the right operand
+};
 /// A param's `= value [range LO .. HI]` (absent in a submodel).
 struct ParamValue {
   ast::Expr value;                 ///< the value (invalid when left out)
@@ -118,7 +162,9 @@ inline const x3::rule<class signs_r, Signs> signs = "signs";
 inline const x3::rule<class exponent_r, PowerTail> exponent = "exponent";
 inline const x3::rule<class power_r, Chain> power = "operand";
 inline const x3::rule<class signed_r, Signed> signed_power = "operand";
+inline const x3::rule<class factor_r, Operation> factor = "operand";
 inline const x3::rule<class term_r, ast::Index> term = "operand";
+inline const x3::rule<class summand_r, Operation> summand = "operand";
 inline const x3::rule<class expression_r, ast::Index> expression = "expression";
 inline const x3::rule<class index_item_r, ast::IndexItem> index_item = "index";
 inline const x3::rule<class index_list_r, std::vector<ast::IndexItem>> index_list = "index list";
@@ -194,15 +240,17 @@ inline const auto make_unit_text = [](auto& ctx) {
 inline const auto make_number = [](auto& ctx) {
   _val(ctx) = builder(ctx).number(_attr(ctx).begin(), _attr(ctx).end());
 };
+// The quantity ends after the ']' (only skipped characters may stand between the text and it).
 inline const auto attach_unit = [](auto& ctx) {
   Builder& b = builder(ctx);
   ast::ExprNode& n = b.file.exprs[_val(ctx)];
+  const char* close = b.base + _attr(ctx).end;
+  while (*close != ']')
+    ++close;
   n.op = Op::quantity;
   n.a = static_cast<ast::Index>(b.file.units.size());
+  n.end = b.off(close + 1);
   b.file.units.push_back(std::move(_attr(ctx)));
-};
-inline const auto set_end = [](auto& ctx) {
-  builder(ctx).file.exprs[_val(ctx)].end = builder(ctx).off(_attr(ctx).end());
 };
 inline const auto start_args = [](auto& ctx) { _val(ctx).args_from = builder(ctx).args.size(); };
 inline const auto push_arg = [](auto& ctx) { builder(ctx).args.push_back(_attr(ctx)); };
@@ -289,12 +337,10 @@ inline const auto apply_signs = [](auto& ctx) {
   }
 };
 inline const auto first_factor = [](auto& ctx) { _val(ctx) = _attr(ctx).root; };
-template <Op op>
-inline const auto factor =
-    [](auto& ctx) { _val(ctx) = builder(ctx).binary(op, _val(ctx), _attr(ctx).root); };
-template <Op op>
-inline const auto summand =
-    [](auto& ctx) { _val(ctx) = builder(ctx).binary(op, _val(ctx), _attr(ctx)); };
+inline const auto set_factor = [](auto& ctx) { _val(ctx).rhs = _attr(ctx).root; };
+inline const auto apply_operation = [](auto& ctx) {
+  _val(ctx) = builder(ctx).binary(_attr(ctx).op, _val(ctx), _attr(ctx).rhs);
+};
 
 // names
 inline const auto index_hi = [](auto& ctx) {
@@ -385,17 +431,18 @@ inline const auto push_part = [](auto& ctx) { _val(ctx).parts.push_back(std::mov
 
 // --- definitions: lexical ---------------------------------------------------------------------
 
-inline const auto identifier_def = raw[lexeme[ident_start >> *ident_char]][make_identifier];
+// lexeme[raw[...]] rather than raw[lexeme[...]]: both skip before the token, this one only once.
+inline const auto identifier_def = lexeme[raw[ident_start >> *ident_char]][make_identifier];
 // Only \\ and \" are escapes; any other backslash, a newline or the end stops the string there.
 inline const auto string_literal_def =
-    raw[lexeme[lit('"') >> *((lit('\\') >> x3::char_("\\\"")) | ~x3::char_("\"\\\n\r")) > lit('"')]]
-       [make_string];
-inline const auto unit_def = lit('[') >> raw[lexeme[*~x3::char_("[]\n\r")]][make_unit_text] >
+    lexeme[raw[lit('"') >> *((lit('\\') >> x3::char_("\\\"")) | ~x3::char_("\"\\\n\r")) > lit('"')]]
+          [make_string];
+inline const auto unit_def = lit('[') >> lexeme[raw[*~x3::char_("[]\n\r")]][make_unit_text] >
                              lit(']');
 
 // --- definitions: expressions -----------------------------------------------------------------
 
-inline const auto quantity_def = raw[raw[number_token][make_number] >> -unit[attach_unit]][set_end];
+inline const auto quantity_def = lexeme[raw[number_token]][make_number] >> -unit[attach_unit];
 inline const auto callee_def =
     identifier[set<&Callee::id>] >>
     -raw[(lit('(') >> eps[start_args] >>
@@ -407,11 +454,10 @@ inline const auto exponent_def = signs[set_tail_signs] >> primary[set<&PowerTail
 inline const auto power_def = primary[start_chain] >>
                               *(lit('^') > exponent[push_tail]) >> eps[finish_chain];
 inline const auto signed_power_def = signs[set<&Signed::signs>] >> power[apply_signs];
-inline const auto term_def = signed_power[first_factor] >>
-                             *((lit('*') > signed_power[factor<Op::multiply>]) |
-                               (lit('/') > signed_power[factor<Op::divide>]));
-inline const auto expression_def = term[take] >> *((lit('+') > term[summand<Op::add>]) |
-                                                   (lit('-') > term[summand<Op::subtract>]));
+inline const auto factor_def = multiplicative[set<&Operation::op>] > signed_power[set_factor];
+inline const auto term_def = signed_power[first_factor] >> *factor[apply_operation];
+inline const auto summand_def = additive[set<&Operation::op>] > term[set<&Operation::rhs>];
+inline const auto expression_def = term[take] >> *summand[apply_operation];
 
 // --- definitions: names -----------------------------------------------------------------------
 
@@ -445,10 +491,13 @@ inline const auto table_signal_def =
     raw[(keyword("table") >> lit('(') >> string_literal[set<&ast::TableSignal::file>]) > lit(',') >
         string_literal[set<&ast::TableSignal::column>] > lit(')')][span];
 // A name with an index or dots is a node reference (`sense = p[3]`), never an expression.
+// Only a name may start the other forms: one look at the first character spares a number their
+// attempts.
 inline const auto value_def =
-    point_signal[set_other] | table_signal[set_other] |
-    (&lexeme[ident_start >> *ident_char >> (lit('[') | (lit('.') >> ident_start))] >>
-     ref[set_other]) |
+    (&lexeme[ident_start] >>
+     (point_signal[set_other] | table_signal[set_other] |
+      (&lexeme[ident_start >> *ident_char >> (lit('[') | (lit('.') >> ident_start))] >>
+       ref[set_other]))) |
     expression[set_expr<&ast::Value::expr>];
 inline const auto key_value_def =
     (identifier[set<&ast::KeyValue::key>] > lit('=') > value[set<&ast::KeyValue::value>]) >>
@@ -490,9 +539,13 @@ inline const auto composite_stmt_def = (&(keyword("series") | keyword("parallel"
                                        terminal_pair[set<&ast::CompositeStmt::nodes>] > *lit('\n') >
                                        lit('{') > separators >
                                        *(inner_element[push_part] >> separators) > lit('}');
-inline const auto statement_def = model_stmt[take] | include_stmt[take] | plugin_stmt[take] |
-                                  const_stmt[take] | param_stmt[take] | node_stmt[take] |
-                                  composite_stmt[take] | element_stmt[take];
+// A statement keyword commits to its statement (each throws when the rest is wrong); any other
+// first word is an element kind.
+inline const auto statement_def =
+    (&lexeme[statement_keywords >> !ident_char] >>
+     (node_stmt[take] | composite_stmt[take] | param_stmt[take] | const_stmt[take] |
+      model_stmt[take] | include_stmt[take] | plugin_stmt[take])) |
+    element_stmt[take];
 
 // --- definitions: blocks ----------------------------------------------------------------------
 
@@ -525,11 +578,12 @@ inline const auto case_assign_def = target[set_target] >
 inline const auto case_item_def = case_data[take] | case_assign[take];
 
 BOOST_SPIRIT_DEFINE(identifier, string_literal, unit, quantity, callee, primary, signs, exponent,
-                    power, signed_power, term, expression, index_item, index_list, name_part, ref,
-                    target, terminal, signal_point, point_signal, table_signal, value, key_value,
-                    keys, model_stmt, include_stmt, plugin_stmt, const_stmt, range, param_value,
-                    param_stmt, node_stmt, element_stmt, inner_element, terminal_pair,
-                    composite_stmt, statement, case_header, in_keyword, first_loop_range,
-                    loop_range, loop_header, submodel_header, case_data, case_assign, case_item)
+                    power, signed_power, factor, term, summand, expression, index_item, index_list,
+                    name_part, ref, target, terminal, signal_point, point_signal, table_signal,
+                    value, key_value, keys, model_stmt, include_stmt, plugin_stmt, const_stmt,
+                    range, param_value, param_stmt, node_stmt, element_stmt, inner_element,
+                    terminal_pair, composite_stmt, statement, case_header, in_keyword,
+                    first_loop_range, loop_range, loop_header, submodel_header, case_data,
+                    case_assign, case_item)
 
 } // namespace thermnet::lang::grammar::x3_rules
