@@ -205,10 +205,10 @@ inline const x3::rule<class case_item_r, ast::CaseItem> case_item = "case statem
 
 /// Moves the matched attribute into the rule's attribute.
 inline const auto take = [](auto& ctx) { _val(ctx) = std::move(_attr(ctx)); };
-/// Sets member `m` of the rule's attribute to the matched attribute.
+/// Sets `Member` of the rule's attribute to the matched attribute.
 template <auto Member>
 inline const auto set = [](auto& ctx) { _val(ctx).*Member = std::move(_attr(ctx)); };
-/// Sets member `m` of the rule's attribute to the expression whose root was matched.
+/// Sets `Member` of the rule's attribute to the expression whose root was matched.
 template <auto Member>
 inline const auto set_expr = [](auto& ctx) { _val(ctx).*Member = builder(ctx).expr(_attr(ctx)); };
 /// Appends the matched attribute to the rule's (vector) attribute.
@@ -490,8 +490,8 @@ inline const auto point_signal_def =
 inline const auto table_signal_def =
     raw[(keyword("table") >> lit('(') >> string_literal[set<&ast::TableSignal::file>]) > lit(',') >
         string_literal[set<&ast::TableSignal::column>] > lit(')')][span];
-// A name with an index or dots is a node reference (`sense = p[3]`), never an expression.
-// Only a name may start the other forms: one look at the first character spares a number their
+// A name with an index or dots is a node reference (`sense = p[3]`), never an expression. Only a
+// name may start a signal or a reference: one look at the first character spares a number those
 // attempts.
 inline const auto value_def =
     (&lexeme[ident_start] >>
