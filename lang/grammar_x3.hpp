@@ -435,9 +435,9 @@ inline const auto push_part = [](auto& ctx) { _val(ctx).parts.push_back(std::mov
 inline const auto identifier_def = lexeme[raw[ident_start >> *ident_char]][make_identifier];
 // Only \\ and \" are escapes; any other backslash, a newline or the end stops the string there.
 inline const auto string_literal_def =
-    lexeme[raw[lit('"') >> *((lit('\\') >> x3::char_("\\\"")) | ~x3::char_("\"\\\n\r")) > lit('"')]]
-          [make_string];
-inline const auto unit_def = lit('[') >> lexeme[raw[*~x3::char_("[]\n\r")]][make_unit_text] >
+    lexeme[raw[(lit('"') >> *((lit('\\') >> x3::char_("\\\"")) | ~x3::char_("\"\\\n\r"))) >
+               lit('"')]][make_string];
+inline const auto unit_def = (lit('[') >> lexeme[raw[*~x3::char_("[]\n\r")]][make_unit_text]) >
                              lit(']');
 
 // --- definitions: expressions -----------------------------------------------------------------
@@ -484,8 +484,8 @@ inline const auto signal_point_def = (expression[set_expr<&ast::SignalPoint::tim
                                      eps[set_point_span];
 // `step(` or `pwl(` followed by something else than a point is a call (of an unknown function).
 inline const auto point_signal_def =
-    raw[(&keyword("step") | &keyword("pwl")) >> identifier[set<&ast::PointSignal::kind>] >>
-        lit('(') >> signal_point[push_point] >> *(lit(',') > signal_point[push_point]) > lit(')')]
+    raw[((&keyword("step") | &keyword("pwl")) >> identifier[set<&ast::PointSignal::kind>] >>
+         lit('(') >> signal_point[push_point] >> *(lit(',') > signal_point[push_point])) > lit(')')]
        [set_signal_end];
 inline const auto table_signal_def =
     raw[(keyword("table") >> lit('(') >> string_literal[set<&ast::TableSignal::file>]) > lit(',') >
@@ -553,8 +553,8 @@ inline const auto case_header_def = keyword("case") > identifier[take] > *lit('\
 inline const auto in_keyword_def = keyword("in");
 // Before the first `..` of a loop nothing is certain (an element of a plugin kind called `for`
 // reads `for NAME NODE ...`), so only the later ranges are expected in full.
-inline const auto first_loop_range_def = (identifier[set<&ast::LoopRange::var>] >> in_keyword >>
-                                          expression[set_expr<&ast::LoopRange::lo>] >> lit("..") >
+inline const auto first_loop_range_def = ((identifier[set<&ast::LoopRange::var>] >> in_keyword >>
+                                           expression[set_expr<&ast::LoopRange::lo>] >> lit("..")) >
                                           expression[set_expr<&ast::LoopRange::hi>]) >>
                                          eps[set_loop_span];
 inline const auto loop_range_def = (identifier[set<&ast::LoopRange::var>] > in_keyword >
