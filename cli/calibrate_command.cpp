@@ -21,6 +21,7 @@
 #include <atomic>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <csignal>
 #include <iostream>
 #include <memory>
@@ -113,6 +114,31 @@ CLI::Validator number_validator(bool whole, bool allow_zero) {
 }
 
 /// Writes the requested outputs as one unit: nothing is written unless everything could be.
+/// The written model reads the files it did not copy (its data, unchanged includes) where they
+/// are: should one lie outside the new model's folder, reading it again needs
+/// --allow-outside-paths; says so.
+void note_files_outside(const std::string& out, const lang::Model& model,
+                        const std::vector<rewrite::RewrittenFile>& written) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto canonical = [&ec](const std::string& p) {
+    return fs::weakly_canonical(fs::absolute(p, ec), ec);
+  };
+  const fs::path folder = canonical(out).parent_path();
+  std::vector<std::string> outside;
+  for (const auto& in : model_inputs(model)) {
+    const bool copied = std::any_of(written.begin(), written.end(), [&](const auto& f) {
+      return canonical(model.sources().path(f.source)) == canonical(in.path);
+    });
+    const fs::path rel = canonical(in.path).lexically_relative(folder);
+    if (!copied && (rel.empty() || *rel.begin() == "..")) outside.push_back(in.path);
+  }
+  if (outside.empty()) return;
+  std::cerr << fmt::format("thermnet calibrate: note: {} reads files outside its own folder ({}); "
+                           "a model may read them only with --allow-outside-paths\n",
+                           out, fmt::join(outside, ", "));
+}
+
 void write_outputs(const CalibrateOptions& o, const lang::Model& model,
                    const CalibrationProblem& problem, const OptimizerResult& r) {
   std::vector<OutputFile> files;
@@ -148,6 +174,7 @@ void write_outputs(const CalibrateOptions& o, const lang::Model& model,
                              "declaring calibrated params, written beside it: {}\n",
                              o.out, fmt::join(copies, ", "));
   }
+  if (!model_files.empty()) note_files_outside(o.out, model, model_files);
 }
 
 int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {

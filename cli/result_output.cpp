@@ -1,6 +1,7 @@
 #include "cli/result_output.hpp"
 
 #include "lang/diagnostics.hpp"
+#include "lang/name_list.hpp"
 #include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
@@ -9,6 +10,7 @@
 #include <fnmatch.h>
 #include <iterator>
 #include <stdexcept>
+#include <string_view>
 
 namespace thermnet::cli {
 
@@ -16,11 +18,28 @@ namespace {
 constexpr double kZeroCelsius = 273.15;
 } // namespace
 
+void append_csv_field(fmt::memory_buffer& out, const std::string& name) {
+  if (name.find_first_of(",\"") == std::string::npos) {
+    out.append(name);
+    return;
+  }
+  out.push_back('"');
+  for (char c : name) {
+    if (c == '"') out.push_back('"');
+    out.push_back(c);
+  }
+  out.push_back('"');
+}
+
 std::string result_csv_header(const std::vector<std::string>& names) {
-  std::string out = "time";
-  for (const auto& n : names)
-    out += "," + n;
-  return out + "\n";
+  fmt::memory_buffer out;
+  out.append(std::string_view("time"));
+  for (const auto& n : names) {
+    out.push_back(',');
+    append_csv_field(out, n);
+  }
+  out.push_back('\n');
+  return fmt::to_string(out);
 }
 
 std::string result_csv_row(double t, const std::vector<double>& temps, bool kelvin) {
@@ -43,10 +62,12 @@ std::vector<std::size_t> select_names(const std::vector<std::string>& names,
     return selected;
   }
   std::vector<char> taken(names.size(), 0);
-  for (const auto& p : patterns) {
+  for (const auto& p : lang::join_bracketed(patterns)) {
+    // A name is taken literally first: an indexed name such as p[3,7] is also a valid glob.
+    const bool literal = std::find(names.begin(), names.end(), p) != names.end();
     bool any = false;
     for (std::size_t i = 0; i < names.size(); ++i) {
-      if (::fnmatch(p.c_str(), names[i].c_str(), 0) != 0) continue;
+      if (literal ? names[i] != p : ::fnmatch(p.c_str(), names[i].c_str(), 0) != 0) continue;
       any = true;
       if (!taken[i]) selected.push_back(i);
       taken[i] = 1;

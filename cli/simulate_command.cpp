@@ -131,7 +131,9 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
     run_samples(*model, o, sim);
     return exit_ok;
   }
-  Network net(model->instantiate(o.case_name, parse_param_sets(*model, o.sets)));
+  // Without overrides the case's network elaborated by the check is taken, not built again.
+  Network net(o.sets.empty() ? model->take_network(o.case_name)
+                             : model->instantiate(o.case_name, parse_param_sets(*model, o.sets)));
   const lang::NetworkSpec& spec = net.spec();
   std::vector<std::string> names, element_names;
   for (const auto& n : spec.nodes)

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 
 namespace thermnet::cli {
@@ -104,22 +105,27 @@ UncertaintyBands run_uncertainty(const lang::Model& model, const std::string& ca
 }
 
 std::string format_bands_csv(const UncertaintyBands& b) {
-  std::string out = "time";
+  fmt::memory_buffer out;
+  out.append(std::string_view("time"));
+  auto column = [&](const std::string& name) {
+    out.push_back(',');
+    append_csv_field(out, name);
+  };
   for (const auto& n : b.names) {
-    out += "," + n + "_min";
+    column(n + "_min");
     for (double q : b.percentiles)
-      out += "," + n + "_" + percentile_label(q);
-    out += "," + n + "_max";
+      column(n + "_" + percentile_label(q));
+    column(n + "_max");
   }
-  out += "\n";
+  out.push_back('\n');
   for (std::size_t k = 0; k < b.times.size(); ++k) {
-    out += fmt::format("{:.10g}", b.times[k]);
+    fmt::format_to(std::back_inserter(out), "{:.10g}", b.times[k]);
     for (std::size_t n = 0; n < b.names.size(); ++n)
       for (double T : b.stats[n][k])
-        out += fmt::format(",{:.6f}", T - kZeroCelsius);
-    out += "\n";
+        fmt::format_to(std::back_inserter(out), ",{:.6f}", T - kZeroCelsius);
+    out.push_back('\n');
   }
-  return out;
+  return fmt::to_string(out);
 }
 
 std::string plot_bands_svg(const UncertaintyBands& b, const std::vector<std::string>& nodes,

@@ -1,20 +1,28 @@
 #pragma once
-/// The position-tagged syntax tree built by the grammar; it carries no meaning (see sema.hpp for
-/// that).
+/// The position-tagged syntax tree built by the parser; it carries no meaning (the model loader
+/// and the elaborator give it one).
 ///
-/// Chains of operators are flat lists (as in Spirit X3's calc examples) so that neither parsing,
-/// evaluation nor destruction recurses deeper than the bracket nesting, which the parser bounds.
-
-#include <boost/spirit/home/x3/support/ast/variant.hpp>
+/// The tree is built once and never copied (its nodes are move-only). Names are views into the
+/// file's text, which the SourceManager keeps in place; expressions are stored flat, one array of
+/// nodes per file, so a statement costs a few small objects and a deep expression needs no
+/// recursion to destroy.
 
 #include <cstdint>
+#include <deque>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
+#include <variant>
 #include <vector>
 
 namespace thermnet::lang::ast {
 
-namespace x3 = boost::spirit::x3;
+/// Index into one of a File's arrays.
+using Index = std::uint32_t;
+/// No index.
+inline constexpr Index none = ~Index{0};
 
 /// Byte range [begin, end) of a node inside its file, filled in by the parser.
 struct Tagged {
@@ -22,9 +30,9 @@ struct Tagged {
   std::uint32_t end = 0;   ///< one past the last byte
 };
 
-/// A name as written, e.g. a node, param or key.
+/// A name as written, e.g. a node, param or key; `name` views the file's text.
 struct Identifier : Tagged {
-  std::string name; ///< the identifier text
+  std::string_view name; ///< the identifier text
 };
 
 /// A string literal (quotes removed, escapes resolved).
@@ -32,65 +40,66 @@ struct String : Tagged {
   std::string text; ///< contents
 };
 
-/// The text between square brackets after a number, e.g. "W/(m*K)".
+/// The text between square brackets after a number, e.g. "W/(m*K)" (its span excludes the
+/// brackets).
 struct UnitText : Tagged {
-  std::string text; ///< unit text as written
+  std::string text; ///< unit text as written (newlines inside brackets read as blanks)
 };
 
-/// A number with an optional unit: `160 [W/(m*K)]`.
-struct Quantity : Tagged {
-  double value = 0;             ///< the number as written
-  std::optional<UnitText> unit; ///< the unit, if any
+/// One node of an expression, stored in File::exprs.
+struct ExprNode : Tagged {
+  /// What the node computes.
+  enum class Op : std::uint8_t {
+    number,   ///< `value`
+    quantity, ///< `value [unit]`: a = index in File::units
+    name,     ///< a = index in File::names
+    call,     ///< a = index in File::names (the function); args: `count` roots at File::args[b]
+    negate,   ///< -a
+    add,      ///< a + b
+    subtract, ///< a - b
+    multiply, ///< a * b
+    divide,   ///< a / b
+    power,    ///< a ^ b (the span of every power in a chain `x ^ y ^ z` is the whole chain)
+    group,    ///< (a): its value must be finite (the span includes the parentheses)
+  };
+  Index a = none;          ///< first operand or table index
+  Index b = none;          ///< second operand or table index
+  std::uint32_t count = 0; ///< number of call arguments
+  Op op = Op::number;      ///< the operation
+  double value = 0;        ///< number and quantity literal (signs folded into one with a unit)
 };
 
-struct Call;
-struct Expr;
-
-/// An operand: a quantity, a function call, a name, or a parenthesised expression.
-struct Primary : x3::variant<Quantity, x3::forward_ast<Call>, Identifier, x3::forward_ast<Expr>> {
-  using base_type::base_type;
-  using base_type::operator=;
-};
-
-/// `base ^ e1 ^ e2 ...` (right-associative); each exponent may carry leading signs.
-struct PowerTail {
-  std::string signs; ///< leading '+'/'-' of the exponent
-  Primary operand;   ///< the exponent
-};
-/// A primary raised to a chain of powers.
-struct Power : Tagged {
-  Primary base;                ///< the base
-  std::vector<PowerTail> tail; ///< exponents, applied right to left
-};
-/// A power with leading unary signs, e.g. `--x^2` = -(-(x^2)).
-struct Signed : Tagged {
-  std::string signs; ///< leading '+'/'-' characters
-  Power power;       ///< the operand
-};
-/// One `* operand` or `/ operand` step of a term.
-struct TermOp {
-  char op = '*';  ///< '*' or '/'
-  Signed operand; ///< right-hand side
-};
-/// A product/quotient chain.
-struct Term : Tagged {
-  Signed first;             ///< first factor
-  std::vector<TermOp> rest; ///< further factors, left to right
-};
-/// One `+ term` or `- term` step of an expression.
-struct ExprOp {
-  char op = '+'; ///< '+' or '-'
-  Term operand;  ///< right-hand side
-};
-/// A sum/difference chain: the root of every expression.
+/// An expression: the root of its nodes in File::exprs, and its span.
 struct Expr : Tagged {
-  Term first;               ///< first term
-  std::vector<ExprOp> rest; ///< further terms, left to right
+  Index root = none; ///< root node
+  /// True when the expression is present.
+  bool valid() const { return root != none; }
 };
-/// A function call `name(arg, ...)`.
-struct Call : Tagged {
-  Identifier function;    ///< function name
-  std::vector<Expr> args; ///< arguments
+
+/// One item of an index list: `i + 1`, or a range `1 .. 10` (in a declaration).
+struct IndexItem : Tagged {
+  Expr lo;                ///< the index, or the first of a range
+  std::optional<Expr> hi; ///< the last of a range
+};
+
+struct Ref;
+/// The parts of a reference after its first name: its index list and further `.name[...]` parts.
+struct RefTail {
+  std::vector<IndexItem> index; ///< `[ ... ]` after the first name (empty: none)
+  std::vector<Ref> rest;        ///< `.part` after it, each a plain or indexed name
+};
+
+/// A name with optional index list and dotted parts: `p`, `p[i + 1]`, `u[2].panel[3, 4]`, `film.P`.
+struct Ref : Tagged {
+  Identifier id;                 ///< the first name
+  std::unique_ptr<RefTail> tail; ///< index list and further parts (null for a plain name)
+
+  /// True for a plain name (no index, no dots).
+  bool plain() const { return !tail; }
+  /// The index list of the first name (empty when none).
+  const std::vector<IndexItem>& index() const;
+  /// The dotted parts after the first (empty when none).
+  const std::vector<Ref>& rest() const;
 };
 
 /// One `time: value` point of a step or pwl signal.
@@ -109,10 +118,28 @@ struct TableSignal : Tagged {
   String column; ///< column name
 };
 
-/// What may follow `=` where a signal is allowed: a signal or a plain expression.
-struct Value : x3::variant<PointSignal, TableSignal, Expr> {
-  using base_type::base_type;
-  using base_type::operator=;
+/// What may follow `=` where a value is allowed: an expression, or (rarely) a signal or a node
+/// reference with an index or dots (`sense = p[3]`).
+struct Value {
+  /// The forms other than a plain expression.
+  using Other = std::variant<PointSignal, TableSignal, Ref>;
+  Expr expr;                    ///< the expression, when `other` is empty
+  std::unique_ptr<Other> other; ///< a signal or reference, else null
+
+  /// The expression, or nullptr for another form.
+  const Expr* as_expr() const { return other ? nullptr : &expr; }
+  /// The step/pwl signal, or nullptr.
+  const PointSignal* as_point_signal() const {
+    return other ? std::get_if<PointSignal>(other.get()) : nullptr;
+  }
+  /// The table signal, or nullptr.
+  const TableSignal* as_table() const {
+    return other ? std::get_if<TableSignal>(other.get()) : nullptr;
+  }
+  /// The node reference, or nullptr.
+  const Ref* as_reference() const { return other ? std::get_if<Ref>(other.get()) : nullptr; }
+  /// The byte range of whichever form the value has.
+  Tagged span() const;
 };
 
 /// `key = value`.
@@ -143,32 +170,28 @@ struct Range : Tagged {
   Expr lo; ///< lower bound
   Expr hi; ///< upper bound
 };
-/// `param NAME = EXPR [range LO .. HI] ["description"]`.
+/// `param NAME = EXPR [range LO .. HI] ["description"]`; inside a submodel the value may be left
+/// out (the instance must then give it).
 struct ParamStmt : Tagged {
-  Identifier name;            ///< the param
-  Expr value;                 ///< its value
-  std::optional<Range> range; ///< calibration range
-  std::optional<String> doc;  ///< description
+  Identifier name;             ///< the param
+  Expr value;                  ///< its value (invalid when left out)
+  std::optional<Range> range;  ///< calibration range
+  std::unique_ptr<String> doc; ///< description
 };
-/// `node NAME key = ...` (C, T0).
+/// `node NAME key = ...` (C, T0) or `boundary NAME T = VALUE`; the name may carry an index list.
 struct NodeStmt : Tagged {
-  Identifier name;            ///< the node
-  std::vector<KeyValue> keys; ///< C = ..., T0 = ...
-  std::optional<String> doc;  ///< description
+  bool boundary = false;       ///< boundary (true) or node
+  Ref name;                    ///< the node or boundary
+  std::vector<KeyValue> keys;  ///< C = ..., T0 = ... or T = ...
+  std::unique_ptr<String> doc; ///< description
 };
-/// `boundary NAME T = VALUE`.
-struct BoundaryStmt : Tagged {
-  Identifier name;            ///< the boundary
-  std::vector<KeyValue> keys; ///< T = ...
-  std::optional<String> doc;  ///< description
-};
-/// `KIND NAME NODE... key = value ...` — an element of a plugin kind.
+/// `KIND NAME NODE... key = value ...`: an element of a plugin kind, or an instance of a submodel.
 struct ElementStmt : Tagged {
-  Identifier kind;               ///< element kind (resolved by the registry)
-  Identifier name;               ///< element name
-  std::vector<Identifier> nodes; ///< terminal nodes
-  std::vector<KeyValue> keys;    ///< key = value pairs
-  std::optional<String> doc;     ///< description
+  Identifier kind;             ///< element kind or submodel (resolved by the model loader)
+  Ref name;                    ///< element name
+  std::vector<Ref> nodes;      ///< terminal nodes
+  std::vector<KeyValue> keys;  ///< key = value pairs
+  std::unique_ptr<String> doc; ///< description
 };
 /// One inner element of a series/parallel block: `KIND key = value ...`.
 struct InnerElement : Tagged {
@@ -178,28 +201,56 @@ struct InnerElement : Tagged {
 /// `series|parallel NAME A B { ... ; ... }`.
 struct CompositeStmt : Tagged {
   Identifier mode;                 ///< "series" or "parallel"
-  Identifier name;                 ///< element name
-  std::vector<Identifier> nodes;   ///< the two terminals
+  Ref name;                        ///< element name
+  std::vector<Ref> nodes;          ///< the two terminals
   std::vector<InnerElement> parts; ///< inner elements
 };
-/// A dotted target inside a case: `film.P`, `ambient.T`, `h_gap`, `duration`.
+
+/// `VAR in LO .. HI`: one loop variable of a `for` header.
+struct LoopRange : Tagged {
+  Identifier var; ///< the loop variable
+  Expr lo;        ///< first value
+  Expr hi;        ///< last value (inclusive)
+};
+
+struct Statement;
+/// `for VAR in LO .. HI [, VAR in LO .. HI] { statements }` (extension).
+struct ForStmt : Tagged {
+  std::vector<LoopRange> ranges; ///< the loop variables, outermost first
+  std::vector<Statement> body;   ///< the statements repeated
+};
+/// `submodel NAME(TERMINAL, ...) { statements }` (extension).
+struct SubmodelStmt : Tagged {
+  Identifier name;                   ///< the submodel, used like an element kind
+  std::vector<Identifier> terminals; ///< its terminal nodes, in order
+  std::vector<Statement> body;       ///< its declarations
+};
+
+/// A setting inside a case: `film.P`, `u1.pcb.T0`, `h_gap`, `duration` (the last part is the
+/// key when there are several).
 struct Target : Tagged {
-  Identifier object;                ///< element, boundary, param, or case key
-  std::optional<Identifier> member; ///< key after the dot, if any
+  Ref path; ///< the dotted name as written
 };
-/// `target = value` inside a case.
+/// `target = value [, expr ...]` inside a case (a list only for `output`).
 struct CaseAssign : Tagged {
-  Target target; ///< what is set
-  Value value;   ///< to what
+  Target target;          ///< what is set
+  Value value;            ///< to what
+  std::vector<Expr> more; ///< further items of a list `output = 0, 100, 250`
 };
-/// `data "file.csv"` inside a case.
+/// `data "file.csv" [unit]` inside a case.
 struct CaseData : Tagged {
-  String path; ///< CSV path relative to the model file
+  String path;                  ///< CSV path relative to the model file
+  std::optional<UnitText> unit; ///< the temperature unit of the file's values (extension)
+};
+struct CaseItem;
+/// `for VAR in LO .. HI { settings }` inside a case (extension).
+struct CaseFor : Tagged {
+  std::vector<LoopRange> ranges; ///< the loop variables, outermost first
+  std::vector<CaseItem> items;   ///< the settings repeated
 };
 /// One statement inside a case block.
-struct CaseItem : x3::variant<CaseData, CaseAssign> {
-  using base_type::base_type;
-  using base_type::operator=;
+struct CaseItem : std::variant<CaseData, CaseAssign, CaseFor> {
+  using variant::variant;
 };
 /// `case NAME { ... }`.
 struct CaseStmt : Tagged {
@@ -207,26 +258,39 @@ struct CaseStmt : Tagged {
   std::vector<CaseItem> items; ///< its statements
 };
 
-/// Any top-level statement.
-struct Statement : x3::variant<ModelStmt, IncludeStmt, PluginStmt, ConstStmt, ParamStmt, NodeStmt,
-                               BoundaryStmt, CompositeStmt, CaseStmt, ElementStmt> {
-  using base_type::base_type;
-  using base_type::operator=;
+/// Any statement.
+struct Statement : std::variant<ModelStmt, IncludeStmt, PluginStmt, ConstStmt, ParamStmt, NodeStmt,
+                                ElementStmt, CompositeStmt, CaseStmt, ForStmt, SubmodelStmt> {
+  using variant::variant;
 };
 
-/// The first two words of a top-level statement that failed to parse (`node b C 1` -> node, b),
-/// so that later references to the name it meant to declare are not reported as unknown.
+/// The byte range of any statement.
+const Tagged& tag_of(const Statement& s);
+
+/// The first two words of a statement that failed to parse (`node b C 1` -> node, b), so that
+/// later references to the name it meant to declare are not reported as unknown.
 struct Unparsed : Tagged {
   Identifier head; ///< first word: a keyword or an element kind
   Identifier name; ///< second word: the name being declared (may be empty)
 };
 
-/// The statements of one file, in order.
+/// The statements of one file, in order, with the tables their expressions refer to.
 struct File {
-  std::uint32_t file_id = 0;         ///< SourceManager id
-  std::vector<Statement> statements; ///< parsed statements (those with syntax errors are skipped)
-  std::vector<Unparsed> unparsed;    ///< statements skipped because of a syntax error
-  std::size_t syntax_errors = 0;     ///< number of syntax errors reported for this file
+  std::uint32_t file_id = 0;        ///< SourceManager id
+  std::deque<Statement> statements; ///< parsed statements (those with syntax errors skipped)
+  std::vector<Unparsed> unparsed;   ///< statements skipped because of a syntax error
+  std::size_t syntax_errors = 0;    ///< number of syntax errors reported for this file
+  std::vector<ExprNode> exprs;      ///< every expression node of the file
+  std::vector<Identifier> names;    ///< names used in expressions (ExprNode::name, call)
+  std::vector<UnitText> units;      ///< units of quantity literals
+  std::vector<Index> args;          ///< roots of call arguments (ExprNode::call)
+
+  /// The node at an index.
+  const ExprNode& node(Index i) const { return exprs[i]; }
+  /// The roots of a call's argument expressions.
+  std::span<const Index> call_args(const ExprNode& call) const {
+    return {args.data() + call.b, call.count};
+  }
 };
 
 } // namespace thermnet::lang::ast

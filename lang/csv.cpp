@@ -21,22 +21,45 @@ std::string trim(std::string_view s) {
   auto b = s.find_first_not_of(" \t\r");
   if (b == std::string_view::npos) return {};
   auto e = s.find_last_not_of(" \t\r");
-  std::string out(s.substr(b, e - b + 1));
-  if (out.size() >= 2 && out.front() == '"' && out.back() == '"')
-    out = out.substr(1, out.size() - 2);
-  return out;
+  return std::string(s.substr(b, e - b + 1));
 }
 
+/// Splits a row at its commas. A field in double quotes may hold commas (`""` is a quote), and
+/// a comma inside square brackets does not split either, so a header may name `p[3,7]` as it is
+/// written or quoted, as spreadsheets write it.
 std::vector<std::string> split(std::string_view line) {
   std::vector<std::string> fields;
-  std::size_t start = 0;
-  for (;;) {
-    auto comma = line.find(',', start);
-    fields.push_back(
-        trim(line.substr(start, comma == std::string_view::npos ? comma : comma - start)));
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
+  std::string field;
+  bool quoted = false, was_quoted = false;
+  int brackets = 0;
+  auto finish = [&] {
+    fields.push_back(was_quoted ? field : trim(field));
+    field.clear();
+    was_quoted = false;
+    brackets = 0;
+  };
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        field += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        field += c;
+      }
+    } else if (c == '"' && trim(field).empty()) {
+      field.clear();
+      quoted = was_quoted = true;
+    } else if (c == ',' && brackets == 0) {
+      finish();
+    } else if (!was_quoted) {
+      brackets += c == '[' ? 1 : c == ']' && brackets > 0 ? -1 : 0;
+      field += c;
+    }
   }
+  finish();
   return fields;
 }
 

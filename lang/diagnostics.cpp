@@ -462,7 +462,8 @@ Diagnostic& DiagnosticEngine::add(Diagnostic d) {
                                     std::nullopt,
                                     std::nullopt,
                                     {},
-                                    {}});
+                                    {},
+                                    false});
         ++errors_;
       }
       // Callers may still attach notes to what they reported; they land in a sink that is

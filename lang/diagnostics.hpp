@@ -43,6 +43,7 @@ struct Diagnostic {
   std::optional<Span> mark; ///< range under the caret (defaults to `at`)
   std::string file_hint;    ///< path to name when `at` is empty (e.g. a file that cannot be read)
   std::vector<Diagnostic> notes; ///< attached notes, rendered after the diagnostic
+  bool generated = false;        ///< arose in a loop iteration or instance (notes say which)
 };
 
 /// Collects diagnostics of one run; stops accepting errors after a limit so no input floods it.
@@ -59,7 +60,7 @@ public:
     const DiagKind& k = diag_kind(id);
     return Diagnostic{k.severity, k.code, fmt::vformat(k.format, fmt::make_format_args(args...)),
                       at,         mark,   {},
-                      {}};
+                      {},         false};
   }
   /// Reports a diagnostic of a kind with message arguments; returns it so notes can be attached.
   template <typename... Args>
@@ -76,7 +77,8 @@ public:
                       at,
                       std::nullopt,
                       {},
-                      {}};
+                      {},
+                      false};
   }
   /// Adds a fully built diagnostic (also used for file-level problems).
   Diagnostic& add(Diagnostic d);

@@ -1,6 +1,7 @@
 #include "lang/elaborator.hpp"
 
 #include "lang/csv.hpp"
+#include "lang/time_program.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -60,12 +61,11 @@ const ElementSchema& boundary_schema() {
 }
 
 /// The identifier a value consists of, if it is a bare name.
-const ast::Identifier* as_identifier(const ast::Value& v) {
-  const auto* e = boost::get<ast::Expr>(&v);
-  if (!e || !e->rest.empty() || !e->first.rest.empty()) return nullptr;
-  const ast::Signed& s = e->first.first;
-  if (!s.signs.empty() || !s.power.tail.empty()) return nullptr;
-  return boost::get<ast::Identifier>(&s.power.base);
+const ast::Identifier* as_identifier(const ast::Value& v, const ast::File& file) {
+  const ast::Expr* e = v.as_expr();
+  if (!e) return nullptr;
+  const ast::ExprNode& n = file.node(e->root);
+  return n.op == ast::ExprNode::Op::name ? &file.names[n.a] : nullptr;
 }
 
 Span span_of(FileId f, const ast::Tagged& t) {
@@ -80,6 +80,24 @@ std::string list_names(const std::vector<std::string>& names) {
   return out;
 }
 
+/// Sets a variable for the lifetime of the guard, then restores it.
+template <typename T> class Restore {
+public:
+  Restore(T& var, T value) : var_(var), saved_(var) { var_ = value; }
+  ~Restore() { var_ = saved_; }
+  Restore(const Restore&) = delete;
+  Restore& operator=(const Restore&) = delete;
+
+private:
+  T& var_;
+  T saved_;
+};
+
+/// True when a case setting's name is one of the case's own keys.
+bool is_case_key(std::string_view k) {
+  return k == "duration" || k == "initial" || k == "output";
+}
+
 } // namespace
 
 Elaborator::Elaborator(const Model& model, Reporter report, const CaseDecl* c,
@@ -88,20 +106,52 @@ Elaborator::Elaborator(const Model& model, Reporter report, const CaseDecl* c,
       overrides_(overrides.begin(), overrides.end()), check_data_(check_data) {
   for (const auto& v : m_.values())
     value_decls_.emplace(v.name, &v);
+  instance_values_.resize(m_.instance_slots());
+}
+
+Elaborator Elaborator::structural(const Model& model, Reporter report) {
+  Elaborator e(model, std::move(report), nullptr, {}, false);
+  e.structural_ = true;
+  return e;
 }
 
 void Elaborator::report(Diagnostic d) {
+  add_scope_notes(d, context_);
   report_(std::move(d));
 }
 
-Evaluator Elaborator::evaluator(FileId f) {
-  return Evaluator(f, [this](const ast::Identifier& id, FileId file) {
-    used_.insert(id.name);
-    return value_of(id.name, span_of(file, id));
+Evaluator Elaborator::evaluator(FileId f, const Scope* scope) {
+  return Evaluator(m_.file(f), [this, scope](const ast::Identifier& id, FileId file) {
+    return lookup(id, file, scope);
   });
 }
 
-Quantity Elaborator::value_of(const std::string& name, Span use) {
+// Loop variables first (up to the instance), then the instance's params and consts, then the
+// model's; `time` is the simulation time where a time signal may stand, unless a name hides it.
+Quantity Elaborator::lookup(const ast::Identifier& id, FileId f, const Scope* scope) {
+  for (const Scope* s = scope; s; s = s->parent) {
+    if (s->kind == Scope::Kind::loop) {
+      for (std::size_t k = 0; k < s->values.size(); ++k)
+        if ((*s->ranges)[k].var.name == id.name)
+          return Quantity{static_cast<double>(s->values[k]), std::nullopt};
+      continue;
+    }
+    if (const int k = s->submodel->value_index(id.name); k >= 0)
+      return instance_value(*s, k, span_of(f, id));
+    break; // an instance's body sees nothing of the scopes around the instance
+  }
+  if (id.name == "time" && !value_decls_.count("time")) {
+    if (!time_allowed_)
+      throw EvalError(
+          DiagnosticEngine::make(DiagId::time_not_allowed, span_of(f, id), span_of(f, id)));
+    saw_time_ = true;
+    return Quantity{0.0, std::nullopt};
+  }
+  used_.emplace(id.name);
+  return value_of(id.name, span_of(f, id));
+}
+
+Quantity Elaborator::value_of(std::string_view name, Span use) {
   auto decl_it = value_decls_.find(name);
   if (decl_it == value_decls_.end()) {
     if (m_.declared_by_unparsed(name)) throw EvalError(Diagnostic{}); // its syntax error is out
@@ -109,30 +159,36 @@ Quantity Elaborator::value_of(const std::string& name, Span use) {
     std::vector<std::string> names;
     for (const auto& v : m_.values())
       names.push_back(v.name);
-    if (auto s = closest_match(name, names))
+    if (auto s = closest_match(std::string(name), names))
       d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
     throw EvalError(std::move(d));
   }
-  if (auto it = values_.find(name); it != values_.end()) {
+  const ValueDecl& decl = *decl_it->second;
+  if (structural_ && decl.is_param)
+    throw EvalError(DiagnosticEngine::make(DiagId::structure_param, use, use, name));
+  if (auto it = values_.find(decl.name); it != values_.end()) {
     if (std::isnan(it->second.value)) throw EvalError(Diagnostic{}); // failed earlier, reported
     return it->second;
   }
-  const ValueDecl& decl = *decl_it->second;
+  // A declaration's problems are its own: no loop or instance of the use, no `time`.
+  Restore<const Scope*> no_context(context_, nullptr);
+  Restore<bool> no_time(time_allowed_, false);
   Span at{decl.file, decl.where.begin, decl.where.begin};
   for (std::size_t i = 0; i < evaluating_.size(); ++i)
-    if (evaluating_[i] == name) {
+    if (evaluating_[i] == decl.name) {
       std::string path;
       for (std::size_t k = i; k < evaluating_.size(); ++k)
         path += evaluating_[k] + " -> ";
-      throw EvalError(DiagnosticEngine::make(DiagId::cycle, at, decl.name_span, name, path + name));
+      throw EvalError(
+          DiagnosticEngine::make(DiagId::cycle, at, decl.name_span, decl.name, path + decl.name));
     }
-  evaluating_.push_back(name);
+  evaluating_.push_back(decl.name);
   Quantity q;
   try {
-    q = evaluator(decl.file).eval(*decl.expr);
+    q = evaluator(decl.file, nullptr).eval(*decl.expr);
   } catch (const EvalError& e) {
     evaluating_.pop_back();
-    values_[name] = Quantity{std::nan(""), std::nullopt};
+    values_[decl.name] = Quantity{std::nan(""), std::nullopt};
     if (e.diag.code.empty()) throw;
     Diagnostic d = e.diag;
     // Errors inside a declaration are located at that declaration, and reported once there.
@@ -146,30 +202,30 @@ Quantity Elaborator::value_of(const std::string& name, Span use) {
   // refers to the param itself (`param p = 1 range 0 .. p`) is a cycle, not endless recursion.
   if (decl.is_param && decl.range) {
     try {
-      Evaluator ev = evaluator(decl.file);
+      Evaluator ev = evaluator(decl.file, nullptr);
       Quantity lo = ev.eval(decl.range->lo), hi = ev.eval(decl.range->hi);
       for (const Quantity* b : {&lo, &hi})
         if (b->dim && q.dim && !(*b->dim == *q.dim))
           report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(decl.file, *decl.range),
-                                        fmt::format("the range of param '{}'", name),
+                                        fmt::format("the range of param '{}'", decl.name),
                                         describe(*q.dim), describe(*b->dim)));
       if (!q.dim && lo.dim && hi.dim && !(*lo.dim == *hi.dim)) // (else checked against q above)
         report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(decl.file, *decl.range),
-                                      fmt::format("the upper bound of param '{}'", name),
+                                      fmt::format("the upper bound of param '{}'", decl.name),
                                       describe(*lo.dim), describe(*hi.dim)));
       // A bare value takes the unit its range gives (temperatures excepted: bare ones are degC).
       if (const auto& b = lo.dim ? lo.dim : hi.dim; !q.dim && b && !(*b == dim::temperature))
         q.dim = b;
       if (!(lo.value < hi.value))
-        report(DiagnosticEngine::make(DiagId::bad_range, at, span_of(decl.file, *decl.range), name,
-                                      fmt::format("{:g}", lo.value),
+        report(DiagnosticEngine::make(DiagId::bad_range, at, span_of(decl.file, *decl.range),
+                                      decl.name, fmt::format("{:g}", lo.value),
                                       fmt::format("{:g}", hi.value)));
       else if (q.value < lo.value || q.value > hi.value)
         report(DiagnosticEngine::make(DiagId::param_outside_range, at,
-                                      span_of(decl.file, *decl.expr), name,
+                                      span_of(decl.file, *decl.expr), decl.name,
                                       fmt::format("{:g}", q.value), fmt::format("{:g}", lo.value),
                                       fmt::format("{:g}", hi.value)));
-      ranges_[name] = {lo.value, hi.value};
+      ranges_[decl.name] = {lo.value, hi.value};
     } catch (const EvalError& e) {
       if (!e.diag.code.empty()) {
         Diagnostic d = e.diag;
@@ -181,9 +237,178 @@ Quantity Elaborator::value_of(const std::string& name, Span use) {
     }
   }
   evaluating_.pop_back();
-  if (auto o = overrides_.find(name); o != overrides_.end()) q.value = o->second;
-  values_[name] = q;
+  if (auto o = overrides_.find(decl.name); o != overrides_.end()) q.value = o->second;
+  values_[decl.name] = q;
   return q;
+}
+
+// An instance's param is the value its statement gives (evaluated where the statement stands),
+// else its default; a const is evaluated inside the instance. Each is evaluated once per run.
+Quantity Elaborator::instance_value(const Scope& inst, int index, Span use) {
+  const std::size_t slot = inst.slot + static_cast<std::size_t>(index);
+  if (slot >= instance_values_.size()) instance_values_.resize(slot + 1);
+  if (const auto& cached = instance_values_[slot]) {
+    if (std::isnan(cached->value)) throw EvalError(Diagnostic{}); // failed earlier, reported
+    return *cached;
+  }
+  const ValueDecl& decl = inst.submodel->values[static_cast<std::size_t>(index)];
+  const std::string full = inst.prefix + decl.name;
+  for (std::size_t i = 0; i < evaluating_.size(); ++i)
+    if (evaluating_[i] == full) {
+      std::string path;
+      for (std::size_t k = i; k < evaluating_.size(); ++k)
+        path += evaluating_[k] + " -> ";
+      throw EvalError(DiagnosticEngine::make(DiagId::cycle, use, use, full, path + full));
+    }
+  const ast::KeyValue* arg = nullptr;
+  if (decl.is_param)
+    for (const auto& kv : inst.statement->keys)
+      if (kv.key.name == decl.name) arg = &kv;
+  if (!arg && !decl.expr) { // a required param the instance does not give: reported at load
+    instance_values_[slot] = Quantity{std::nan(""), std::nullopt};
+    throw EvalError(Diagnostic{});
+  }
+  Restore<bool> no_time(time_allowed_, false);
+  evaluating_.push_back(full);
+  Quantity q;
+  try {
+    if (arg) {
+      Restore<const Scope*> outer(context_, inst.parent);
+      const ast::Expr* e = arg->value.as_expr();
+      if (!e)
+        throw EvalError(DiagnosticEngine::make(
+            DiagId::signal_not_allowed, Span{inst.file, inst.where.begin, inst.where.begin},
+            span_of(inst.file, arg->value.span()),
+            fmt::format("param '{}' of an instance", decl.name)));
+      q = evaluator(inst.file, inst.parent).eval(*e);
+    } else {
+      Restore<const Scope*> inside(context_, &inst);
+      q = evaluator(decl.file, &inst).eval(*decl.expr);
+    }
+  } catch (const EvalError& e) {
+    evaluating_.pop_back();
+    instance_values_[slot] = Quantity{std::nan(""), std::nullopt};
+    if (e.diag.code.empty()) throw;
+    Diagnostic d = e.diag;
+    const Span at = arg ? Span{inst.file, inst.where.begin, inst.where.begin}
+                        : Span{decl.file, decl.where.begin, decl.where.begin};
+    d.at = at;
+    Restore<const Scope*> where(context_, arg ? inst.parent : &inst);
+    report(std::move(d));
+    throw EvalError(Diagnostic{});
+  }
+  evaluating_.pop_back();
+  instance_values_[slot] = q;
+  return q;
+}
+
+Quantity Elaborator::evaluate(const ast::Expr& e, FileId file, const Scope* scope) {
+  Restore<const Scope*> context(context_, scope);
+  return evaluator(file, scope).eval(e);
+}
+
+long Elaborator::whole_number(const ast::Expr& e, FileId file, const Scope* scope,
+                              const char* what) {
+  const Quantity q = evaluate(e, file, scope);
+  const Span s = span_of(file, e);
+  if (q.dim && !q.dim->dimensionless())
+    throw EvalError(DiagnosticEngine::make(
+        DiagId::bad_index, s, s,
+        fmt::format("{} must be a whole number, not a quantity of dimension {}", what,
+                    describe(*q.dim))));
+  if (q.value != std::round(q.value) || std::abs(q.value) > 1e15)
+    throw EvalError(
+        DiagnosticEngine::make(DiagId::bad_index, s, s,
+                               fmt::format("{} must be a whole number, got {:g}", what, q.value)));
+  return static_cast<long>(q.value);
+}
+
+std::string Elaborator::reference_text(const ast::Ref& r, FileId file, const Scope* scope) {
+  std::string out(r.id.name);
+  auto index = [&](const std::vector<ast::IndexItem>& items) {
+    if (items.empty()) return;
+    out += '[';
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      if (items[i].hi)
+        throw EvalError(DiagnosticEngine::make(
+            DiagId::bad_index, span_of(file, items[i]), span_of(file, items[i]),
+            "a range 'LO .. HI' may stand only in the name a statement declares"));
+      if (i) out += ',';
+      out += std::to_string(whole_number(items[i].lo, file, scope, "an index"));
+    }
+    out += ']';
+  };
+  index(r.index());
+  for (const auto& part : r.rest()) {
+    out += '.';
+    out += part.id.name;
+    index(part.index());
+  }
+  return out;
+}
+
+int Elaborator::find_node(const ast::Ref& r, FileId file, const Scope* scope) {
+  const Scope* inst = scope ? scope->instance() : nullptr;
+  if (inst && r.plain())
+    if (const int k = inst->submodel->terminal_index(r.id.name); k >= 0)
+      return inst->terminals[static_cast<std::size_t>(k)];
+  try {
+    const std::string text = reference_text(r, file, scope);
+    return m_.node_index(inst ? inst->prefix + text : text);
+  } catch (const EvalError&) {
+    return -1;
+  }
+}
+
+std::optional<int> Elaborator::resolve_node(const ast::Ref& r, FileId file, const Scope* scope,
+                                            Span at) {
+  Restore<const Scope*> context(context_, scope);
+  std::string text;
+  try {
+    text = reference_text(r, file, scope);
+  } catch (const EvalError& e) {
+    if (!e.diag.code.empty()) {
+      Diagnostic d = e.diag;
+      d.at = at;
+      report(std::move(d));
+    }
+    return std::nullopt;
+  }
+  const Scope* inst = scope ? scope->instance() : nullptr;
+  if (inst && r.plain())
+    if (const int k = inst->submodel->terminal_index(r.id.name); k >= 0) {
+      const int n = inst->terminals[static_cast<std::size_t>(k)];
+      return n >= 0 ? std::optional<int>(n) : std::nullopt; // (reported at the instance)
+    }
+  const std::string full = inst ? inst->prefix + text : text;
+  if (const int i = m_.node_index(full); i >= 0) return i;
+  if (m_.declared_by_unparsed(r.id.name)) return std::nullopt; // its syntax error is reported
+  Diagnostic d = DiagnosticEngine::make(DiagId::unknown_node, at, span_of(file, r), text);
+  // Suggest a name the reference could have meant: among the instance's own nodes and terminals
+  // inside a submodel, else among the model's.
+  std::vector<std::string> names;
+  if (inst) {
+    for (const auto& t : inst->submodel->stmt->terminals)
+      names.emplace_back(t.name);
+    for (const auto& n : m_.nodes())
+      if (n.name.starts_with(inst->prefix)) names.push_back(n.name.substr(inst->prefix.size()));
+  } else {
+    for (const auto& n : m_.nodes())
+      names.push_back(n.name);
+  }
+  if (auto s = closest_match(text, names))
+    d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
+  else if (inst)
+    d.notes.push_back(DiagnosticEngine::note(
+        DiagId::note_text, std::nullopt,
+        fmt::format(
+            "inside submodel '{}', a node is one of its own or a terminal ({})",
+            inst->submodel->name,
+            list_names(std::vector<std::string>(
+                names.begin(), names.begin() + static_cast<std::ptrdiff_t>(
+                                                   inst->submodel->stmt->terminals.size()))))));
+  report(std::move(d));
+  return std::nullopt;
 }
 
 std::optional<double> Elaborator::to_place(const Quantity& q, const Place& p, Span at, Span mark) {
@@ -207,24 +432,68 @@ bool Elaborator::check_range(double v, const Place& p, Span at, Span mark) {
   return false;
 }
 
+void Elaborator::report_at(const EvalError& err, Span at) {
+  if (err.diag.code.empty()) return; // already reported where it arose
+  Diagnostic d = err.diag;
+  d.at = at;
+  report(std::move(d));
+}
+
 std::optional<double> Elaborator::number(const ast::Expr& e, FileId f, const Place& p, Span at) {
   try {
-    return to_place(evaluator(f).eval(e), p, at, span_of(f, e));
+    Restore<bool> time(time_allowed_, false);
+    return to_place(evaluator(f, context_).eval(e), p, at, span_of(f, e));
   } catch (const EvalError& err) {
-    if (err.diag.code.empty()) return std::nullopt;
-    Diagnostic d = err.diag;
-    d.at = at;
-    report(std::move(d));
+    report_at(err, at);
+    return std::nullopt;
+  }
+}
+
+// An expression that uses `time` becomes a program of the time; its unit is checked by
+// evaluating it once (at t = 0), and its value is checked at t = 0.
+std::optional<Signal> Elaborator::time_signal(const ast::Expr& e, FileId f, const Place& p,
+                                              Span at) {
+  Quantity q;
+  try {
+    Restore<bool> time(time_allowed_, true);
+    saw_time_ = false;
+    q = evaluator(f, context_).eval(e);
+    if (!saw_time_) {
+      auto v = to_place(q, p, at, span_of(f, e));
+      return v ? std::optional<Signal>(Signal::of(*v)) : std::nullopt;
+    }
+    Signal s;
+    s.kind = Signal::Kind::expression;
+    const Scope* scope = context_;
+    s.program = compile_time_program(
+        m_.file(f), e.root, [&](const ast::Identifier& id) { return lookup(id, f, scope).value; });
+    if (q.dim && !(*q.dim == p.dim)) {
+      report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(f, e), p.what(),
+                                    describe(p.dim), describe(*q.dim)));
+      return std::nullopt;
+    }
+    if (!q.dim && p.absolute_temperature) s.offset = 273.15;
+    if (!check_range(s.at(0.0), p, at, span_of(f, e))) return std::nullopt;
+    return s;
+  } catch (const EvalError& err) {
+    report_at(err, at);
     return std::nullopt;
   }
 }
 
 std::optional<Signal> Elaborator::signal(const ast::Value& v, FileId f, const Place& p, Span at) {
-  if (const auto* e = boost::get<ast::Expr>(&v)) {
+  if (const ast::Expr* e = v.as_expr()) {
+    if (p.time_allowed) return time_signal(*e, f, p, at);
     auto x = number(*e, f, p, at);
     return x ? std::optional<Signal>(Signal::of(*x)) : std::nullopt;
   }
-  if (const auto* ps = boost::get<ast::PointSignal>(&v)) {
+  if (v.as_reference()) {
+    report(
+        DiagnosticEngine::make(DiagId::syntax_expected, at, span_of(f, v.span()),
+                               fmt::format("expected a value for {}, not a node name", p.what())));
+    return std::nullopt;
+  }
+  if (const ast::PointSignal* ps = v.as_point_signal()) {
     Signal s;
     s.kind = ps->kind.name == "step" ? Signal::Kind::step : Signal::Kind::pwl;
     Place time{
@@ -251,7 +520,7 @@ std::optional<Signal> Elaborator::signal(const ast::Value& v, FileId f, const Pl
     if (!ok) return std::nullopt;
     return s;
   }
-  const auto& ts = boost::get<ast::TableSignal>(v);
+  const ast::TableSignal& ts = *v.as_table();
   fs::path path(ts.file.text);
   if (path.is_relative()) path = fs::path(m_.directory_of(f)) / path;
   try {
@@ -293,28 +562,15 @@ std::optional<Signal> Elaborator::signal(const ast::Value& v, FileId f, const Pl
   }
 }
 
-std::optional<int> Elaborator::resolve_node(const ast::Identifier& id, FileId f, Span at) {
-  if (const int i = m_.node_index(id.name); i >= 0) return i;
-  if (m_.declared_by_unparsed(id.name)) return std::nullopt; // its syntax error is reported
-  Diagnostic d = DiagnosticEngine::make(DiagId::unknown_node, at, span_of(f, id), id.name);
-  std::vector<std::string> names;
-  for (const auto& n : m_.nodes())
-    names.push_back(n.name);
-  if (auto s = closest_match(id.name, names))
-    d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
-  report(std::move(d));
-  return std::nullopt;
-}
-
 bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::KeyValue>& keys,
                            FileId f, Span at, const std::function<std::string()>& owner,
                            ElementSpec& out) {
   bool ok = true;
   // Keys given so far with their spans (a handful per element: a flat list beats a map).
-  std::vector<std::pair<const std::string*, Span>> given;
-  const auto find_given = [&](const std::string& name) -> const Span* {
+  std::vector<std::pair<std::string_view, Span>> given;
+  const auto find_given = [&](std::string_view name) -> const Span* {
     for (const auto& [key, span] : given)
-      if (*key == name) return &span;
+      if (key == name) return &span;
     return nullptr;
   };
   for (const auto& kv : keys) {
@@ -325,7 +581,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
                                                 ? fmt::format("{} '{}'", schema.kind, out.name)
                                                 : fmt::format("element kind '{}'", schema.kind),
                                             kv.key.name);
-      if (auto s = closest_match(kv.key.name, schema.key_names()))
+      if (auto s = closest_match(std::string(kv.key.name), schema.key_names()))
         d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
       else
         d.notes.push_back(DiagnosticEngine::note(
@@ -340,23 +596,31 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
       ok = false;
       continue;
     }
-    given.emplace_back(&kv.key.name, span_of(f, kv.key));
+    given.emplace_back(kv.key.name, span_of(f, kv.key));
     Place place{[&] { return fmt::format("{} of {}", ks->name, owner()); }, ks->dim,
-                ks->absolute_temperature, ks};
+                ks->absolute_temperature, ks, ks->type == KeyType::signal};
     if (ks->type == KeyType::node) {
-      const ast::Identifier* id = as_identifier(kv.value);
-      if (!id) {
+      const ast::Identifier* id = as_identifier(kv.value, m_.file(f));
+      const ast::Ref* ref = kv.value.as_reference();
+      if (!id && !ref) {
         report(DiagnosticEngine::make(DiagId::syntax_expected, at, span_of(f, kv),
                                       fmt::format("expected a node name for {}", place.what())));
         ok = false;
-      } else if (auto n = resolve_node(*id, f, at)) {
-        out.node_keys[ks->name] = *n;
-      } else {
-        ok = false;
+        continue;
       }
+      ast::Ref plain;
+      if (id) {
+        plain.id = *id;
+        plain.begin = id->begin;
+        plain.end = id->end;
+      }
+      if (auto n = resolve_node(ref ? *ref : plain, f, context_, at))
+        out.node_keys[ks->name] = *n;
+      else
+        ok = false;
       continue;
     }
-    if (ks->type == KeyType::number && !boost::get<ast::Expr>(&kv.value)) {
+    if (ks->type == KeyType::number && !kv.value.as_expr()) {
       report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, span_of(f, kv), place.what()));
       ok = false;
       continue;
@@ -429,6 +693,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
 }
 
 void Elaborator::elaborate_node(const NodeDecl& d, NodeSpec& out) {
+  Restore<const Scope*> context(context_, d.scope);
   out.name = d.name;
   out.boundary = d.boundary;
   out.doc = d.doc;
@@ -449,51 +714,33 @@ void Elaborator::elaborate_node(const NodeDecl& d, NodeSpec& out) {
 }
 
 std::optional<ElementSpec> Elaborator::elaborate_element(const ElementDecl& d) {
+  if (!d.valid) return std::nullopt; // its kind or terminals are wrong: reported at load
+  Restore<const Scope*> context(context_, d.scope);
   const ast::ElementStmt& s = *d.element;
   FileId f = d.file;
   Span at{f, s.begin, s.begin};
-  const ElementSchema* schema = m_.catalog().find(s.kind.name);
-  if (!schema) {
-    Diagnostic diag =
-        DiagnosticEngine::make(DiagId::unknown_kind, at, span_of(f, s.kind), s.kind.name);
-    if (auto k = closest_match(s.kind.name, m_.catalog().kinds()))
-      diag.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *k));
-    report(std::move(diag));
-    return std::nullopt;
-  }
-  if (static_cast<int>(s.nodes.size()) != schema->terminals) {
-    Span mark =
-        s.nodes.empty() ? span_of(f, s.name) : Span{f, s.nodes.front().begin, s.nodes.back().end};
-    report(DiagnosticEngine::make(DiagId::wrong_terminals, at, mark, s.kind.name, schema->terminals,
-                                  s.nodes.size()));
-    return std::nullopt;
-  }
   ElementSpec e;
-  e.schema = schema;
+  e.schema = d.schema;
   e.kind = s.kind.name;
-  e.name = s.name.name;
+  e.name = d.name;
   e.where = d.where;
-  bool ok = true;
-  for (const auto& n : s.nodes) {
-    if (auto i = resolve_node(n, f, at))
-      e.nodes.push_back(*i);
-    else
-      ok = false;
-  }
+  e.nodes = d.nodes;
+  bool ok = std::find(e.nodes.begin(), e.nodes.end(), -1) == e.nodes.end();
   ok &= fill_keys(
-      *schema, s.keys, f, at, [&] { return fmt::format("{} '{}'", e.kind, e.name); }, e);
+      *d.schema, s.keys, f, at, [&] { return fmt::format("{} '{}'", e.kind, e.name); }, e);
   if (!ok) return std::nullopt;
   const auto& decls = m_.nodes();
   if (e.nodes.size() == 2 && e.nodes[0] == e.nodes[1]) {
     report(DiagnosticEngine::make(DiagId::self_link, at, span_of(f, s.nodes[1]), e.name,
-                                  s.nodes[0].name));
+                                  decls[static_cast<std::size_t>(e.nodes[0])].name));
     return std::nullopt;
   }
-  if (schema->is_source)
+  if (d.schema->is_source)
     for (std::size_t i = 0; i < e.nodes.size(); ++i)
       if (decls[static_cast<std::size_t>(e.nodes[i])].boundary) {
         report(DiagnosticEngine::make(DiagId::heater_on_boundary, at, span_of(f, s.nodes[i]),
-                                      e.kind, e.name, s.nodes[i].name));
+                                      e.kind, e.name,
+                                      decls[static_cast<std::size_t>(e.nodes[i])].name));
         return std::nullopt;
       }
   if (e.nodes.size() == 2 && decls[static_cast<std::size_t>(e.nodes[0])].boundary &&
@@ -503,21 +750,17 @@ std::optional<ElementSpec> Elaborator::elaborate_element(const ElementDecl& d) {
 }
 
 std::optional<ElementSpec> Elaborator::elaborate_composite(const ElementDecl& d) {
+  Restore<const Scope*> context(context_, d.scope);
   const ast::CompositeStmt& s = *d.composite;
   FileId f = d.file;
   Span at{f, s.begin, s.begin};
   ElementSpec e;
   e.kind = s.mode.name;
-  e.name = s.name.name;
+  e.name = d.name;
   e.where = d.where;
   e.composite = s.mode.name == "series" ? Composite::series : Composite::parallel;
-  bool ok = true;
-  for (const auto& n : s.nodes) {
-    if (auto i = resolve_node(n, f, at))
-      e.nodes.push_back(*i);
-    else
-      ok = false;
-  }
+  e.nodes = d.nodes;
+  bool ok = std::find(e.nodes.begin(), e.nodes.end(), -1) == e.nodes.end();
   if (s.parts.empty()) {
     report(DiagnosticEngine::make(DiagId::composite_kind, at, span_of(f, s.name),
                                   fmt::format("{} '{}' has no inner elements", e.kind, e.name)));
@@ -528,7 +771,7 @@ std::optional<ElementSpec> Elaborator::elaborate_composite(const ElementDecl& d)
     if (!schema) {
       Diagnostic diag =
           DiagnosticEngine::make(DiagId::unknown_kind, at, span_of(f, part.kind), part.kind.name);
-      if (auto k = closest_match(part.kind.name, m_.catalog().kinds()))
+      if (auto k = closest_match(std::string(part.kind.name), m_.catalog().kinds()))
         diag.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *k));
       report(std::move(diag));
       ok = false;
@@ -558,87 +801,95 @@ std::optional<ElementSpec> Elaborator::elaborate_composite(const ElementDecl& d)
   if (!ok) return std::nullopt;
   if (e.nodes[0] == e.nodes[1]) {
     report(DiagnosticEngine::make(DiagId::self_link, at, span_of(f, s.nodes[1]), e.name,
-                                  s.nodes[0].name));
+                                  m_.nodes()[static_cast<std::size_t>(e.nodes[0])].name));
     return std::nullopt;
   }
   return e;
 }
 
+// Param overrides of the case come first: every value may depend on them.
+void Elaborator::apply_param_overrides() {
+  std::set<std::string_view> seen;
+  for (const auto& item : case_->stmt->items) {
+    const auto* a = std::get_if<ast::CaseAssign>(&item);
+    if (!a || !a->target.path.plain()) continue;
+    const std::string_view name = a->target.path.id.name;
+    if (is_case_key(name)) continue;
+    Span at{case_->file, a->begin, a->begin};
+    Span mark = span_of(case_->file, a->target);
+    auto it = value_decls_.find(name);
+    if (it == value_decls_.end() && m_.declared_by_unparsed(name)) continue;
+    if (it == value_decls_.end()) {
+      Diagnostic d = DiagnosticEngine::make(DiagId::unknown_element, at, mark, name);
+      std::vector<std::string> names;
+      for (const auto& v : m_.values())
+        names.push_back(v.name);
+      for (const std::string w : {"duration", "initial", "output"})
+        names.push_back(w);
+      if (auto s = closest_match(std::string(name), names))
+        d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
+      report(std::move(d));
+      continue;
+    }
+    const ValueDecl& decl = *it->second;
+    if (!decl.is_param || decl.range) {
+      report(DiagnosticEngine::make(
+          DiagId::override_fixed_only, at, mark,
+          !decl.is_param ? fmt::format("'{}' is a const; a case can set params only", name)
+                         : fmt::format("param '{}' has a range, so it is calibrated; a case can "
+                                       "set fixed params only",
+                                       name)));
+      continue;
+    }
+    if (!seen.insert(name).second) {
+      report(DiagnosticEngine::make(DiagId::duplicate_case_key, at, mark, case_->name, name));
+      continue;
+    }
+    const ast::Expr* e = a->value.as_expr();
+    if (!a->more.empty()) {
+      report(DiagnosticEngine::make(DiagId::list_not_allowed, at,
+                                    span_of(case_->file, a->more.front()),
+                                    fmt::format("param '{}'", name)));
+      continue;
+    }
+    if (!e) {
+      report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, mark,
+                                    fmt::format("param '{}'", name)));
+      continue;
+    }
+    try {
+      Quantity declared = value_of(name, mark);
+      Quantity q = evaluator(case_->file, nullptr).eval(*e);
+      if (q.dim && declared.dim && !(*q.dim == *declared.dim)) {
+        report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(case_->file, *e),
+                                      fmt::format("param '{}'", name), describe(*declared.dim),
+                                      describe(*q.dim)));
+        continue;
+      }
+      pending_params_[decl.name] = q.value;
+    } catch (const EvalError& err) {
+      report_at(err, at);
+    }
+  }
+  for (const auto& [k, v] : pending_params_)
+    overrides_[k] = v;
+  values_.clear(); // values computed so far may have used the declared params
+  std::fill(instance_values_.begin(), instance_values_.end(), std::nullopt);
+}
+
 NetworkSpec Elaborator::run() {
   NetworkSpec net;
   net.model = m_.name();
-  // Param overrides of the case come first: every value may depend on them.
-  if (case_) {
-    std::set<std::string> seen;
-    for (const auto& item : case_->stmt->items) {
-      const auto* a = boost::get<ast::CaseAssign>(&item);
-      if (!a || a->target.member) continue;
-      const std::string& name = a->target.object.name;
-      if (name == "duration" || name == "initial" || name == "output") continue;
-      Span at{case_->file, a->begin, a->begin};
-      Span mark = span_of(case_->file, a->target);
-      auto it = value_decls_.find(name);
-      if (it == value_decls_.end() && m_.declared_by_unparsed(name)) continue;
-      if (it == value_decls_.end()) {
-        Diagnostic d = DiagnosticEngine::make(DiagId::unknown_element, at, mark, name);
-        std::vector<std::string> names;
-        for (const auto& v : m_.values())
-          names.push_back(v.name);
-        for (const std::string w : {"duration", "initial", "output"})
-          names.push_back(w);
-        if (auto s = closest_match(name, names))
-          d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
-        report(std::move(d));
-        continue;
-      }
-      const ValueDecl& decl = *it->second;
-      if (!decl.is_param || decl.range) {
-        report(DiagnosticEngine::make(
-            DiagId::override_fixed_only, at, mark,
-            !decl.is_param ? fmt::format("'{}' is a const; a case can set params only", name)
-                           : fmt::format("param '{}' has a range, so it is calibrated; a case can "
-                                         "set fixed params only",
-                                         name)));
-        continue;
-      }
-      if (!seen.insert(name).second) {
-        report(DiagnosticEngine::make(DiagId::duplicate_case_key, at, mark, case_->name, name));
-        continue;
-      }
-      const auto* e = boost::get<ast::Expr>(&a->value);
-      if (!e) {
-        report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, mark,
-                                      fmt::format("param '{}'", name)));
-        continue;
-      }
-      try {
-        Quantity declared = value_of(name, mark);
-        Quantity q = evaluator(case_->file).eval(*e);
-        if (q.dim && declared.dim && !(*q.dim == *declared.dim)) {
-          report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(case_->file, *e),
-                                        fmt::format("param '{}'", name), describe(*declared.dim),
-                                        describe(*q.dim)));
-          continue;
-        }
-        pending_params_[name] = q.value;
-      } catch (const EvalError& err) {
-        if (!err.diag.code.empty()) {
-          Diagnostic d = err.diag;
-          d.at = at;
-          report(std::move(d));
-        }
-      }
-    }
-    for (const auto& [k, v] : pending_params_)
-      overrides_[k] = v;
-    values_.clear(); // values computed so far may have used the declared params
-  }
-  net.nodes.resize(m_.nodes().size());
-  for (std::size_t i = 0; i < m_.nodes().size(); ++i)
-    elaborate_node(m_.nodes()[i], net.nodes[i]);
-  element_slot_.assign(m_.elements().size(), -1);
-  for (std::size_t i = 0; i < m_.elements().size(); ++i) {
-    const ElementDecl& d = m_.elements()[i];
+  if (case_) apply_param_overrides();
+  const auto& nodes = m_.nodes();
+  net.nodes.resize(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    elaborate_node(nodes[i], net.nodes[i]);
+  const auto& elements = m_.elements();
+  element_slot_.assign(elements.size(), -1);
+  net.elements.reserve(elements.size());
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    const ElementDecl& d = elements[i];
     auto e = d.element ? elaborate_element(d) : elaborate_composite(d);
     if (!e) continue;
     element_slot_[i] = static_cast<int>(net.elements.size());
@@ -652,13 +903,65 @@ void Elaborator::apply_case(NetworkSpec& net) {
   CaseSettings& s = net.settings;
   s.name = case_->name;
   s.where = case_->where;
-  FileId f = case_->file;
   std::set<std::string> seen;
-  static const KeySchema positive_time = builtin_key("", dim::time, true, "");
-  static const KeySchema absolute = temperature_key("", "");
-  for (const auto& item : case_->stmt->items) {
-    if (const auto* data = boost::get<ast::CaseData>(&item)) {
+  apply_case_items(net, case_->stmt->items, nullptr, seen);
+  if (!seen.count("duration"))
+    report(DiagnosticEngine::make(DiagId::missing_duration,
+                                  Span{case_->file, s.where.begin, s.where.begin}, case_->name_span,
+                                  s.name));
+  else if (data_times_)
+    warn_data_beyond_duration(s);
+}
+
+void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseItem>& items,
+                                  const Scope* scope, std::set<std::string>& seen) {
+  const FileId f = case_->file;
+  CaseSettings& s = net.settings;
+  for (const auto& item : items) {
+    if (const auto* loop = std::get_if<ast::CaseFor>(&item)) {
+      // A loop over settings: each iteration applies its items with the loop's variables.
+      Scope partial = Scope::loop(scope, f, loop->begin, loop->ranges);
+      std::function<void()> iterate = [&] {
+        const std::size_t k = partial.values.size();
+        if (k == loop->ranges.size()) {
+          apply_case_items(net, loop->items, &partial, seen);
+          return;
+        }
+        long lo = 0, hi = 0;
+        try {
+          lo = whole_number(loop->ranges[k].lo, f, &partial, "the first value of a loop");
+          hi = whole_number(loop->ranges[k].hi, f, &partial, "the last value of a loop");
+        } catch (const EvalError& e) {
+          if (!e.diag.code.empty()) {
+            Restore<const Scope*> context(context_, scope);
+            report(e.diag);
+          }
+          return;
+        }
+        if (hi - lo > 10'000'000) {
+          Restore<const Scope*> context(context_, scope);
+          report(DiagnosticEngine::make(DiagId::bad_loop, Span{f, loop->begin, loop->begin},
+                                        span_of(f, loop->ranges[k]),
+                                        "a loop in a case may run at most 10,000,000 times"));
+          return;
+        }
+        for (long v = lo; v <= hi; ++v) {
+          partial.values.push_back(v);
+          iterate();
+          partial.values.pop_back();
+        }
+      };
+      iterate();
+      continue;
+    }
+    Restore<const Scope*> context(context_, scope);
+    if (const auto* data = std::get_if<ast::CaseData>(&item)) {
       Span at{f, data->begin, data->begin};
+      if (scope) {
+        report(DiagnosticEngine::make(DiagId::misplaced_statement, at, span_of(f, *data),
+                                      "'data' is given once per case, not in a loop"));
+        continue;
+      }
       if (!seen.insert("data").second) {
         report(DiagnosticEngine::make(DiagId::duplicate_case_key, at, span_of(f, *data), s.name,
                                       "data"));
@@ -667,51 +970,57 @@ void Elaborator::apply_case(NetworkSpec& net) {
       fs::path p(data->path.text);
       if (p.is_relative()) p = fs::path(m_.directory_of(f)) / p;
       s.data_path = p.lexically_normal().string();
-      if (check_data_) check_data(net, s.data_path, at, span_of(f, data->path));
-      continue;
-    }
-    const auto& a = boost::get<ast::CaseAssign>(item);
-    Span at{f, a.begin, a.begin};
-    if (a.target.member) {
-      apply_override(net, a, f);
-      continue;
-    }
-    const std::string& key = a.target.object.name;
-    if (key != "duration" && key != "initial" && key != "output") continue; // params: done in run()
-    if (!seen.insert(key).second) {
-      report(DiagnosticEngine::make(DiagId::duplicate_case_key, at, span_of(f, a.target), s.name,
-                                    key));
-      continue;
-    }
-    const auto* e = boost::get<ast::Expr>(&a.value);
-    if (!e) {
-      report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, span_of(f, a.target),
-                                    fmt::format("'{}' of case '{}'", key, s.name)));
-      continue;
-    }
-    if (key == "initial") {
-      const ast::Identifier* id = as_identifier(a.value);
-      if (id && id->name == "steady" && !value_decls_.count("steady")) {
-        s.initial_steady = true;
-        continue;
+      std::optional<Unit> unit;
+      if (data->unit) {
+        try {
+          unit = parse_unit(data->unit->text);
+          if (!(unit->dim == dim::temperature)) {
+            report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(f, *data->unit),
+                                          "the unit of a data file", describe(dim::temperature),
+                                          describe(unit->dim)));
+            unit.reset();
+          } else {
+            s.data_scale = unit->scale;
+            s.data_offset = unit->offset - 273.15; // to degC, the unit of data files
+          }
+        } catch (const UnitError& e) {
+          report(
+              DiagnosticEngine::make(DiagId::unknown_unit, at, span_of(f, *data->unit), e.what()));
+        }
       }
-      s.initial = number(*e, f,
-                         Place{[&] { return fmt::format("'initial' of case '{}'", s.name); },
-                               dim::temperature, true, &absolute},
-                         at);
-    } else {
-      auto v = number(*e, f,
-                      Place{[&] { return fmt::format("'{}' of case '{}'", key, s.name); },
-                            dim::time, false, &positive_time},
-                      at);
-      (key == "duration" ? s.duration : s.output) = v;
+      if (check_data_) check_data(net, s.data_path, at, span_of(f, data->path), unit);
+      continue;
     }
+    const auto& a = std::get<ast::CaseAssign>(item);
+    if (a.target.path.rest().empty() && !a.target.path.plain()) {
+      report(DiagnosticEngine::make(
+          DiagId::override_fixed_only, Span{f, a.begin, a.begin}, span_of(f, a.target),
+          fmt::format("'{}' sets no key: a case sets 'NAME.KEY = ...' of a node, boundary or "
+                      "element, or 'PARAM = ...'",
+                      std::string_view(m_.sources().text(f))
+                          .substr(a.target.begin, a.target.end - a.target.begin))));
+      continue;
+    }
+    if (!a.target.path.plain()) {
+      apply_override(net, a, scope);
+      continue;
+    }
+    const std::string_view key = a.target.path.id.name;
+    if (!is_case_key(key)) {
+      if (scope)
+        report(DiagnosticEngine::make(DiagId::misplaced_statement, Span{f, a.begin, a.begin},
+                                      span_of(f, a.target),
+                                      "a param is set once per case, not in a loop"));
+      continue; // params: done in apply_param_overrides()
+    }
+    if (scope) {
+      report(DiagnosticEngine::make(DiagId::misplaced_statement, Span{f, a.begin, a.begin},
+                                    span_of(f, a.target),
+                                    fmt::format("'{}' is set once per case, not in a loop", key)));
+      continue;
+    }
+    apply_setting(net, a, seen);
   }
-  if (!seen.count("duration"))
-    report(DiagnosticEngine::make(DiagId::missing_duration, Span{f, s.where.begin, s.where.begin},
-                                  case_->name_span, s.name));
-  else if (data_times_)
-    warn_data_beyond_duration(s);
 }
 
 void Elaborator::warn_data_beyond_duration(const CaseSettings& s) {
@@ -725,11 +1034,114 @@ void Elaborator::warn_data_beyond_duration(const CaseSettings& s) {
       after == 1 ? "it is" : "they are"));
 }
 
-void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, FileId f) {
+void Elaborator::apply_setting(NetworkSpec& net, const ast::CaseAssign& a,
+                               std::set<std::string>& seen) {
+  static const KeySchema positive_time = builtin_key("", dim::time, true, "");
+  static const KeySchema absolute = temperature_key("", "");
+  const FileId f = case_->file;
+  CaseSettings& s = net.settings;
+  const std::string key(a.target.path.id.name);
   Span at{f, a.begin, a.begin};
-  const std::string& obj = a.target.object.name;
-  const std::string& key = a.target.member->name;
-  Span key_span = span_of(f, *a.target.member);
+  if (!seen.insert(key).second) {
+    report(
+        DiagnosticEngine::make(DiagId::duplicate_case_key, at, span_of(f, a.target), s.name, key));
+    return;
+  }
+  const ast::Expr* e = a.value.as_expr();
+  if (!a.more.empty() && key != "output") {
+    report(DiagnosticEngine::make(DiagId::list_not_allowed, at, span_of(f, a.more.front()),
+                                  fmt::format("'{}' of case '{}'", key, s.name)));
+    return;
+  }
+  if (!e) {
+    report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, span_of(f, a.target),
+                                  fmt::format("'{}' of case '{}'", key, s.name)));
+    return;
+  }
+  if (key == "initial") {
+    const ast::Identifier* id = as_identifier(a.value, m_.file(f));
+    if (id && id->name == "steady" && !value_decls_.count("steady")) {
+      s.initial_steady = true;
+      return;
+    }
+    s.initial = number(*e, f,
+                       Place{[&] { return fmt::format("'initial' of case '{}'", s.name); },
+                             dim::temperature, true, &absolute},
+                       at);
+    return;
+  }
+  if (key == "duration") {
+    s.duration = number(*e, f,
+                        Place{[&] { return fmt::format("'duration' of case '{}'", s.name); },
+                              dim::time, false, &positive_time},
+                        at);
+    return;
+  }
+  // `output = DT` is an interval; `output = t1, t2, ...` lists the times to write.
+  if (a.more.empty()) {
+    s.output = number(*e, f,
+                      Place{[&] { return fmt::format("'output' of case '{}'", s.name); }, dim::time,
+                            false, &positive_time},
+                      at);
+    return;
+  }
+  static const KeySchema time_point = builtin_key("", dim::time, false, "");
+  std::vector<double> times;
+  bool ok = true;
+  std::vector<const ast::Expr*> items{e};
+  for (const auto& m : a.more)
+    items.push_back(&m);
+  for (const ast::Expr* x : items) {
+    auto t = number(*x, f,
+                    Place{[&] { return fmt::format("a time of 'output' of case '{}'", s.name); },
+                          dim::time, false, &time_point},
+                    at);
+    if (!t) {
+      ok = false;
+      continue;
+    }
+    if (!times.empty() && !(*t > times.back())) {
+      report(DiagnosticEngine::make(
+          DiagId::bad_signal, at, span_of(f, *x),
+          fmt::format("output times must increase: {:g} s follows {:g} s", *t, times.back())));
+      ok = false;
+      continue;
+    }
+    times.push_back(*t);
+  }
+  if (ok) s.output_times = std::move(times);
+}
+
+void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, const Scope* scope) {
+  const FileId f = case_->file;
+  Span at{f, a.begin, a.begin};
+  const ast::Ref& path = a.target.path;
+  // The last part is the key; the parts before it name the node, boundary or element.
+  const ast::Ref& last = path.rest().back();
+  const std::string key(last.id.name);
+  Span key_span = span_of(f, last);
+  std::string obj;
+  try {
+    obj = std::string(path.id.name);
+    if (!path.index().empty() || path.rest().size() > 1 || !last.index().empty()) {
+      // The name of the object: every part but the key, indices evaluated.
+      obj = reference_text(path, f, scope);
+      obj.resize(obj.size() - last.id.name.size() - 1);
+      if (!last.index().empty())
+        throw EvalError(DiagnosticEngine::make(DiagId::bad_index, key_span, key_span,
+                                               "the key of a case setting has no index"));
+    }
+  } catch (const EvalError& e) {
+    if (!e.diag.code.empty()) {
+      Diagnostic d = e.diag;
+      d.at = at;
+      report(std::move(d));
+    }
+    return;
+  }
+  const Span object_span{f, path.begin,
+                         path.rest().size() > 1 ? path.rest()[path.rest().size() - 2].end
+                                                : path.id.end};
   if (const int n = m_.node_index(obj); n >= 0) {
     NodeSpec& node = net.nodes[static_cast<std::size_t>(n)];
     const ElementSchema& schema = node.boundary ? boundary_schema() : node_schema();
@@ -747,8 +1159,13 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, File
       return;
     }
     Place p{[&] { return fmt::format("{} of {} '{}'", key, schema.kind, obj); }, ks->dim,
-            ks->absolute_temperature, ks};
-    if (ks->type == KeyType::number && !boost::get<ast::Expr>(&a.value)) {
+            ks->absolute_temperature, ks, ks->type == KeyType::signal};
+    if (!a.more.empty()) {
+      report(DiagnosticEngine::make(DiagId::list_not_allowed, at, span_of(f, a.more.front()),
+                                    p.what()));
+      return;
+    }
+    if (ks->type == KeyType::number && !a.value.as_expr()) {
       report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what()));
       return;
     }
@@ -763,10 +1180,18 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, File
     return;
   }
   const int decl = m_.element_index(obj);
-  if (decl < 0 && m_.declared_by_unparsed(obj)) return;
+  if (decl < 0 && m_.declared_by_unparsed(path.id.name)) return;
   if (decl < 0) {
-    Diagnostic d =
-        DiagnosticEngine::make(DiagId::unknown_element, at, span_of(f, a.target.object), obj);
+    for (const auto& sc : m_.scopes())
+      if (sc.kind == Scope::Kind::instance && sc.name == obj) {
+        report(DiagnosticEngine::make(
+            DiagId::override_fixed_only, at, span_of(f, a.target),
+            fmt::format("a case cannot set the params of instance '{}'; give the instance a "
+                        "fixed param of the model ('{} = NAME') and set that param in the case",
+                        obj, key)));
+        return;
+      }
+    Diagnostic d = DiagnosticEngine::make(DiagId::unknown_element, at, object_span, obj);
     std::vector<std::string> names;
     for (const auto& e : m_.elements())
       names.push_back(e.name);
@@ -810,21 +1235,61 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, File
     return;
   }
   Place p{[&] { return fmt::format("{} of {} '{}'", key, e.kind, e.name); }, ks->dim,
-          ks->absolute_temperature, ks};
-  if (ks->type == KeyType::number && !boost::get<ast::Expr>(&a.value)) {
+          ks->absolute_temperature, ks, ks->type == KeyType::signal};
+  if (!a.more.empty()) {
+    report(
+        DiagnosticEngine::make(DiagId::list_not_allowed, at, span_of(f, a.more.front()), p.what()));
+    return;
+  }
+  if (ks->type == KeyType::number && !a.value.as_expr()) {
     report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what()));
     return;
   }
   if (auto v = signal(a.value, f, p, at)) e.values[key] = std::move(*v);
 }
 
-void Elaborator::check_data(const NetworkSpec& net, const std::string& path, Span at, Span mark) {
+namespace {
+
+/// The temperatures a model prescribes, in degC: boundaries (over their signals), initial
+/// temperatures of nodes and of the case.
+std::pair<double, double> prescribed_band(const NetworkSpec& net) {
+  double lo = net.default_initial(), hi = lo;
+  auto take = [&](double k) {
+    lo = std::min(lo, k);
+    hi = std::max(hi, k);
+  };
+  const double end = net.settings.duration.value_or(0.0);
+  for (const auto& n : net.nodes) {
+    if (n.T0) take(*n.T0);
+    if (!n.boundary) continue;
+    if (n.T.kind == Signal::Kind::expression) {
+      for (int k = 0; k <= 10; ++k)
+        take(n.T.at(end * k / 10.0));
+    } else {
+      take(n.T.constant);
+      for (double v : n.T.v)
+        take(v);
+      if (!n.T.is_constant()) take(n.T.v.empty() ? n.T.constant : n.T.v.front());
+    }
+  }
+  return {lo - 273.15, hi - 273.15};
+}
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+} // namespace
+
+void Elaborator::check_data(const NetworkSpec& net, const std::string& path, Span at, Span mark,
+                            const std::optional<Unit>& unit) {
   try {
     CsvTable t = read_csv(path);
     check_measured(t);
     data_times_ = DataTimes{CsvTable{path, {"time"}, {t.time()}}, at, mark};
     for (std::size_t c = 1; c < t.columns.size(); ++c) {
-      if (net.node_index(t.columns[c]) >= 0 || m_.declared_by_unparsed(t.columns[c])) continue;
+      if (m_.node_index(t.columns[c]) >= 0 || m_.declared_by_unparsed(t.columns[c])) continue;
       Diagnostic d = DiagnosticEngine::make(DiagId::data_unknown_column, at, mark, t.columns[c]);
       d.message += fmt::format(" (in {}, column {})", fs::path(path).filename().string(), c + 1);
       std::vector<std::string> names;
@@ -834,6 +1299,40 @@ void Elaborator::check_data(const NetworkSpec& net, const std::string& path, Spa
         d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
       report(std::move(d));
     }
+    // Values hundreds of kelvin away from every temperature the model prescribes are most likely
+    // in another unit than the one they are read in (a fit would invent a huge heater).
+    constexpr double far = 150.0;
+    const auto [lo, hi] = prescribed_band(net);
+    const double scale = net.settings.data_scale, offset = net.settings.data_offset;
+    std::vector<double> medians;
+    std::string columns;
+    for (std::size_t c = 1; c < t.columns.size(); ++c) {
+      std::vector<double> v;
+      for (double x : t.cells[c])
+        if (!std::isnan(x)) v.push_back(scale * x + offset);
+      if (v.empty()) continue;
+      const double m = median(std::move(v));
+      if (m > lo - far && m < hi + far) return; // a column in the model's range: the unit fits
+      medians.push_back(m);
+      if (medians.size() <= 3)
+        columns += fmt::format("{}'{}'", columns.empty() ? "" : ", ", t.columns[c]);
+    }
+    if (medians.empty()) return;
+    const double m = median(medians);
+    const char* read_as = unit ? "in the declared unit" : "as degC";
+    std::string guess;
+    if (m - 273.15 > lo - far / 3 && m - 273.15 < hi + far / 3)
+      guess = " They look like kelvin: write data \"FILE\" [K].";
+    else if ((m - 32) / 1.8 > lo - far / 3 && (m - 32) / 1.8 < hi + far / 3)
+      guess = " They look like degF: write data \"FILE\" [degF].";
+    else if (unit && m + 273.15 > lo - far / 3 && m + 273.15 < hi + far / 3)
+      guess = " They look like degC: drop the unit.";
+    report(DiagnosticEngine::make(
+        DiagId::data_unit_suspect, at, mark,
+        fmt::format("the measured values of {} (median {:.4g} degC read {}) lie more than {:g} K "
+                    "from every temperature the model prescribes ({:.4g} .. {:.4g} degC): are "
+                    "they in another unit?{}",
+                    columns, m, read_as, far, lo, hi, guess)));
   } catch (const CsvError& e) {
     std::string msg = e.what();
     if (e.row == 0)

@@ -1,6 +1,11 @@
 #pragma once
-/// Elaboration: turns a Model's declarations, for one case and one set of param values, into a
+/// Elaboration: evaluates a Model's declarations, for one case and one set of param values, into a
 /// NetworkSpec, reporting every problem through a callback (lint collects, simulate throws).
+///
+/// Declarations stand in scopes (loop iterations, submodel instances); a name in an expression is
+/// looked up in the loop variables around it, then in its instance's params and consts, then in
+/// the model's consts and params. The model loader uses an elaborator in structural mode, where a
+/// param may not be used (loop ranges, indices and instance sizes cannot change per case).
 
 #include "lang/csv.hpp"
 #include "lang/evaluator.hpp"
@@ -22,17 +27,33 @@ public:
   /// Elaborates `model` for case `c` (nullptr: the base model) with param overrides.
   Elaborator(const Model& model, Reporter report, const CaseDecl* c, const ParamValues& overrides,
              bool check_data);
+  /// An elaborator for the structure of a model being loaded: params are refused.
+  static Elaborator structural(const Model& model, Reporter report);
+
   /// Builds the network; problems go to the reporter (the result is partial after an error).
   NetworkSpec run();
   /// Names of consts and params looked up during run().
-  const std::set<std::string>& used_names() const { return used_; }
-  /// The value of a const or param (evaluated on first use); throws EvalError.
-  Quantity value_of(const std::string& name, Span use);
+  const std::set<std::string, std::less<>>& used_names() const { return used_; }
+  /// The value of a top-level const or param (evaluated on first use); throws EvalError.
+  Quantity value_of(std::string_view name, Span use);
   /// The evaluated range of a ranged param, if value_of evaluated it.
-  std::optional<std::pair<double, double>> range_of(const std::string& name) const {
+  std::optional<std::pair<double, double>> range_of(std::string_view name) const {
     auto it = ranges_.find(name);
     return it == ranges_.end() ? std::nullopt : std::optional(it->second);
   }
+
+  /// Evaluates an expression written in `file` inside `scope`; throws EvalError.
+  Quantity evaluate(const ast::Expr& e, FileId file, const Scope* scope);
+  /// A whole number from an expression (loop bounds, indices); throws EvalError.
+  long whole_number(const ast::Expr& e, FileId file, const Scope* scope, const char* what);
+  /// The full name a reference denotes inside `scope` (indices evaluated, the instance's prefix
+  /// not applied): `p[3]`, `w.x`; throws EvalError.
+  std::string reference_text(const ast::Ref& r, FileId file, const Scope* scope);
+  /// The node a reference denotes inside `scope`, or -1; reports nothing.
+  int find_node(const ast::Ref& r, FileId file, const Scope* scope);
+  /// The node a reference denotes inside `scope`, or nullopt (reported unless it names a
+  /// declaration with a syntax error).
+  std::optional<int> resolve_node(const ast::Ref& r, FileId file, const Scope* scope, Span at);
 
 private:
   /// Where a value goes: what to call it in messages, and what it must be.
@@ -42,16 +63,21 @@ private:
     Dimension dim;                     ///< expected dimension
     bool absolute_temperature = false; ///< bare numbers are degC
     const KeySchema* key = nullptr;    ///< for range checks
+    bool time_allowed = false;         ///< `time` may be used (a signal's place)
     /// The description of the place for messages.
     std::string what() const { return describe(); }
   };
 
-  Evaluator evaluator(FileId f);
+  Evaluator evaluator(FileId f, const Scope* scope);
+  Quantity lookup(const ast::Identifier& id, FileId f, const Scope* scope);
+  Quantity instance_value(const Scope& instance, int index, Span use);
   std::optional<double> to_place(const Quantity& q, const Place& p, Span at, Span mark);
   std::optional<double> number(const ast::Expr& e, FileId f, const Place& p, Span at);
   std::optional<Signal> signal(const ast::Value& v, FileId f, const Place& p, Span at);
+  std::optional<Signal> time_signal(const ast::Expr& e, FileId f, const Place& p, Span at);
+  /// Reports a failed evaluation at the statement `at` (unless it was reported already).
+  void report_at(const EvalError& err, Span at);
   bool check_range(double v, const Place& p, Span at, Span mark);
-  std::optional<int> resolve_node(const ast::Identifier& id, FileId f, Span at);
   void report(Diagnostic d);
 
   void elaborate_node(const NodeDecl& d, NodeSpec& out);
@@ -59,9 +85,14 @@ private:
                  Span at, const std::function<std::string()>& owner, ElementSpec& out);
   std::optional<ElementSpec> elaborate_element(const ElementDecl& d);
   std::optional<ElementSpec> elaborate_composite(const ElementDecl& d);
+  void apply_param_overrides();
   void apply_case(NetworkSpec& net);
-  void apply_override(NetworkSpec& net, const ast::CaseAssign& a, FileId f);
-  void check_data(const NetworkSpec& net, const std::string& path, Span at, Span mark);
+  void apply_case_items(NetworkSpec& net, const std::vector<ast::CaseItem>& items,
+                        const Scope* scope, std::set<std::string>& seen);
+  void apply_setting(NetworkSpec& net, const ast::CaseAssign& a, std::set<std::string>& seen);
+  void apply_override(NetworkSpec& net, const ast::CaseAssign& a, const Scope* scope);
+  void check_data(const NetworkSpec& net, const std::string& path, Span at, Span mark,
+                  const std::optional<Unit>& unit);
   /// Warns about rows of the case's data file after its duration (read by check_data()).
   void warn_data_beyond_duration(const CaseSettings& s);
 
@@ -77,12 +108,17 @@ private:
     Span mark;      ///< its path
   };
   std::optional<DataTimes> data_times_; ///< set by check_data()
-  std::unordered_map<std::string, const ValueDecl*> value_decls_;
-  std::unordered_map<std::string, Quantity> values_;
-  std::unordered_map<std::string, std::pair<double, double>> ranges_;
+  bool structural_ = false;        // load time: params refused
+  const Scope* context_ = nullptr; // scope of the declaration being elaborated
+  bool saw_time_ = false;          // the last evaluation used `time`
+  bool time_allowed_ = false;      // `time` may be used by the evaluation under way
+  std::unordered_map<std::string_view, const ValueDecl*> value_decls_;
+  std::unordered_map<std::string_view, Quantity> values_;
+  std::unordered_map<std::string_view, std::pair<double, double>> ranges_;
   std::map<std::string, double> pending_params_;
   std::vector<std::string> evaluating_;
-  std::set<std::string> used_;
+  std::set<std::string, std::less<>> used_;
+  std::vector<std::optional<Quantity>> instance_values_; // per instance value slot, once
   std::vector<int> element_slot_; // per element declaration: index in the network, or -1
 };
 

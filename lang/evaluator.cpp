@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <span>
+#include <vector>
 
 namespace thermnet::lang {
 namespace {
@@ -38,62 +40,125 @@ void Evaluator::fail(Diagnostic d) const {
 }
 
 Quantity Evaluator::eval(const ast::Expr& e) const {
-  Quantity acc = term(e.first);
-  for (const auto& op : e.rest)
-    acc = combine_sum(acc, term(op.operand), op.op, op.operand);
-  if (!std::isfinite(acc.value))
-    fail(DiagnosticEngine::make(DiagId::not_finite, span(e), span(e), "the expression",
-                                fmt::format("{}", acc.value)));
+  return checked(e.root);
+}
+
+Quantity Evaluator::checked(ast::Index i) const {
+  Quantity q = node(i);
+  if (!std::isfinite(q.value)) {
+    const ast::ExprNode& n = file_.node(i);
+    fail(DiagnosticEngine::make(DiagId::not_finite, span(n), span(n), "the expression",
+                                fmt::format("{}", q.value)));
+  }
+  return q;
+}
+
+Quantity Evaluator::node(ast::Index i) const {
+  using Op = ast::ExprNode::Op;
+  const ast::ExprNode& n = file_.node(i);
+  switch (n.op) {
+  case Op::number:
+    return Quantity{n.value, std::nullopt};
+  case Op::quantity:
+    return quantity(n);
+  case Op::name: {
+    const ast::Identifier& id = file_.names[n.a];
+    if (id.name == "pi") return Quantity{std::numbers::pi, std::nullopt};
+    if (id.name == "sigma") return Quantity{stefan_boltzmann, sigma_dim};
+    return lookup_(id, file_.file_id);
+  }
+  case Op::call:
+    return call(n);
+  case Op::negate: {
+    Quantity q = node(n.a);
+    q.value = -q.value;
+    return q;
+  }
+  case Op::add:
+  case Op::subtract:
+    return sum(i);
+  case Op::multiply:
+  case Op::divide:
+    return product(i);
+  case Op::power:
+    return power(i);
+  case Op::group: {
+    // A parenthesised expression is checked as a whole, marked with its parentheses.
+    Quantity q = node(n.a);
+    if (!std::isfinite(q.value))
+      fail(DiagnosticEngine::make(DiagId::not_finite, span(n), span(n), "the expression",
+                                  fmt::format("{}", q.value)));
+    return q;
+  }
+  }
+  return Quantity{};
+}
+
+Quantity Evaluator::sum(ast::Index i) const {
+  using Op = ast::ExprNode::Op;
+  std::vector<ast::Index> chain; // the operations from the right end, walked left
+  while (file_.node(i).op == Op::add || file_.node(i).op == Op::subtract) {
+    chain.push_back(i);
+    i = file_.node(i).a;
+  }
+  Quantity acc = node(i);
+  for (std::size_t k = chain.size(); k-- > 0;) {
+    const ast::ExprNode& op = file_.node(chain[k]);
+    acc = combine_sum(acc, node(op.b), op.op == Op::add, file_.node(op.b));
+  }
   return acc;
 }
 
-Quantity Evaluator::combine_sum(Quantity a, Quantity b, char op, const ast::Tagged& where) const {
+Quantity Evaluator::combine_sum(Quantity a, Quantity b, bool add, const ast::Tagged& where) const {
   if (a.dim && b.dim && !(*a.dim == *b.dim))
     fail(DiagnosticEngine::make(DiagId::unit_mix, span(where), span(where),
-                                op == '+' ? "add" : "subtract", describe(*a.dim),
-                                describe(*b.dim)));
-  return Quantity{op == '+' ? a.value + b.value : a.value - b.value, a.dim ? a.dim : b.dim};
+                                add ? "add" : "subtract", describe(*a.dim), describe(*b.dim)));
+  return Quantity{add ? a.value + b.value : a.value - b.value, a.dim ? a.dim : b.dim};
 }
 
-Quantity Evaluator::term(const ast::Term& t) const {
-  Quantity acc = signed_power(t.first);
-  for (const auto& op : t.rest) {
-    Quantity rhs = signed_power(op.operand);
-    bool divide = op.op == '/';
+Quantity Evaluator::product(ast::Index i) const {
+  using Op = ast::ExprNode::Op;
+  std::vector<ast::Index> chain;
+  while (file_.node(i).op == Op::multiply || file_.node(i).op == Op::divide) {
+    chain.push_back(i);
+    i = file_.node(i).a;
+  }
+  Quantity acc = node(i);
+  for (std::size_t k = chain.size(); k-- > 0;) {
+    const ast::ExprNode& op = file_.node(chain[k]);
+    Quantity rhs = node(op.b);
+    const bool divide = op.op == Op::divide;
     acc = Quantity{divide ? acc.value / rhs.value : acc.value * rhs.value,
                    multiply(acc.dim, rhs.dim, divide)};
   }
   return acc;
 }
 
-Quantity Evaluator::signed_power(const ast::Signed& s) const {
-  // A signed number with a unit is one quantity: -10 [degC] is 263.15 K, not -(283.15 K).
-  if (s.power.tail.empty())
-    if (const auto* lit = boost::get<ast::Quantity>(&s.power.base); lit && lit->unit) {
-      ast::Quantity signed_lit = *lit;
-      for (char c : s.signs)
-        if (c == '-') signed_lit.value = -signed_lit.value;
-      return quantity(signed_lit);
-    }
-  Quantity q = power(s.power);
-  for (char c : s.signs)
-    if (c == '-') q.value = -q.value;
-  return q;
-}
-
-Quantity Evaluator::power(const ast::Power& p) const {
-  if (p.tail.empty()) return primary(p.base);
-  // Right-associative: a ^ b ^ c = a ^ (b ^ c); evaluate the tail from the right.
-  Quantity exp = primary(p.tail.back().operand);
-  for (char c : p.tail.back().signs)
-    if (c == '-') exp.value = -exp.value;
-  for (std::size_t i = p.tail.size() - 1; i-- > 0;) {
-    Quantity base = primary(p.tail[i].operand);
-    exp = raise(base, exp, p);
-    for (char c : p.tail[i].signs)
-      if (c == '-') exp.value = -exp.value;
+// `a ^ b ^ c` is a ^ (b ^ c); an exponent's own signs apply to it after its powers. Every power of
+// a chain spans the whole chain, which messages mark.
+Quantity Evaluator::power(ast::Index i) const {
+  using Op = ast::ExprNode::Op;
+  const ast::ExprNode& top = file_.node(i);
+  struct Link {
+    ast::Index operand;
+    bool negated;
+  };
+  std::vector<Link> links; // the chain's inner bases, outermost first
+  ast::Index last = top.b;
+  for (;;) {
+    const ast::ExprNode& e = file_.node(last);
+    const bool negated = e.op == Op::negate && file_.node(e.a).op == Op::power;
+    const ast::ExprNode& p = negated ? file_.node(e.a) : e;
+    if (p.op != Op::power) break;
+    links.push_back({p.a, negated});
+    last = p.b;
   }
-  return raise(primary(p.base), exp, p);
+  Quantity exp = node(last);
+  for (std::size_t k = links.size(); k-- > 0;) {
+    exp = raise(node(links[k].operand), exp, top);
+    if (links[k].negated) exp.value = -exp.value;
+  }
+  return raise(node(top.a), exp, top);
 }
 
 Quantity Evaluator::raise(Quantity base, Quantity exp, const ast::Tagged& where) const {
@@ -116,57 +181,43 @@ Quantity Evaluator::raise(Quantity base, Quantity exp, const ast::Tagged& where)
   return Quantity{std::pow(base.value, exp.value), d};
 }
 
-Quantity Evaluator::primary(const ast::Primary& p) const {
-  struct Visitor {
-    const Evaluator& ev;
-    Quantity operator()(const ast::Quantity& q) const { return ev.quantity(q); }
-    Quantity operator()(const ast::Call& c) const { return ev.call(c); }
-    Quantity operator()(const ast::Identifier& id) const {
-      if (id.name == "pi") return Quantity{std::numbers::pi, std::nullopt};
-      if (id.name == "sigma") return Quantity{stefan_boltzmann, sigma_dim};
-      return ev.lookup_(id, ev.file_);
-    }
-    Quantity operator()(const ast::Expr& e) const { return ev.eval(e); }
-  };
-  return boost::apply_visitor(Visitor{*this}, p);
-}
-
-Quantity Evaluator::quantity(const ast::Quantity& q) const {
-  if (!q.unit) return Quantity{q.value, std::nullopt};
+Quantity Evaluator::quantity(const ast::ExprNode& n) const {
+  const ast::UnitText& unit = file_.units[n.a];
   try {
-    Unit u = parse_unit(q.unit->text);
-    return Quantity{u.scale * q.value + u.offset, u.dim};
+    Unit u = parse_unit(unit.text);
+    return Quantity{u.scale * n.value + u.offset, u.dim};
   } catch (const UnitError& e) {
     // The word at the error position (a unit symbol), to mark it whole and suggest a known one.
     std::string word;
-    for (std::size_t i = e.offset; i < q.unit->text.size(); ++i) {
-      char c = q.unit->text[i];
+    for (std::size_t i = e.offset; i < unit.text.size(); ++i) {
+      char c = unit.text[i];
       if (!std::isalpha(static_cast<unsigned char>(c))) break;
       word += c;
     }
-    auto at = static_cast<std::uint32_t>(q.unit->begin + e.offset); // begin: after the [
+    auto at = static_cast<std::uint32_t>(unit.begin + e.offset); // begin: after the [
     auto len = static_cast<std::uint32_t>(std::max<std::size_t>(word.size(), 1));
-    Span mark{file_, std::min(at, q.unit->end), std::min(at + len, q.unit->end)};
-    Diagnostic d = DiagnosticEngine::make(DiagId::unknown_unit, span(q), mark, e.what());
+    Span mark{file_.file_id, std::min(at, unit.end), std::min(at + len, unit.end)};
+    Diagnostic d = DiagnosticEngine::make(DiagId::unknown_unit, span(n), mark, e.what());
     if (auto s = closest_match(word, known_unit_symbols()); s && *s != word)
       d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
     fail(std::move(d));
   }
 }
 
-Quantity Evaluator::call(const ast::Call& c) const {
-  const std::string& f = c.function.name;
+Quantity Evaluator::call(const ast::ExprNode& c) const {
+  const std::string_view f = file_.names[c.a].name;
+  const std::span<const ast::Index> args = file_.call_args(c);
   auto arity = [&](std::size_t n) {
-    if (c.args.size() != n)
+    if (args.size() != n)
       fail(DiagnosticEngine::make(DiagId::bad_function_arg, span(c), span(c),
                                   fmt::format("function '{}' takes {} argument{}, got {}", f, n,
-                                              n == 1 ? "" : "s", c.args.size())));
+                                              n == 1 ? "" : "s", args.size())));
   };
   auto dimensionless_arg = [&](std::size_t i) {
-    Quantity q = eval(c.args[i]);
+    Quantity q = checked(args[i]);
     if (!is_dimensionless(q.dim))
       fail(DiagnosticEngine::make(
-          DiagId::bad_function_arg, span(c.args[i]), span(c.args[i]),
+          DiagId::bad_function_arg, span(file_.node(args[i])), span(file_.node(args[i])),
           fmt::format("the argument of '{}' must be dimensionless, not {}", f, dim_text(q.dim))));
     return q.value;
   };
@@ -184,7 +235,7 @@ Quantity Evaluator::call(const ast::Call& c) const {
     }
   if (f == "sqrt") {
     arity(1);
-    Quantity q = eval(c.args[0]);
+    Quantity q = checked(args[0]);
     std::optional<Dimension> d;
     if (q.dim) {
       for (auto e : q.dim->exp)
@@ -202,17 +253,18 @@ Quantity Evaluator::call(const ast::Call& c) const {
   }
   if (f == "abs") {
     arity(1);
-    Quantity q = eval(c.args[0]);
+    Quantity q = checked(args[0]);
     return Quantity{std::abs(q.value), q.dim};
   }
   if (f == "min" || f == "max") {
-    if (c.args.empty()) arity(1);
-    Quantity acc = eval(c.args[0]);
-    for (std::size_t i = 1; i < c.args.size(); ++i) {
-      Quantity q = eval(c.args[i]);
+    if (args.empty()) arity(1);
+    Quantity acc = checked(args[0]);
+    for (std::size_t i = 1; i < args.size(); ++i) {
+      Quantity q = checked(args[i]);
       if (acc.dim && q.dim && !(*acc.dim == *q.dim))
-        fail(DiagnosticEngine::make(DiagId::unit_mix, span(c.args[i]), span(c.args[i]), "compare",
-                                    describe(*acc.dim), describe(*q.dim)));
+        fail(DiagnosticEngine::make(DiagId::unit_mix, span(file_.node(args[i])),
+                                    span(file_.node(args[i])), "compare", describe(*acc.dim),
+                                    describe(*q.dim)));
       bool take = f == "min" ? q.value < acc.value : q.value > acc.value;
       acc = Quantity{take ? q.value : acc.value, acc.dim ? acc.dim : q.dim};
     }
@@ -220,12 +272,13 @@ Quantity Evaluator::call(const ast::Call& c) const {
   }
   if (f == "pow") {
     arity(2);
-    return raise(eval(c.args[0]), eval(c.args[1]), c);
+    return raise(checked(args[0]), checked(args[1]), c);
   }
-  Diagnostic d = DiagnosticEngine::make(DiagId::unknown_function, span(c), span(c.function), f);
+  Diagnostic d =
+      DiagnosticEngine::make(DiagId::unknown_function, span(c), span(file_.names[c.a]), f);
   static const std::vector<std::string> names = {"sqrt", "exp", "log", "log10", "sin", "cos",
                                                  "tan",  "abs", "min", "max",   "pow"};
-  if (auto s = closest_match(f, names))
+  if (auto s = closest_match(std::string(f), names))
     d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
   fail(std::move(d));
 }

@@ -28,29 +28,33 @@ struct EvalError : std::exception {
 };
 
 /// Evaluates expressions of one file; names are resolved by a callback that may throw EvalError.
+///
+/// Chains of `+ -`, of `* /` and of `^` are walked in a loop, so the evaluation recurses only as
+/// deep as parentheses and calls nest (which the parser bounds).
 class Evaluator {
 public:
   /// Resolves a const/param name to its value.
   using Lookup = std::function<Quantity(const ast::Identifier&, FileId)>;
   /// An evaluator for expressions written in `file`.
-  Evaluator(FileId file, Lookup lookup) : file_(file), lookup_(std::move(lookup)) {}
+  Evaluator(const ast::File& file, Lookup lookup) : file_(file), lookup_(std::move(lookup)) {}
   /// Evaluates an expression; throws EvalError on unknown names, unit errors or non-finite results.
   Quantity eval(const ast::Expr& e) const;
   /// The span of a tagged node of this file.
-  Span span(const ast::Tagged& t) const { return Span{file_, t.begin, t.end}; }
+  Span span(const ast::Tagged& t) const { return Span{file_.file_id, t.begin, t.end}; }
 
 private:
-  Quantity term(const ast::Term& t) const;
-  Quantity signed_power(const ast::Signed& s) const;
-  Quantity power(const ast::Power& p) const;
-  Quantity primary(const ast::Primary& p) const;
-  Quantity quantity(const ast::Quantity& q) const;
-  Quantity call(const ast::Call& c) const;
-  Quantity combine_sum(Quantity a, Quantity b, char op, const ast::Tagged& where) const;
+  Quantity checked(ast::Index i) const;
+  Quantity node(ast::Index i) const;
+  Quantity sum(ast::Index i) const;
+  Quantity product(ast::Index i) const;
+  Quantity power(ast::Index i) const;
+  Quantity quantity(const ast::ExprNode& n) const;
+  Quantity call(const ast::ExprNode& c) const;
+  Quantity combine_sum(Quantity a, Quantity b, bool add, const ast::Tagged& where) const;
   Quantity raise(Quantity base, Quantity exp, const ast::Tagged& where) const;
   [[noreturn]] void fail(Diagnostic d) const;
 
-  FileId file_;
+  const ast::File& file_;
   Lookup lookup_;
 };
 

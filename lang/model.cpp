@@ -41,13 +41,10 @@ void check_topology(const Model& m, const Reporter& report) {
   std::vector<int> degree(n + 1, 0);
   std::vector<int> ids;
   for (const auto& e : m.elements()) {
-    const auto& names = e.element ? e.element->nodes : e.composite->nodes;
-    if (names.size() < 2) continue; // a one-terminal source is not a link
+    if (e.nodes.size() < 2) continue; // a one-terminal source is not a link
     ids.clear();
-    for (const auto& id : names) {
-      const int i = m.node_index(id.name);
+    for (const int i : e.nodes)
       ids.push_back(i < 0 ? unknown : i);
-    }
     for (int id : ids) {
       comp.join(ids.front(), id);
       ++degree[static_cast<std::size_t>(id)];
@@ -65,7 +62,10 @@ void check_topology(const Model& m, const Reporter& report) {
   for (std::size_t i = 0; i < n; ++i) {
     if (decls[i].boundary || degree[i] != 0) continue;
     const NodeDecl& d = decls[i];
-    report(DiagnosticEngine::make(DiagId::isolated_node, start_of(d.where), d.name_span, d.name));
+    Diagnostic w =
+        DiagnosticEngine::make(DiagId::isolated_node, start_of(d.where), d.name_span, d.name);
+    add_scope_notes(w, d.scope);
+    report(std::move(w));
   }
   for (const auto& [root, members] : groups) {
     if (grounded.count(comp.find(root)) || members.size() < 2) continue;
@@ -74,40 +74,61 @@ void check_topology(const Model& m, const Reporter& report) {
       names += (k ? ", '" : "'") + decls[members[k]].name + "'";
     if (members.size() > 4) names += fmt::format(" and {} more", members.size() - 4);
     const NodeDecl& d = decls[members.front()];
-    report(DiagnosticEngine::make(DiagId::floating_group, start_of(d.where), d.name_span,
-                                  "nodes " + names));
+    Diagnostic w = DiagnosticEngine::make(DiagId::floating_group, start_of(d.where), d.name_span,
+                                          "nodes " + names);
+    add_scope_notes(w, d.scope);
+    report(std::move(w));
   }
 }
 
 } // namespace
 
 void Model::lint(DiagnosticEngine& diags) const {
-  // The base model is elaborated once per case; report each identical problem only once.
-  std::set<std::tuple<std::string, FileId, std::uint32_t, std::string>> seen;
+  // The base model is elaborated once per case; report each identical problem only once (and
+  // none that loading reported already). A problem in a loop or an instance is reported once per
+  // place, for the first iteration or instance where it arises.
+  using Key = std::tuple<std::string, FileId, std::uint32_t, std::uint32_t, std::string>;
+  std::set<Key> seen;
+  auto key_of = [](const Diagnostic& d) {
+    const Span at = d.at.value_or(Span{}), mark = d.mark.value_or(at);
+    return Key{d.code, at.file, at.begin, d.generated ? mark.begin : 0u,
+               d.generated ? std::string() : d.message};
+  };
+  for (const auto& d : diags.all())
+    seen.insert(key_of(d));
+  bool failed = false; // an error in the elaboration under way
   Reporter collect = [&](Diagnostic d) {
-    auto key = std::make_tuple(d.code, d.at ? d.at->file : 0u, d.at ? d.at->begin : 0u, d.message);
-    if (seen.insert(key).second) diags.add(std::move(d));
+    if (d.severity == Severity::error) failed = true;
+    if (seen.insert(key_of(d)).second) diags.add(std::move(d));
   };
   Elaborator base(*this, collect, nullptr, {}, true);
-  base.run();
+  NetworkSpec base_net = base.run();
   for (const auto& v : values_) {
     try {
       base.value_of(v.name, v.name_span); // problems in unused declarations are problems too
     } catch (const EvalError&) {
     }
   }
-  // After a syntax error the model is incomplete: warnings about its shape and about unused
-  // values could be caused by the statements that were skipped, so only errors are reported.
-  const bool complete = syntax_errors_ == 0;
+  if (cases_.empty() && !failed && !load_error_) {
+    base_net.settings.name = "default";
+    remember("default", std::move(base_net));
+  }
+  // After a syntax error (or loops cut short) the model is incomplete: warnings about its shape and
+  // about unused values could be caused by the statements that were skipped, so only errors are
+  // reported.
+  const bool complete = syntax_errors_ == 0 && !truncated_;
   if (complete) check_topology(*this, collect);
-  std::set<std::string> used = base.used_names();
+  std::set<std::string, std::less<>> used = base.used_names();
+  used.insert(structurally_used_.begin(), structurally_used_.end());
   for (const auto& c : cases_) {
     if (diags.saturated()) {
       diags.stop_early();
       return;
     }
+    failed = false;
     Elaborator ec(*this, collect, &c, {}, true);
-    ec.run();
+    NetworkSpec net = ec.run();
+    if (!failed && !load_error_) remember(c.name, std::move(net));
     used.insert(ec.used_names().begin(), ec.used_names().end());
   }
   for (const auto& v : values_)
@@ -116,8 +137,42 @@ void Model::lint(DiagnosticEngine& diags) const {
                                      start_of(v.where), v.name_span, v.name));
 }
 
+void Model::remember(const std::string& case_name, NetworkSpec net) const {
+  std::lock_guard lock(cache_mutex_);
+  cache_[case_name] = std::make_shared<NetworkSpec>(std::move(net));
+}
+
+std::shared_ptr<const NetworkSpec> Model::network(const std::string& case_name) const {
+  const std::string name = resolve_case(case_name);
+  {
+    std::lock_guard lock(cache_mutex_);
+    if (auto it = cache_.find(name); it != cache_.end()) return it->second;
+  }
+  auto net = std::make_shared<NetworkSpec>(instantiate(name));
+  std::lock_guard lock(cache_mutex_);
+  return cache_.emplace(name, std::move(net)).first->second;
+}
+
+NetworkSpec Model::take_network(const std::string& case_name) const {
+  const std::string name = resolve_case(case_name);
+  {
+    std::lock_guard lock(cache_mutex_);
+    if (auto it = cache_.find(name); it != cache_.end() && it->second.use_count() == 1) {
+      NetworkSpec net = std::move(*it->second);
+      cache_.erase(it);
+      return net;
+    }
+  }
+  return instantiate(name);
+}
+
 NetworkSpec Model::instantiate(const std::string& case_name, const ParamValues& params) const {
   std::string name = resolve_case(case_name);
+  if (load_error_) throw ModelError(*load_error_);
+  if (params.empty()) {
+    std::lock_guard lock(cache_mutex_);
+    if (auto it = cache_.find(name); it != cache_.end()) return *it->second;
+  }
   const CaseDecl* c = nullptr;
   for (const auto& d : cases_)
     if (d.name == name) c = &d;

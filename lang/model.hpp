@@ -7,9 +7,11 @@
 #include "lang/schema.hpp"
 #include "lang/units.hpp"
 
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -26,11 +28,11 @@ struct ModelError : std::runtime_error {
   Diagnostic diag; ///< what and where
 };
 
-/// A const or param declaration.
+/// A const or param declaration (at the top level, or local to a submodel).
 struct ValueDecl {
   bool is_param = false;             ///< param (true) or const
   std::string name;                  ///< its name
-  const ast::Expr* expr = nullptr;   ///< value expression
+  const ast::Expr* expr = nullptr;   ///< value expression (nullptr: a submodel param without one)
   const ast::Range* range = nullptr; ///< calibration range (params)
   std::string doc;                   ///< description
   FileId file = 0;                   ///< declaring file
@@ -38,27 +40,81 @@ struct ValueDecl {
   Span name_span;                    ///< the name
 };
 
-/// A node or boundary declaration.
+struct SubmodelDecl;
+
+/// Where a generated declaration stands: a loop iteration or a submodel instance, inside the
+/// scopes around it. Declarations at the model's top level have no scope (nullptr).
+struct Scope {
+  /// What the scope is.
+  enum class Kind : std::uint8_t { loop, instance };
+  Kind kind = Kind::loop;        ///< loop iteration or instance
+  const Scope* parent = nullptr; ///< the scope around it (nullptr: the top level)
+  FileId file = 0;               ///< file of the `for` or instance statement
+  Span where;                    ///< the `for` header or the instance statement
+  // A loop iteration:
+  const std::vector<ast::LoopRange>* ranges = nullptr; ///< the loop's variables
+  std::vector<long> values;                            ///< their values in this iteration
+  // An instance:
+  const SubmodelDecl* submodel = nullptr;      ///< what is instantiated
+  std::string name;                            ///< the instance's full name (`u1`, `a.u[2]`)
+  std::string prefix;                          ///< prefix of inner names (`u1.`)
+  const ast::ElementStmt* statement = nullptr; ///< the instance statement (its keys are args)
+  std::vector<int> terminals;                  ///< node of each terminal (-1: unresolved)
+  std::size_t slot = 0;                        ///< first value slot of the instance (elaboration)
+
+  /// The scope of one iteration of a loop whose header starts at `begin` in `file`, inside
+  /// `parent`; its variables' values are filled in by the caller as it iterates.
+  static Scope loop(const Scope* parent, FileId file, std::uint32_t begin,
+                    const std::vector<ast::LoopRange>& ranges);
+  /// The innermost instance this scope belongs to (itself for an instance), or nullptr.
+  const Scope* instance() const;
+  /// The value of a loop variable visible here (in loops up to the instance), if any.
+  std::optional<long> variable(std::string_view name) const;
+};
+
+/// Adds to a diagnostic the notes that say in which loop iterations and submodel instances it
+/// arose ("in iteration i = 3, j = 7", "in instance 'u1' of submodel 'box'"), innermost first.
+void add_scope_notes(Diagnostic& d, const Scope* scope);
+
+/// A submodel definition: its terminals, params, local consts and body.
+struct SubmodelDecl {
+  std::string name;                        ///< used like an element kind
+  const ast::SubmodelStmt* stmt = nullptr; ///< the definition
+  std::vector<ValueDecl> values;           ///< its params and consts, in order
+  FileId file = 0;                         ///< declaring file
+  Span where;                              ///< statement
+  Span name_span;                          ///< the name
+  /// Index in `values` of a param or const, or -1.
+  int value_index(std::string_view n) const;
+  /// Index of a terminal, or -1.
+  int terminal_index(std::string_view n) const;
+};
+
+/// A node or boundary declaration (one per generated name).
 struct NodeDecl {
   bool boundary = false;                            ///< boundary (true) or node
-  std::string name;                                 ///< its name
+  std::string name;                                 ///< its full name (`p[3]`, `u1.pcb`)
   const std::vector<ast::KeyValue>* keys = nullptr; ///< C/T0 or T
   std::string doc;                                  ///< description
   FileId file = 0;                                  ///< declaring file
   Span where;                                       ///< statement
   Span name_span;                                   ///< the name
+  const Scope* scope = nullptr;                     ///< loop iteration or instance, if any
 };
 
-/// An element or series/parallel declaration.
+/// An element or series/parallel declaration (one per generated name).
 struct ElementDecl {
   const ast::ElementStmt* element = nullptr;     ///< a plugin element, or
   const ast::CompositeStmt* composite = nullptr; ///< a series/parallel block
-  std::string name;                              ///< its name
+  std::string name;                              ///< its full name
   FileId file = 0;                               ///< declaring file
   Span where;                                    ///< statement
   Span name_span;                                ///< the name
+  const Scope* scope = nullptr;                  ///< loop iteration or instance, if any
+  const ElementSchema* schema = nullptr;         ///< the kind's schema (plugin elements)
+  std::vector<int> nodes;                        ///< resolved terminals (-1: unresolved)
+  bool valid = true; ///< false when its kind, terminals or names are wrong (reported at load)
 };
-
 /// A case declaration.
 struct CaseDecl {
   const ast::CaseStmt* stmt = nullptr; ///< the block
@@ -89,6 +145,9 @@ using ParamValues = std::map<std::string, double, std::less<>>;
 struct LoadOptions {
   /// Loads a plugin library named by a `plugin` statement; returns an error message or nothing.
   std::function<std::optional<std::string>(const std::string& path)> load_plugin;
+  /// Most declarations and loop iterations loops and submodels may generate (a bound on the work
+  /// a small file can ask for).
+  std::size_t max_generated = 20'000'000;
 };
 
 /// A parsed model with its declarations; instantiate() elaborates one case into a NetworkSpec.
@@ -114,6 +173,13 @@ public:
   /// throws ModelError at the first problem.
   NetworkSpec instantiate(const std::string& case_name = "", const ParamValues& params = {}) const;
 
+  /// The network of a case without param overrides, elaborated once and shared (lint() elaborates
+  /// every case and keeps those without errors); throws ModelError.
+  std::shared_ptr<const NetworkSpec> network(const std::string& case_name = "") const;
+  /// The network of a case moved out of the cache when nothing else holds it (no copy of a large
+  /// network for a single run), else instantiate(case_name).
+  NetworkSpec take_network(const std::string& case_name = "") const;
+
   /// Names of the declared cases, in order (empty when the model has none).
   std::vector<std::string> case_names() const;
   /// The case to use for an optional name: the named one, the only one, or "default"; throws
@@ -131,50 +197,79 @@ public:
   /// The element catalog it was checked against.
   const ElementCatalog& catalog() const { return *catalog_; }
 
-  /// Declarations (for the elaborator and tools such as the language server).
+  /// Top-level const and param declarations (for the elaborator and tools such as the language
+  /// server).
   const std::vector<ValueDecl>& values() const { return values_; }
-  /// Node and boundary declarations.
-  const std::vector<NodeDecl>& nodes() const { return nodes_; }
-  /// Element declarations.
-  const std::vector<ElementDecl>& elements() const { return elements_; }
+  /// Node and boundary declarations, one per generated name, in order.
+  const std::deque<NodeDecl>& nodes() const { return nodes_; }
+  /// Element declarations, one per generated name, in order.
+  const std::deque<ElementDecl>& elements() const { return elements_; }
   /// Case declarations.
   const std::vector<CaseDecl>& cases() const { return cases_; }
+  /// Submodel definitions.
+  const std::deque<SubmodelDecl>& submodels() const { return submodels_; }
+  /// Loop iterations and instances the declarations stand in.
+  const std::deque<Scope>& scopes() const { return scopes_; }
+  /// The submodel of a name, or nullptr.
+  const SubmodelDecl* submodel(std::string_view name) const;
+  /// Number of value slots the instances need (their params and consts), for elaboration.
+  std::size_t instance_slots() const { return instance_slots_; }
+  /// The files of the model, in the order they were read.
+  const std::vector<std::unique_ptr<ast::File>>& files() const { return files_; }
+  /// The syntax tree of a file of the model.
+  const ast::File& file(FileId id) const;
   /// Directory of the file a declaration lives in (for relative data paths).
   std::string directory_of(FileId file) const;
   /// True when a statement that failed to parse meant to declare this name (references to it are
   /// not reported again).
-  bool declared_by_unparsed(const std::string& name) const {
-    return unparsed_names_.count(name) != 0;
+  bool declared_by_unparsed(std::string_view name) const {
+    return unparsed_names_.find(name) != unparsed_names_.end();
   }
   /// Number of syntax errors in the model's files (whole-model warnings are unreliable then).
   std::size_t syntax_errors() const { return syntax_errors_; }
-  /// Index in nodes() of the first node or boundary with this name, or -1.
-  int node_index(const std::string& name) const {
+  /// Index in nodes() of the node or boundary with this full name, or -1.
+  int node_index(std::string_view name) const {
     auto it = node_index_.find(name);
     return it == node_index_.end() ? -1 : it->second;
   }
-  /// Index in elements() of the first element with this name, or -1.
-  int element_index(const std::string& name) const {
+  /// Index in elements() of the element with this full name, or -1.
+  int element_index(std::string_view name) const {
     auto it = element_index_.find(name);
     return it == element_index_.end() ? -1 : it->second;
   }
+  /// The first error that made a declaration unusable while loading (an unknown kind or node,
+  /// wrong terminals, a bad loop or index), which instantiate() throws; empty when there is none.
+  const std::optional<Diagnostic>& load_error() const { return load_error_; }
 
 private:
   friend class ModelBuilder;
+  void remember(const std::string& case_name, NetworkSpec net) const;
+
   std::string path_;
   std::string name_;
   const SourceManager* sources_ = nullptr;
   const ElementCatalog* catalog_ = nullptr;
   std::vector<std::unique_ptr<ast::File>> files_;
   std::vector<ValueDecl> values_;
-  std::vector<NodeDecl> nodes_;
-  std::vector<ElementDecl> elements_;
+  std::deque<SubmodelDecl> submodels_;
+  std::deque<Scope> scopes_;
+  std::deque<NodeDecl> nodes_;
+  std::deque<ElementDecl> elements_;
   std::vector<CaseDecl> cases_;
-  std::set<std::string> unparsed_names_;
+  std::set<std::string, std::less<>> unparsed_names_;
   std::size_t syntax_errors_ = 0;
-  // Name -> declaration index, filled while loading; shared by every elaboration.
-  std::unordered_map<std::string, int> node_index_;
-  std::unordered_map<std::string, int> element_index_;
+  std::size_t instance_slots_ = 0;
+  bool truncated_ = false; // loops or instances were cut short at the generation limit
+  std::optional<Diagnostic> load_error_;
+  std::set<std::string, std::less<>> structurally_used_; // consts used by loops and indices
+  // Name -> declaration index, filled while loading and shared by every elaboration; the keys
+  // view the declarations' names (a deque never moves them).
+  std::unordered_map<std::string_view, int> node_index_;
+  std::unordered_map<std::string_view, int> element_index_;
+  std::unordered_map<std::string_view, int> submodel_index_;
+  // Networks of cases without param overrides, elaborated once per run and shared.
+  mutable std::mutex cache_mutex_;
+  mutable std::map<std::string, std::shared_ptr<NetworkSpec>> cache_;
 };
 
 } // namespace thermnet::lang

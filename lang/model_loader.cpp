@@ -1,16 +1,16 @@
-// Loading a model: reading files, following includes, collecting declarations and checking that
-// every name is unique in its namespace.
+// Loading a model: reading files, following includes, collecting declarations, expanding loops
+// and submodel instances into one declaration per name, checking that every name is unique in its
+// namespace, and resolving the nodes elements connect.
 
+#include "lang/elaborator.hpp"
 #include "lang/keywords.hpp"
 #include "lang/model.hpp"
 #include "lang/parser.hpp"
 
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <map>
 #include <set>
-#include <sstream>
+#include <tuple>
 #include <unordered_map>
 
 namespace thermnet::lang {
@@ -33,11 +33,13 @@ public:
       return false;
     }
     load_text(path, std::move(text));
+    finish();
     return true;
   }
 
   void load_root_text(const std::string& path, std::string text) {
     load_text(path, std::move(text));
+    finish();
   }
 
 private:
@@ -55,26 +57,33 @@ private:
     return ec ? path : p.string();
   }
 
+  // --- reading ----------------------------------------------------------------------------------
+
   void load_text(const std::string& path, std::string text) {
     FileId id = sources_.add(path, std::move(text));
-    loaded_.insert(canonical(path));
-    stack_.push_back(canonical(path));
+    const std::string key = canonical(path);
+    loaded_.emplace(key, Span{});
+    stack_.push_back(key);
     open_ids_.push_back(id);
     auto file = std::make_unique<ast::File>(parse_file(id, sources_, diags_));
     const ast::File& f = *file;
     m_.files_.push_back(std::move(file));
     m_.syntax_errors_ += f.syntax_errors;
     for (const auto& u : f.unparsed) {
-      const std::string& head = u.head.name;
+      const std::string_view head = u.head.name;
       if (!u.name.name.empty() && head != "model" && head != "include" && head != "plugin")
-        m_.unparsed_names_.insert(u.name.name);
+        m_.unparsed_names_.emplace(u.name.name);
     }
     for (const auto& s : f.statements) {
       if (diags_.saturated()) {
         diags_.stop_early();
         break;
       }
-      collect(s, id);
+      if (std::holds_alternative<ast::NodeStmt>(s) || std::holds_alternative<ast::ElementStmt>(s) ||
+          std::holds_alternative<ast::CompositeStmt>(s) || std::holds_alternative<ast::ForStmt>(s))
+        structure_.emplace_back(&s, id);
+      else
+        std::visit(Collector{*this, id}, s);
     }
     stack_.pop_back();
     open_ids_.pop_back();
@@ -86,38 +95,71 @@ private:
     return (fs::path(sources_.path(file)).parent_path() / path).lexically_normal().string();
   }
 
-  Span span(FileId f, const ast::Tagged& t) const { return Span{f, t.begin, t.end}; }
-  Span at(FileId f, const ast::Tagged& t) const { return Span{f, t.begin, t.begin}; }
+  static Span span(FileId f, const ast::Tagged& t) { return Span{f, t.begin, t.end}; }
+  static Span at(FileId f, const ast::Tagged& t) { return Span{f, t.begin, t.begin}; }
+
+  void include(const ast::IncludeStmt& s, FileId f) {
+    std::string path = relative_to(f, s.path.text);
+    std::string key = canonical(path);
+    for (std::size_t i = 0; i < stack_.size(); ++i)
+      if (stack_[i] == key) {
+        // Name the chain as the user wrote it: the files from the one included again to here.
+        std::string chain;
+        for (std::size_t k = i; k < stack_.size(); ++k)
+          chain += sources_.path(open_ids_[k]) + " -> ";
+        diags_.report(DiagId::include_cycle, at(f, s), span(f, s.path), s.path.text,
+                      chain + s.path.text);
+        return;
+      }
+    if (auto it = loaded_.find(key); it != loaded_.end()) {
+      // Read before: its declarations are in, once (two files may share a library). The same
+      // file including it twice most likely meant two copies, which is what submodels are for.
+      if (it->second.end != 0 && it->second.file == f) {
+        auto& d = diags_.report(DiagId::repeated_include, at(f, s), span(f, s.path), s.path.text);
+        d.notes.push_back(
+            DiagnosticEngine::note(DiagId::note_text, it->second, "first included here"));
+      }
+      return;
+    }
+    if (constexpr std::size_t max_depth = 64; stack_.size() >= max_depth) {
+      diags_.report(DiagId::include_too_deep, at(f, s), span(f, s.path), s.path.text, max_depth);
+      return;
+    }
+    std::string text, error;
+    if (!read_file(path, text, error)) {
+      diags_.report(DiagId::include_unreadable, at(f, s), span(f, s.path), s.path.text, error);
+      return;
+    }
+    load_text(path, std::move(text));
+    loaded_[key] = span(f, s.path);
+  }
+
+  // --- names ------------------------------------------------------------------------------------
 
   /// Reports a reserved name, and a duplicate with a note at the first definition (`previous`).
   /// A reserved name is reported, then kept: its uses must not cascade into more errors.
-  void check_name(const char* what, const ast::Identifier& id, FileId f, const ast::Tagged& stmt,
-                  const Span* previous) {
-    if (is_keyword(id.name))
-      diags_.report(DiagId::reserved_name, at(f, stmt), span(f, id), what, id.name);
+  void check_name(const char* what, std::string_view base, std::string_view full, Span name_span,
+                  Span where, const Span* previous, const Scope* scope) {
+    if (is_keyword(base)) {
+      Diagnostic d = DiagnosticEngine::make(DiagId::reserved_name, where, name_span, what, full);
+      report(std::move(d), scope, false);
+    }
     if (!previous) return;
-    auto& d = diags_.report(DiagId::duplicate_name, at(f, stmt), span(f, id), what, id.name);
+    Diagnostic d = DiagnosticEngine::make(DiagId::duplicate_name, where, name_span, what, full);
     d.notes.push_back(DiagnosticEngine::note(DiagId::previous_definition, *previous));
+    report(std::move(d), scope, false);
   }
 
-  /// Registers a name in a namespace; false (and reported) when it is already defined.
-  bool unique(std::unordered_map<std::string, Span>& names, const char* what,
+  /// Registers a value or case name in its namespace; false (and reported) when already defined.
+  bool unique(std::unordered_map<std::string_view, Span>& names, const char* what,
               const ast::Identifier& id, FileId f, const ast::Tagged& stmt) {
     auto [it, fresh] = names.emplace(id.name, span(f, id));
-    check_name(what, id, f, stmt, fresh ? nullptr : &it->second);
+    check_name(what, id.name, id.name, span(f, id), at(f, stmt), fresh ? nullptr : &it->second,
+               nullptr);
     return fresh;
   }
 
-  /// unique() for nodes and elements: the Model's name index records the position in `decls`
-  /// the declaration is about to take, so elaborations need no index of their own.
-  template <typename Decl>
-  bool unique_decl(std::unordered_map<std::string, int>& index, const std::vector<Decl>& decls,
-                   const char* what, const ast::Identifier& id, FileId f, const ast::Tagged& stmt) {
-    auto [it, fresh] = index.emplace(id.name, static_cast<int>(decls.size()));
-    check_name(what, id, f, stmt,
-               fresh ? nullptr : &decls[static_cast<std::size_t>(it->second)].name_span);
-    return fresh;
-  }
+  // --- collecting the top level ---------------------------------------------------------------
 
   struct Collector {
     ModelBuilder& b;
@@ -153,60 +195,472 @@ private:
         return;
       }
       if (!b.unique(b.value_names_, is_param ? "param" : "const", name, f, s)) return;
-      b.m_.values_.push_back(
-          ValueDecl{is_param, name.name, e, r, std::move(doc), f, b.span(f, s), b.span(f, name)});
-    }
-    void operator()(const ast::NodeStmt& s) const { node(false, s.name, s.keys, s.doc, s); }
-    void operator()(const ast::BoundaryStmt& s) const { node(true, s.name, s.keys, s.doc, s); }
-    void node(bool boundary, const ast::Identifier& name, const std::vector<ast::KeyValue>& keys,
-              const std::optional<ast::String>& doc, const ast::Tagged& s) const {
-      if (!b.unique_decl(b.m_.node_index_, b.m_.nodes_, boundary ? "boundary" : "node", name, f, s))
-        return;
-      b.m_.nodes_.push_back(NodeDecl{boundary, name.name, &keys, doc ? doc->text : "", f,
-                                     b.span(f, s), b.span(f, name)});
-    }
-    void operator()(const ast::ElementStmt& s) const {
-      if (!b.unique_decl(b.m_.element_index_, b.m_.elements_, "element", s.name, f, s)) return;
-      b.m_.elements_.push_back(
-          ElementDecl{&s, nullptr, s.name.name, f, b.span(f, s), b.span(f, s.name)});
-    }
-    void operator()(const ast::CompositeStmt& s) const {
-      if (!b.unique_decl(b.m_.element_index_, b.m_.elements_, "element", s.name, f, s)) return;
-      b.m_.elements_.push_back(
-          ElementDecl{nullptr, &s, s.name.name, f, b.span(f, s), b.span(f, s.name)});
+      b.m_.values_.push_back(ValueDecl{is_param, std::string(name.name), e, r, std::move(doc), f,
+                                       b.span(f, s), b.span(f, name)});
     }
     void operator()(const ast::CaseStmt& s) const {
       if (!b.unique(b.case_names_, "case", s.name, f, s)) return;
-      b.m_.cases_.push_back(CaseDecl{&s, s.name.name, f, b.span(f, s), b.span(f, s.name)});
+      b.m_.cases_.push_back(
+          CaseDecl{&s, std::string(s.name.name), f, b.span(f, s), b.span(f, s.name)});
     }
+    void operator()(const ast::SubmodelStmt& s) const { b.collect_submodel(s, f); }
+    // Nodes, elements, instances and loops are expanded once every file is read.
+    void operator()(const ast::NodeStmt&) const {}
+    void operator()(const ast::ElementStmt&) const {}
+    void operator()(const ast::CompositeStmt&) const {}
+    void operator()(const ast::ForStmt&) const {}
   };
 
-  void collect(const ast::Statement& s, FileId f) { boost::apply_visitor(Collector{*this, f}, s); }
+  void collect_submodel(const ast::SubmodelStmt& s, FileId f) {
+    if (m_.catalog().find(s.name.name)) {
+      diags_.report(DiagId::duplicate_name, at(f, s), span(f, s.name), "submodel", s.name.name)
+          .message = fmt::format("submodel '{}' has the name of an element kind", s.name.name);
+      return;
+    }
+    if (!unique(submodel_names_, "submodel", s.name, f, s)) return;
+    SubmodelDecl& sub = m_.submodels_.emplace_back();
+    sub.name = s.name.name;
+    sub.stmt = &s;
+    sub.file = f;
+    sub.where = span(f, s);
+    sub.name_span = span(f, s.name);
+    std::unordered_map<std::string_view, Span> names;
+    for (const auto& t : s.terminals)
+      if (auto [it, fresh] = names.emplace(t.name, span(f, t)); !fresh)
+        check_name("terminal", t.name, t.name, span(f, t), at(f, s), &it->second, nullptr);
+    for (const auto& stmt : s.body) {
+      const auto* p = std::get_if<ast::ParamStmt>(&stmt);
+      const auto* c = std::get_if<ast::ConstStmt>(&stmt);
+      if (!p && !c) continue;
+      const ast::Identifier& id = p ? p->name : c->name;
+      const ast::Tagged& tag = p ? static_cast<const ast::Tagged&>(*p) : *c;
+      if (p && p->range) {
+        diags_.report(DiagId::misplaced_statement, at(f, *p), span(f, *p->range),
+                      fmt::format("param '{}' of submodel '{}' cannot have a range: declare a "
+                                  "ranged param at the top level and pass it to the instances "
+                                  "('{} u1 NODE {} = NAME')",
+                                  id.name, sub.name, sub.name, id.name));
+        continue;
+      }
+      auto [it, fresh] = names.emplace(id.name, span(f, id));
+      if (!fresh) {
+        check_name(p ? "param" : "const", id.name, id.name, span(f, id), at(f, tag), &it->second,
+                   nullptr);
+        continue;
+      }
+      sub.values.push_back(ValueDecl{p != nullptr, std::string(id.name),
+                                     p ? (p->value.valid() ? &p->value : nullptr) : &c->value,
+                                     nullptr, p && p->doc ? p->doc->text : "", f, span(f, tag),
+                                     span(f, id)});
+    }
+    m_.submodel_index_.emplace(sub.name, static_cast<int>(m_.submodels_.size() - 1));
+  }
 
-  void include(const ast::IncludeStmt& s, FileId f) {
-    std::string path = relative_to(f, s.path.text);
-    std::string key = canonical(path);
-    for (std::size_t i = 0; i < stack_.size(); ++i)
-      if (stack_[i] == key) {
-        // Name the chain as the user wrote it: the files from the one included again to here.
+  /// Reports statements that may not stand where they are, and loop variables that hide a name.
+  void check_block(const std::vector<ast::Statement>& body, FileId f, bool in_loop,
+                   const SubmodelDecl* sub, std::vector<std::string_view>& vars) {
+    for (const auto& s : body) {
+      const ast::Tagged& t = ast::tag_of(s);
+      const char* word = std::visit(
+          [](const auto& st) -> const char* {
+            using T = std::decay_t<decltype(st)>;
+            if constexpr (std::is_same_v<T, ast::ModelStmt>) return "model";
+            if constexpr (std::is_same_v<T, ast::IncludeStmt>) return "include";
+            if constexpr (std::is_same_v<T, ast::PluginStmt>) return "plugin";
+            if constexpr (std::is_same_v<T, ast::CaseStmt>) return "case";
+            if constexpr (std::is_same_v<T, ast::SubmodelStmt>) return "submodel";
+            if constexpr (std::is_same_v<T, ast::ConstStmt>) return "const";
+            if constexpr (std::is_same_v<T, ast::ParamStmt>) return "param";
+            return nullptr;
+          },
+          s);
+      const bool value =
+          word && (std::string_view(word) == "const" || word == std::string_view("param"));
+      if (word && (!value || in_loop)) {
+        diags_.report(DiagId::misplaced_statement, at(f, t), Span{f, t.begin, t.begin + 1},
+                      value ? fmt::format("a {} cannot be declared inside a for loop (it would be "
+                                          "declared once per iteration); declare it outside",
+                                          word)
+                            : fmt::format("'{}' may stand only at the top level of a file, not "
+                                          "inside a {}",
+                                          word, in_loop ? "for loop" : "submodel"));
+        continue;
+      }
+      if (const auto* loop = std::get_if<ast::ForStmt>(&s)) check_loop(*loop, f, sub, vars);
+    }
+  }
+
+  void check_loop(const ast::ForStmt& loop, FileId f, const SubmodelDecl* sub,
+                  std::vector<std::string_view>& vars) {
+    const std::size_t outer = vars.size();
+    for (const auto& r : loop.ranges) {
+      const std::string_view v = r.var.name;
+      const char* clash = nullptr;
+      if (std::find(vars.begin(), vars.end(), v) != vars.end())
+        clash = "an enclosing loop's variable";
+      else if (sub && sub->value_index(v) >= 0)
+        clash = "a param or const of the submodel";
+      else if (sub && sub->terminal_index(v) >= 0)
+        clash = "a terminal of the submodel";
+      else if (value_names_.count(v))
+        clash = "a const or param of the model";
+      else if (v == "pi" || v == "sigma" || is_keyword(v))
+        clash = "a built-in name";
+      if (clash) {
+        diags_.report(DiagId::bad_loop, at(f, loop), span(f, r.var),
+                      fmt::format("loop variable '{}' has the name of {}", v, clash));
+        bad_loops_.insert(&loop); // not expanded: its names would mean two things
+      }
+      vars.push_back(v);
+    }
+    check_block(loop.body, f, true, sub, vars);
+    vars.resize(outer);
+  }
+
+  // --- expansion ------------------------------------------------------------------------------
+
+  void finish() {
+    std::vector<std::string_view> vars;
+    for (const auto& sub : m_.submodels_)
+      check_block(sub.stmt->body, sub.file, false, &sub, vars);
+    for (const auto& [stmt, f] : structure_)
+      if (const auto* loop = std::get_if<ast::ForStmt>(stmt)) check_loop(*loop, f, nullptr, vars);
+    elaborator_.emplace(
+        Elaborator::structural(m_, [this](Diagnostic d) { report(std::move(d), nullptr, true); }));
+    for (const auto& [stmt, f] : structure_) {
+      if (stopped_ || diags_.saturated()) break;
+      expand(*stmt, f, nullptr);
+    }
+    resolve();
+    m_.truncated_ = stopped_;
+    m_.structurally_used_ = elaborator_->used_names();
+  }
+
+  /// Counts one generated declaration or loop iteration; false once the limit is passed.
+  bool count(FileId f, const ast::Tagged& where) {
+    if (stopped_) return false;
+    if (++work_ <= opt_.max_generated) return true;
+    stopped_ = true;
+    report(DiagnosticEngine::make(DiagId::too_much_generated, at(f, where), span(f, where),
+                                  opt_.max_generated),
+           nullptr, true);
+    return false;
+  }
+
+  void expand(const ast::Statement& s, FileId f, const Scope* scope) {
+    if (const auto* n = std::get_if<ast::NodeStmt>(&s)) {
+      declare_nodes(*n, f, scope);
+    } else if (const auto* e = std::get_if<ast::ElementStmt>(&s)) {
+      if (const SubmodelDecl* sub = m_.submodel(e->kind.name))
+        instantiate(*e, *sub, f, scope);
+      else
+        declare_elements(e, nullptr, f, scope);
+    } else if (const auto* c = std::get_if<ast::CompositeStmt>(&s)) {
+      declare_elements(nullptr, c, f, scope);
+    } else if (const auto* loop = std::get_if<ast::ForStmt>(&s); loop && !bad_loops_.count(loop)) {
+      Scope partial = Scope::loop(scope, f, loop->begin, loop->ranges);
+      iterate(*loop, partial);
+    }
+    // Anything else in a body was reported by check_block (or is a submodel's param or const).
+  }
+
+  /// Runs the loop's remaining variables from the first not yet in `partial`, then its body.
+  void iterate(const ast::ForStmt& loop, Scope& partial) {
+    const std::size_t k = partial.values.size();
+    if (k == loop.ranges.size()) {
+      const Scope& iteration = m_.scopes_.emplace_back(partial);
+      for (const auto& s : loop.body) {
+        if (stopped_) return;
+        expand(s, partial.file, &iteration);
+      }
+      return;
+    }
+    const ast::LoopRange& r = loop.ranges[k];
+    long lo = 0, hi = 0;
+    try {
+      lo = elaborator_->whole_number(r.lo, partial.file, &partial, "the first value of a loop");
+      hi = elaborator_->whole_number(r.hi, partial.file, &partial, "the last value of a loop");
+    } catch (const EvalError& e) {
+      if (!e.diag.code.empty()) report(located(e.diag, partial.file, loop), partial.parent, true);
+      return;
+    }
+    for (long v = lo; v <= hi; ++v) {
+      if (!count(partial.file, loop)) return;
+      partial.values.push_back(v);
+      iterate(loop, partial);
+      partial.values.pop_back();
+    }
+  }
+
+  /// Every full name a declaration stands for: its instance's prefix and its name, once per
+  /// combination of its index ranges (`p[1 .. 3]` is p[1], p[2], p[3]); false when an index is
+  /// wrong (reported).
+  bool declared_names(const ast::Ref& name, FileId f, const Scope* scope, const ast::Tagged& stmt,
+                      std::vector<std::string>& out) {
+    out.clear();
+    const Scope* inst = scope ? scope->instance() : nullptr;
+    std::string base = inst ? inst->prefix : std::string();
+    base += name.id.name;
+    if (name.plain()) {
+      out.push_back(std::move(base));
+      return true;
+    }
+    std::vector<std::pair<long, long>> ranges;
+    try {
+      for (const auto& item : name.index()) {
+        const long lo = elaborator_->whole_number(item.lo, f, scope, "an index");
+        const long hi = item.hi ? elaborator_->whole_number(*item.hi, f, scope, "an index") : lo;
+        if (hi < lo) return true; // an empty range declares nothing
+        ranges.emplace_back(lo, hi);
+      }
+    } catch (const EvalError& e) {
+      if (!e.diag.code.empty()) report(located(e.diag, f, stmt), scope, true);
+      return false;
+    }
+    std::vector<long> at_index;
+    for (const auto& r : ranges)
+      at_index.push_back(r.first);
+    for (;;) {
+      if (!count(f, stmt)) return false;
+      std::string n = base + '[';
+      for (std::size_t i = 0; i < at_index.size(); ++i) {
+        if (i) n += ',';
+        n += std::to_string(at_index[i]);
+      }
+      out.push_back(n + ']');
+      std::size_t i = at_index.size();
+      while (i-- > 0) {
+        if (at_index[i] < ranges[i].second) {
+          ++at_index[i];
+          break;
+        }
+        at_index[i] = ranges[i].first;
+      }
+      if (i == static_cast<std::size_t>(-1)) return true;
+    }
+  }
+
+  void declare_nodes(const ast::NodeStmt& s, FileId f, const Scope* scope) {
+    if (!declared_names(s.name, f, scope, s, names_)) return;
+    const char* what = s.boundary ? "boundary" : "node";
+    for (std::string& name : names_) {
+      NodeDecl& d = m_.nodes_.emplace_back();
+      d.boundary = s.boundary;
+      d.name = std::move(name);
+      d.keys = &s.keys;
+      if (s.doc) d.doc = s.doc->text;
+      d.file = f;
+      d.where = span(f, s);
+      d.name_span = span(f, s.name);
+      d.scope = scope;
+      const int index = static_cast<int>(m_.nodes_.size() - 1);
+      auto [it, fresh] = m_.node_index_.emplace(d.name, index);
+      check_name(what, s.name.id.name, d.name, d.name_span, at(f, s),
+                 fresh ? nullptr : &m_.nodes_[static_cast<std::size_t>(it->second)].name_span,
+                 scope);
+      if (!fresh) m_.nodes_.pop_back();
+    }
+  }
+
+  /// Registers an element or instance name in the element namespace; false when taken.
+  bool element_name(std::string_view name, int index, bool instance, std::string_view base,
+                    Span name_span, Span where, const Scope* scope) {
+    const Span* previous = nullptr;
+    if (auto it = m_.element_index_.find(name); it != m_.element_index_.end())
+      previous = &m_.elements_[static_cast<std::size_t>(it->second)].name_span;
+    else if (auto i = instance_index_.find(name); i != instance_index_.end())
+      previous = &i->second;
+    check_name(instance ? "instance" : "element", base, name, name_span, where, previous, scope);
+    if (previous) return false;
+    if (instance)
+      instance_index_.emplace(name, name_span);
+    else
+      m_.element_index_.emplace(name, index);
+    return true;
+  }
+
+  void declare_elements(const ast::ElementStmt* e, const ast::CompositeStmt* c, FileId f,
+                        const Scope* scope) {
+    const ast::Tagged& s = e ? static_cast<const ast::Tagged&>(*e) : *c;
+    const ast::Ref& name = e ? e->name : c->name;
+    const ElementSchema* schema = nullptr;
+    bool valid = true;
+    if (e) {
+      schema = m_.catalog().find(e->kind.name);
+      if (!schema) {
+        Diagnostic d =
+            DiagnosticEngine::make(DiagId::unknown_kind, at(f, s), span(f, e->kind), e->kind.name);
+        std::vector<std::string> kinds = m_.catalog().kinds();
+        for (const auto& sub : m_.submodels_)
+          kinds.push_back(sub.name);
+        if (auto k = closest_match(std::string(e->kind.name), kinds))
+          d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *k));
+        report(std::move(d), scope, true);
+        valid = false;
+      } else if (static_cast<int>(e->nodes.size()) != schema->terminals) {
+        Span mark = e->nodes.empty() ? span(f, e->name)
+                                     : Span{f, e->nodes.front().begin, e->nodes.back().end};
+        report(DiagnosticEngine::make(DiagId::wrong_terminals, at(f, s), mark, e->kind.name,
+                                      schema->terminals, e->nodes.size()),
+               scope, true);
+        valid = false;
+      }
+    }
+    if (!declared_names(name, f, scope, s, names_)) return;
+    for (std::string& n : names_) {
+      const int index = static_cast<int>(m_.elements_.size());
+      ElementDecl& d = m_.elements_.emplace_back();
+      d.element = e;
+      d.composite = c;
+      d.name = std::move(n);
+      d.file = f;
+      d.where = span(f, s);
+      d.name_span = span(f, name);
+      d.scope = scope;
+      d.schema = schema;
+      d.valid = valid;
+      if (!element_name(d.name, index, false, name.id.name, d.name_span, at(f, s), scope))
+        m_.elements_.pop_back();
+    }
+  }
+
+  /// Checks an instance's keys against its submodel's params (once per statement).
+  void check_arguments(const ast::ElementStmt& s, const SubmodelDecl& sub, FileId f,
+                       const Scope* scope, const std::string& name) {
+    if (s.nodes.size() != sub.stmt->terminals.size()) {
+      Span mark =
+          s.nodes.empty() ? span(f, s.name) : Span{f, s.nodes.front().begin, s.nodes.back().end};
+      report(DiagnosticEngine::make(DiagId::instance_terminals, at(f, s), mark, sub.name,
+                                    sub.stmt->terminals.size(), s.nodes.size()),
+             scope, true);
+    }
+    std::vector<std::string> params;
+    for (const auto& v : sub.values)
+      if (v.is_param) params.push_back(v.name);
+    std::set<std::string_view> given;
+    for (const auto& kv : s.keys) {
+      const int k = sub.value_index(kv.key.name);
+      if (k < 0 || !sub.values[static_cast<std::size_t>(k)].is_param) {
+        Diagnostic d = DiagnosticEngine::make(DiagId::unknown_key, at(f, s), span(f, kv.key),
+                                              fmt::format("submodel '{}'", sub.name), kv.key.name);
+        d.message = fmt::format("submodel '{}' has no param '{}'", sub.name, kv.key.name);
+        if (auto m = closest_match(std::string(kv.key.name), params))
+          d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *m));
+        else
+          d.notes.push_back(DiagnosticEngine::note(
+              DiagId::note_text, std::nullopt,
+              params.empty() ? fmt::format("submodel '{}' has no params", sub.name)
+                             : fmt::format("its params: {}", fmt::join(params, ", "))));
+        report(std::move(d), scope, true);
+      } else if (!given.insert(kv.key.name).second) {
+        report(
+            DiagnosticEngine::make(DiagId::duplicate_key, at(f, s), span(f, kv.key), kv.key.name),
+            scope, true);
+      }
+    }
+    for (const auto& v : sub.values)
+      if (v.is_param && !v.expr && !given.count(v.name))
+        report(DiagnosticEngine::make(DiagId::missing_argument, at(f, s), span(f, s.name), name,
+                                      sub.name, v.name),
+               scope, true);
+  }
+
+  void instantiate(const ast::ElementStmt& s, const SubmodelDecl& sub, FileId f,
+                   const Scope* scope) {
+    for (std::size_t i = 0; i < active_.size(); ++i)
+      if (active_[i] == &sub) {
         std::string chain;
-        for (std::size_t k = i; k < stack_.size(); ++k)
-          chain += sources_.path(open_ids_[k]) + " -> ";
-        diags_.report(DiagId::include_cycle, at(f, s), span(f, s.path), s.path.text,
-                      chain + s.path.text);
+        for (std::size_t k = i; k < active_.size(); ++k)
+          chain += active_[k]->name + " -> ";
+        report(DiagnosticEngine::make(DiagId::submodel_cycle, at(f, s), span(f, s.kind), sub.name,
+                                      chain + sub.name),
+               scope, true);
         return;
       }
-    if (loaded_.count(key)) return; // already included elsewhere: its declarations are in
-    if (constexpr std::size_t max_depth = 64; stack_.size() >= max_depth) {
-      diags_.report(DiagId::include_too_deep, at(f, s), span(f, s.path), s.path.text, max_depth);
-      return;
+    if (!declared_names(s.name, f, scope, s, names_)) return;
+    std::vector<std::string> names = std::move(names_);
+    for (std::string& name : names) {
+      if (stopped_) return;
+      Scope& inst = m_.scopes_.emplace_back();
+      inst.prefix = name + '.';
+      inst.name = std::move(name);
+      // The instance's name is registered as a view of the scope's own copy, which stays put.
+      if (!element_name(inst.name, -1, true, s.name.id.name, span(f, s.name), at(f, s), scope)) {
+        m_.scopes_.pop_back();
+        continue;
+      }
+      check_arguments(s, sub, f, scope, inst.name);
+      inst.kind = Scope::Kind::instance;
+      inst.parent = scope;
+      inst.file = f;
+      inst.where = span(f, s);
+      inst.submodel = &sub;
+      inst.statement = &s;
+      inst.terminals.assign(sub.stmt->terminals.size(), -1);
+      inst.slot = m_.instance_slots_;
+      m_.instance_slots_ += sub.values.size();
+      active_.push_back(&sub);
+      for (const auto& stmt : sub.stmt->body) {
+        if (stopped_) break;
+        expand(stmt, sub.file, &inst);
+      }
+      active_.pop_back();
     }
-    std::string text, error;
-    if (!read_file(path, text, error)) {
-      diags_.report(DiagId::include_unreadable, at(f, s), span(f, s.path), s.path.text, error);
-      return;
+  }
+
+  // --- resolution -----------------------------------------------------------------------------
+
+  /// Resolves the terminals of instances (outer ones first: they were created first), then those
+  /// of elements, to node indices.
+  void resolve() {
+    for (Scope& s : m_.scopes_) {
+      if (s.kind != Scope::Kind::instance) continue;
+      const auto& refs = s.statement->nodes;
+      for (std::size_t k = 0; k < refs.size() && k < s.terminals.size(); ++k)
+        if (auto n = elaborator_->resolve_node(refs[k], s.file, s.parent,
+                                               Span{s.file, s.where.begin, s.where.begin}))
+          s.terminals[k] = *n;
     }
-    load_text(path, std::move(text));
+    for (ElementDecl& d : m_.elements_) {
+      const auto& refs = d.element ? d.element->nodes : d.composite->nodes;
+      d.nodes.reserve(refs.size());
+      if (!d.valid) { // its error is reported; its links still count for the topology warnings
+        for (const auto& r : refs)
+          d.nodes.push_back(elaborator_->find_node(r, d.file, d.scope));
+        continue;
+      }
+      for (const auto& r : refs) {
+        // A plain name at the top level is looked up directly (the common case of big files).
+        int n = d.scope || !r.plain() ? -1 : m_.node_index(r.id.name);
+        if (n < 0)
+          n = elaborator_
+                  ->resolve_node(r, d.file, d.scope, Span{d.file, d.where.begin, d.where.begin})
+                  .value_or(-1);
+        d.nodes.push_back(n);
+      }
+    }
+  }
+
+  // --- reporting ------------------------------------------------------------------------------
+
+  /// A problem of an expression, reported at the start of the statement it stands in.
+  static Diagnostic located(Diagnostic d, FileId f, const ast::Tagged& stmt) {
+    if (!d.mark) d.mark = d.at;
+    d.at = at(f, stmt);
+    return d;
+  }
+
+  /// Reports a problem found while expanding: with notes naming the iteration and instance, once
+  /// per place (later iterations repeat it); `structural` problems make declarations unusable,
+  /// and instantiate() throws the first of them.
+  void report(Diagnostic d, const Scope* scope, bool structural) {
+    add_scope_notes(d, scope);
+    if (d.generated) {
+      const Span a = d.at.value_or(Span{}), mk = d.mark.value_or(a);
+      if (!reported_.emplace(d.code, a.file, a.begin, mk.begin).second) return;
+    }
+    if (structural && d.severity == Severity::error && !m_.load_error_) m_.load_error_ = d;
+    diags_.add(std::move(d));
   }
 
   Model& m_;
@@ -215,8 +669,17 @@ private:
   const LoadOptions& opt_;
   std::vector<std::string> stack_;
   std::vector<FileId> open_ids_;
-  std::set<std::string> loaded_;
-  std::unordered_map<std::string, Span> value_names_, case_names_;
+  std::map<std::string, Span> loaded_; // canonical path -> the include that read it
+  std::unordered_map<std::string_view, Span> value_names_, case_names_, submodel_names_;
+  std::unordered_map<std::string_view, Span> instance_index_;
+  std::vector<std::pair<const ast::Statement*, FileId>> structure_; // top-level, in order
+  std::optional<Elaborator> elaborator_;
+  std::vector<const SubmodelDecl*> active_; // instances being expanded, outermost first
+  std::vector<std::string> names_;          // scratch: the names of one declaration
+  std::set<const ast::ForStmt*> bad_loops_; // loops whose variables hide another name
+  std::set<std::tuple<std::string, FileId, std::uint32_t, std::uint32_t>> reported_;
+  std::size_t work_ = 0;
+  bool stopped_ = false;
   bool model_seen_ = false;
 };
 
@@ -248,6 +711,17 @@ std::unique_ptr<Model> Model::from_text(const std::string& path, std::string tex
 
 std::string Model::directory_of(FileId file) const {
   return fs::path(sources_->path(file)).parent_path().string();
+}
+
+const SubmodelDecl* Model::submodel(std::string_view name) const {
+  auto it = submodel_index_.find(name);
+  return it == submodel_index_.end() ? nullptr : &submodels_[static_cast<std::size_t>(it->second)];
+}
+
+const ast::File& Model::file(FileId id) const {
+  for (const auto& f : files_)
+    if (f->file_id == id) return *f;
+  throw std::out_of_range("no such file in the model");
 }
 
 std::vector<std::string> Model::case_names() const {

@@ -48,13 +48,16 @@ struct ElementSpec {
 
 /// Settings of the case the network was instantiated for.
 struct CaseSettings {
-  std::string name = "default";   ///< case name
-  std::optional<double> duration; ///< simulated time, s
-  std::optional<double> initial;  ///< initial temperature of nodes without T0, K
-  bool initial_steady = false;    ///< `initial = steady`: start from the steady state at t = 0
-  std::optional<double> output;   ///< output interval, s
-  std::string data_path;          ///< measured data file (resolved path), if any
-  Span where;                     ///< the case statement (empty for the implicit default)
+  std::string name = "default";     ///< case name
+  std::optional<double> duration;   ///< simulated time, s
+  std::optional<double> initial;    ///< initial temperature of nodes without T0, K
+  bool initial_steady = false;      ///< `initial = steady`: start from the steady state at t = 0
+  std::optional<double> output;     ///< output interval, s
+  std::vector<double> output_times; ///< listed output times, s (`output = 0, 100, 250`)
+  std::string data_path;            ///< measured data file (resolved path), if any
+  double data_scale = 1.0;          ///< a data value v is data_scale * v + data_offset degC
+  double data_offset = 0.0;         ///< (from the unit of `data "file.csv" [K]`)
+  Span where;                       ///< the case statement (empty for the implicit default)
 };
 
 /// A network ready for the kernel: nodes, boundaries and elements in SI.

@@ -1,6 +1,8 @@
 #include "lang/parser.hpp"
 
-#include "lang/grammar_def.hpp"
+#include "lang/grammar.hpp"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
@@ -12,15 +14,10 @@
 namespace thermnet::lang {
 namespace {
 
-namespace x3 = boost::spirit::x3;
-using It = const char*;
-
-bool is_ident_start(char c) {
-  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
-}
-bool is_ident_char(char c) {
-  return is_ident_start(c) || (c >= '0' && c <= '9');
-}
+using grammar::is_ident_char;
+using grammar::is_ident_start;
+using grammar::It;
+using grammar::Place;
 
 /// Length of the UTF-8 sequence starting at p that is valid, or 0 if invalid.
 std::size_t utf8_length(It p, It end) {
@@ -37,45 +34,29 @@ std::size_t utf8_length(It p, It end) {
   return n;
 }
 
-/// Drives the X3 rules statement by statement so one syntax error never hides the next one.
+/// What a block holds, which decides the messages and the recovery after a syntax error.
+enum class Block { top, loop, submodel, case_items };
+
+/// Drives the grammar statement by statement so one syntax error never hides the next one.
 class Driver {
 public:
   Driver(FileId id, const SourceManager& sources, DiagnosticEngine& diags)
-      : id_(id), diags_(diags), copy_(sources.text(id)), base_(copy_.data()),
-        end_(base_ + copy_.size()) {}
+      : id_(id), diags_(diags), copy_(sources.text(id)), original_(sources.text(id)),
+        base_(copy_.data()), end_(base_ + copy_.size()), grammar_(base_, end_, original_, file_) {}
 
   ast::File run() {
-    ast::File file;
-    file.file_id = id_;
+    file_.file_id = id_;
     const std::size_t errors_before = diags_.error_count();
     if (!prescan()) {
-      file.syntax_errors = diags_.error_count() - errors_before;
-      return file;
+      file_.syntax_errors = diags_.error_count() - errors_before;
+      return std::move(file_);
     }
     It p = base_;
     if (end_ - base_ >= 3 && std::equal(base_, base_ + 3, "\xEF\xBB\xBF")) p += 3; // a UTF-8 BOM
-    for (;;) {
-      p = skip_separators(p);
-      if (p == end_ || diags_.saturated()) break;
-      if (*p == '}') {
-        diags_.report(DiagId::syntax_unexpected, span(p, p + 1), std::nullopt, "'}'");
-        ++p;
-        continue;
-      }
-      if (at_keyword(p, "case")) {
-        parse_case(p, file);
-        continue;
-      }
-      ast::Statement s;
-      It start = p;
-      if (parse_one(p, grammar::statement, s, false))
-        file.statements.push_back(std::move(s));
-      else
-        file.unparsed.push_back(salvage(start));
-    }
+    parse_statements(p, file_.statements, Block::top, nullptr);
     if (p != end_ && diags_.saturated()) diags_.stop_early();
-    file.syntax_errors = diags_.error_count() - errors_before;
-    return file;
+    file_.syntax_errors = diags_.error_count() - errors_before;
+    return std::move(file_);
   }
 
 private:
@@ -169,13 +150,32 @@ private:
     std::vector<std::pair<It, It>> outer;
     for (const auto& sp : spans)
       if (outer.empty() || sp.first > outer.back().second) outer.push_back(sp);
-    std::size_t k = 0;
-    return scan([&](It p, std::size_t n, int state) {
-      while (k < outer.size() && outer[k].second < p)
-        ++k;
-      if (k < outer.size() && p > outer[k].first && (*p == '\n' || state == 2)) blank(p, n);
-      return true;
-    });
+    // A bracket opens in code (not in a string or comment), so each span is read from there.
+    for (const auto& [open, close] : outer) {
+      bool in_comment = false, in_string = false, escaped = false;
+      for (It p = open + 1; p < close; ++p) {
+        const char c = *p;
+        if (c == '\n') {
+          in_comment = in_string = escaped = false;
+          blank(p, 1);
+        } else if (in_comment) {
+          blank(p, 1);
+        } else if (in_string) {
+          if (escaped)
+            escaped = false;
+          else if (c == '\\')
+            escaped = true;
+          else if (c == '"')
+            in_string = false;
+        } else if (c == '#') {
+          in_comment = true;
+          blank(p, 1);
+        } else if (c == '"') {
+          in_string = true;
+        }
+      }
+    }
+    return true;
   }
 
   /// The first two words of a statement that failed to parse.
@@ -189,7 +189,7 @@ private:
       It q = p;
       while (q < end_ && is_ident_char(*q))
         ++q;
-      id.name.assign(p, q);
+      id.name = original_.substr(off(p), static_cast<std::size_t>(q - p));
       id.begin = off(p);
       id.end = off(q);
       p = q;
@@ -206,8 +206,9 @@ private:
     while (line > base_ && line[-1] != '\n')
       --line;
     line = skip_line_space(line);
-    for (const char* w : {"case", "series", "parallel"})
+    for (const char* w : {"case", "series", "parallel", "submodel"})
       if (at_keyword(line, w)) return w;
+    if (at_keyword(line, "for")) return "for loop";
     return "block";
   }
 
@@ -353,26 +354,41 @@ private:
     report_expected(where, which);
   }
 
-  /// Parses one statement or case item with `rule`; on failure reports and skips the statement.
+  /// What a failed statement of a block should have been, for "expected ...".
+  static const char* expected_in(Block b) {
+    switch (b) {
+    case Block::top:
+      return "a statement (model, include, const, param, node, boundary, case, series, parallel, "
+             "for, submodel or an element)";
+    case Block::loop:
+      return "a statement of a loop (node, boundary, series, parallel, for or an element)";
+    case Block::submodel:
+      return "a statement of a submodel (const, param, node, boundary, series, parallel, for or "
+             "an element)";
+    case Block::case_items:
+      return "a case setting ('duration = ...', 'NAME.key = ...' or 'data \"file.csv\"')";
+    }
+    return "a statement";
+  }
+
+  /// Parses one statement or case item with `rule` (a callable taking the position); on failure
+  /// reports and skips the statement.
   template <typename Rule, typename Attr>
-  bool parse_one(It& p, Rule const& rule, Attr& attr, bool in_block) {
+  bool parse_one(It& p, Rule&& rule, Attr& attr, Block block) {
+    const bool in_block = block != Block::top;
     It start = p;
     try {
-      auto const parser = x3::with<grammar::buffer_tag>(base_)[rule];
-      if (!x3::phrase_parse(p, end_, parser, grammar::line_skipper, attr)) {
-        report_expected(start, in_block
-                                   ? "a case setting ('duration = ...', 'NAME.key = ...' or "
-                                     "'data \"file.csv\"')"
-                                   : "a statement (model, include, const, param, node, boundary, "
-                                     "case, series, parallel or an element)");
+      if (!rule(p)) {
+        report_expected(start, expected_in(block));
         p = recover(start, in_block);
         return false;
       }
-    } catch (x3::expectation_failure<It> const& e) {
-      report_failure(e.where(), e.which());
+    } catch (const grammar::Expected& e) {
+      report_failure(e.where, e.what);
       p = recover(start, in_block);
       return false;
     }
+    p = grammar_.skip(p);
     tag_statement(attr, start, p);
     It q = skip_line_space(p);
     if (q == end_ || *q == '\n' || *q == ';' || (in_block && *q == '}')) {
@@ -402,7 +418,7 @@ private:
 
   /// Gives a whole statement the byte range the driver parsed it from.
   template <typename Variant> void tag_statement(Variant& v, It begin, It end) {
-    boost::apply_visitor(
+    std::visit(
         [&](auto& node) {
           node.begin = off(begin);
           node.end = off(end);
@@ -410,45 +426,151 @@ private:
         v);
   }
 
-  void parse_case(It& p, ast::File& file) {
+  /// Parses a block header with `rule`; on a syntax error reports it, skips the whole block and
+  /// records the statement as unparsed.
+  template <typename Rule> bool parse_header(It& p, Rule&& rule, Block block) {
     It start = p;
-    ast::CaseStmt cs;
-    if (!parse_header(p, cs.name)) {
-      file.unparsed.push_back(salvage(start));
-      return;
+    try {
+      if (rule(p)) return true;
+      report_expected(start, "'case NAME {'");
+    } catch (const grammar::Expected& e) {
+      report_failure(e.where, e.what);
     }
+    p = recover(start, block != Block::top);
+    file_.unparsed.push_back(salvage(start));
+    return false;
+  }
+
+  /// Reaching the end of the file inside a block: the prescan has reported an unclosed '{', else
+  /// the block is reported here.
+  void end_in_block(It open, const char* kind) {
+    if (!unclosed_braces_)
+      diags_.report(DiagId::unterminated_block, span(open, open), std::nullopt, kind);
+  }
+
+  /// Parses statements up to the end of the file (at the top) or the '}' closing the block that
+  /// `open` starts (consumed).
+  template <typename Body> void parse_statements(It& p, Body& out, Block block, It open) {
+    const Place place = block == Block::top    ? Place::top
+                        : block == Block::loop ? Place::loop
+                                               : Place::submodel;
     for (;;) {
       p = skip_separators(p);
       if (p == end_) {
-        // The prescan has already reported the unclosed '{'.
-        if (!unclosed_braces_)
-          diags_.report(DiagId::unterminated_block, span(start, start), std::nullopt, "case");
-        break;
+        if (open) end_in_block(open, block == Block::loop ? "for loop" : "submodel");
+        return;
       }
       if (diags_.saturated()) return;
       if (*p == '}') {
         ++p;
-        break;
+        if (open) return;
+        diags_.report(DiagId::syntax_unexpected, span(p - 1, p), std::nullopt, "'}'");
+        continue;
       }
-      ast::CaseItem item;
-      if (parse_one(p, grammar::case_item, item, true)) cs.items.push_back(std::move(item));
+      if (at_keyword(p, "case")) {
+        parse_case(p, out, block);
+        continue;
+      }
+      if (at_keyword(p, "for") && parse_for(p, out, block)) continue;
+      if (at_keyword(p, "submodel") && parse_submodel(p, out, block)) continue;
+      ast::Statement s;
+      It start = p;
+      if (parse_one(
+              p, [&](It& q) { return grammar_.statement(q, s, place); }, s, block))
+        out.push_back(std::move(s));
+      else
+        file_.unparsed.push_back(salvage(start));
     }
-    cs.begin = off(start);
-    cs.end = off(p);
-    file.statements.emplace_back(std::move(cs));
   }
 
-  bool parse_header(It& p, ast::Identifier& name) {
+  /// A `for` block, unless the text is not a loop header (then false, nothing consumed).
+  template <typename Body> bool parse_for(It& p, Body& out, Block block) {
     It start = p;
+    ast::ForStmt f;
     try {
-      auto const parser = x3::with<grammar::buffer_tag>(base_)[grammar::case_header];
-      if (x3::phrase_parse(p, end_, parser, grammar::line_skipper, name)) return true;
-      report_expected(start, "'case NAME {'");
-    } catch (x3::expectation_failure<It> const& e) {
-      report_failure(e.where(), e.which());
+      if (!grammar_.loop_header(p, f.ranges)) return false;
+    } catch (const grammar::Expected& e) {
+      report_failure(e.where, e.what);
+      p = recover(start, block != Block::top);
+      file_.unparsed.push_back(salvage(start));
+      return true;
     }
-    p = recover(start, false);
-    return false;
+    parse_statements(p, f.body, Block::loop, start);
+    f.begin = off(start);
+    f.end = off(p);
+    out.push_back(std::move(f));
+    return true;
+  }
+
+  /// A `submodel` block, unless the text is not a submodel header (then false).
+  template <typename Body> bool parse_submodel(It& p, Body& out, Block block) {
+    It start = p;
+    ast::SubmodelStmt m;
+    try {
+      if (!grammar_.submodel_header(p, m)) return false;
+    } catch (const grammar::Expected& e) {
+      report_failure(e.where, e.what);
+      p = recover(start, block != Block::top);
+      file_.unparsed.push_back(salvage(start));
+      return true;
+    }
+    parse_statements(p, m.body, Block::submodel, start);
+    m.begin = off(start);
+    m.end = off(p);
+    out.push_back(std::move(m));
+    return true;
+  }
+
+  template <typename Body> void parse_case(It& p, Body& out, Block block) {
+    It start = p;
+    ast::CaseStmt cs;
+    if (!parse_header(
+            p, [&](It& q) { return grammar_.case_header(q, cs.name); }, block))
+      return;
+    if (!parse_case_items(p, cs.items, start, "case")) return;
+    cs.begin = off(start);
+    cs.end = off(p);
+    out.push_back(std::move(cs));
+  }
+
+  /// Parses case settings up to the '}' that closes the block `open` starts; false when the
+  /// error limit was reached.
+  bool parse_case_items(It& p, std::vector<ast::CaseItem>& items, It open, const char* kind) {
+    for (;;) {
+      p = skip_separators(p);
+      if (p == end_) {
+        end_in_block(open, kind);
+        return true;
+      }
+      if (diags_.saturated()) return false;
+      if (*p == '}') {
+        ++p;
+        return true;
+      }
+      if (at_keyword(p, "for")) {
+        It start = p;
+        ast::CaseFor f;
+        bool header = false;
+        try {
+          header = grammar_.loop_header(p, f.ranges);
+        } catch (const grammar::Expected& e) {
+          report_failure(e.where, e.what);
+          p = recover(start, true);
+          continue;
+        }
+        if (header) {
+          if (!parse_case_items(p, f.items, start, "for loop")) return false;
+          f.begin = off(start);
+          f.end = off(p);
+          items.emplace_back(std::move(f));
+          continue;
+        }
+      }
+      ast::CaseItem item;
+      if (parse_one(
+              p, [&](It& q) { return grammar_.case_item(q, item); }, item, Block::case_items))
+        items.push_back(std::move(item));
+    }
   }
 
   /// Replaces n bytes at p (inside the parse copy) by spaces.
@@ -460,8 +582,11 @@ private:
   FileId id_;
   DiagnosticEngine& diags_;
   std::string copy_;
+  std::string_view original_; // names view the text itself; the copy dies with the driver
   It base_;
   It end_;
+  ast::File file_;
+  grammar::Grammar grammar_;
   bool unclosed_braces_ = false;
 };
 

@@ -1,10 +1,13 @@
 #include "lang/signal.hpp"
 
+#include "lang/time_program.hpp"
+
 #include <algorithm>
 
 namespace thermnet::lang {
 
 double Signal::at(double time) const {
+  if (kind == Kind::expression) return program->at(time) * scale + offset;
   if (kind == Kind::constant || t.empty()) return t.empty() ? constant : v.front();
   if (time <= t.front()) return v.front();
   if (time >= t.back()) return v.back();
@@ -21,6 +24,8 @@ Signal Signal::scaled(double factor) const {
   s.constant *= factor;
   for (auto& x : s.v)
     x *= factor;
+  s.scale *= factor;
+  s.offset *= factor;
   return s;
 }
 

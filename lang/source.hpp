@@ -2,6 +2,7 @@
 /// Source files of a model: text, paths and offset -> line/column mapping.
 
 #include <cstdint>
+#include <deque>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -44,7 +45,8 @@ public:
   std::size_t size() const { return files_.size(); }
   /// The path a file was added under.
   const std::string& path(FileId id) const { return files_.at(id).path; }
-  /// The full text of a file.
+  /// The full text of a file; it stays at the same address while the manager lives (syntax trees
+  /// view it).
   const std::string& text(FileId id) const { return files_.at(id).text; }
   /// Line and column of a byte offset (offsets past the end clamp to the end).
   LineCol line_col(FileId id, std::uint32_t offset) const;
@@ -59,7 +61,7 @@ private:
     std::string text;
     std::vector<std::uint32_t> line_starts;
   };
-  std::vector<File> files_;
+  std::deque<File> files_; // a deque: adding a file never moves the others' text
 };
 
 } // namespace thermnet::lang

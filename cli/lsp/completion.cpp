@@ -70,6 +70,26 @@ void add_keys(Items& items, const std::string& kind, const std::vector<std::stri
     if (fresh(name)) items.add(name, item_property, doc);
 }
 
+/// The submodels, offered where an element kind may stand.
+void add_submodels(Items& items, const lang::Model& m) {
+  for (const auto& sm : m.submodels())
+    items.add(sm.name, item_class, "submodel");
+}
+
+/// The next part of the names inside an instance: after `u1.`, `pcb` for `u1.pcb`.
+void add_inner_names(Items& items, const lang::Model& m, const std::string& object) {
+  const std::string prefix = object + ".";
+  auto add = [&](const std::string& name, const std::string& detail) {
+    if (!name.starts_with(prefix)) return;
+    std::string rest = name.substr(prefix.size());
+    items.add(rest.substr(0, rest.find('.')), item_variable, detail);
+  };
+  for (const auto& n : m.nodes())
+    add(n.name, n.boundary ? "boundary" : "node");
+  for (const auto& e : m.elements())
+    add(e.name, "element");
+}
+
 /// Completions inside a value: node names for node keys, else params and consts.
 void add_value_items(Items& items, const lang::Model& m, const std::string& kind,
                      const std::string& key) {
@@ -79,6 +99,7 @@ void add_value_items(Items& items, const lang::Model& m, const std::string& kind
       return;
     }
   if (key == "initial") items.add("steady", item_keyword, "start from the steady state");
+  items.add("time", item_keyword, "the simulation time [s] (in a boundary's T or a power)");
   add_values(items, m);
 }
 
@@ -90,6 +111,7 @@ void case_items(Items& items, const lang::Model& m, const StatementContext& ctx)
   }
   if (!ctx.tokens.empty()) return;
   add_keys(items, "case", {});
+  items.add("for", item_keyword, "repeat overrides over a range");
   for (const auto& e : m.elements())
     items.add(e.name, item_variable, "element " + element_kind(m, e.name));
   add_nodes(items, m);
@@ -108,8 +130,10 @@ nlohmann::json completion(const Document& doc, std::size_t at) {
   if (!ctx.object.empty()) { // `film.` in a case: the object's keys
     if (const lang::NodeDecl* n = find_node(m, ctx.object))
       add_keys(items, n->boundary ? "boundary" : "node", {});
+    else if (std::string kind = element_kind(m, ctx.object); !kind.empty())
+      add_keys(items, kind, {});
     else
-      add_keys(items, element_kind(m, ctx.object), {});
+      add_inner_names(items, m, ctx.object); // `u1.` of an instance
     return items.take();
   }
   if (ctx.block == "case") {
@@ -122,7 +146,10 @@ nlohmann::json completion(const Document& doc, std::size_t at) {
     } else {
       for (std::string_view k : lang::statement_keywords)
         items.add(std::string(k), item_keyword, "statement");
+      items.add("for", item_keyword, "loop: for VAR in LO .. HI { ... }");
+      items.add("submodel", item_keyword, "a reusable part: submodel NAME(TERMINAL, ...) { ... }");
       add_kinds(items, false);
+      add_submodels(items, m);
     }
     return items.take();
   }

@@ -1,5 +1,6 @@
 #include "cli/lsp/hover.hpp"
 
+#include "cli/lsp/navigation.hpp"
 #include "cli/lsp/position.hpp"
 #include "cli/lsp/schema_text.hpp"
 #include "cli/lsp/text_context.hpp"
@@ -36,6 +37,33 @@ std::optional<std::string> key_hover(const Document& doc, const CodeWord& cw) {
   return std::nullopt;
 }
 
+/// The markdown of the words that start loops and submodels, and of `time`.
+std::optional<std::string> keyword_hover(const Word& w, const StatementContext& ctx) {
+  if (w.text == "for" || (w.text == "in" && !ctx.tokens.empty() && ctx.tokens.front() == "for"))
+    return std::string("**for** VAR **in** LO .. HI [, VAR **in** LO .. HI] { ... } — repeats its "
+                       "statements for every whole number from LO to HI, both included");
+  if (w.text == "submodel" && ctx.tokens.empty())
+    return std::string("**submodel** NAME(TERMINAL, ...) { ... } — a reusable part; an instance "
+                       "`NAME INSTANCE NODE ... key = value` prefixes its names with `INSTANCE.`");
+  if (w.text == "time" && !ctx.tokens.empty())
+    return std::string("**time** — the simulation time in seconds (in a boundary's T, a source's "
+                       "power and their case overrides)");
+  return std::nullopt;
+}
+
+/// The markdown of a submodel definition: its terminals and params.
+std::optional<std::string> submodel_hover(const lang::Model& m, const std::string& name) {
+  const lang::SubmodelDecl* sm = m.submodel(name);
+  if (!sm) return std::nullopt;
+  std::string terminals, params;
+  for (const auto& t : sm->stmt->terminals)
+    terminals += fmt::format("{}{}", terminals.empty() ? "" : ", ", t.name);
+  for (const auto& v : sm->values)
+    if (v.is_param) params += fmt::format("{}`{}`", params.empty() ? "" : ", ", v.name);
+  return fmt::format("**{}** — submodel ({})\n\nparams: {}", name, terminals,
+                     params.empty() ? "none" : params);
+}
+
 /// The markdown of a declared name.
 std::optional<std::string> declaration_hover(const Document& doc, const std::string& name) {
   const lang::Model& m = doc.model();
@@ -70,7 +98,12 @@ nlohmann::json hover(const Document& doc, std::size_t at) {
   const lang::ElementSchema* kind = element_catalog().find(w->text);
   if (followed_by_assignment(text, *w)) md = key_hover(doc, *cw);
   if (!md && kind && ctx.tokens.empty() && ctx.object.empty()) md = kind_markdown(*kind);
-  if (!md) md = declaration_hover(doc, w->text);
+  if (!md) md = keyword_hover(*w, ctx);
+  if (!md && loop_variable(text, *w)) md = fmt::format("**{}** — loop variable", w->text);
+  if (!md) md = submodel_hover(doc.model(), w->text);
+  if (!md && !(w->begin > 0 && text[w->begin - 1] == '.' && followed_by_assignment(text, *w)))
+    if (std::string name = declared_name(doc.model(), qualified_name(text, *w)); !name.empty())
+      md = declaration_hover(doc, name);
   if (!md && kind) md = kind_markdown(*kind);
   if (!md) return nullptr;
   return {{"contents", {{"kind", "markdown"}, {"value", *md}}},

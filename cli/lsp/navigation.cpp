@@ -12,6 +12,7 @@ namespace {
 
 // SymbolKind values of the protocol.
 constexpr int symbol_namespace = 3;
+constexpr int symbol_class = 5;
 constexpr int symbol_property = 7;
 constexpr int symbol_variable = 13;
 constexpr int symbol_constant = 14;
@@ -36,15 +37,42 @@ std::vector<Decl> declarations(const lang::Model& m) {
     out.push_back({n.file, n.where, n.name_span, n.name, n.boundary ? "boundary" : "node",
                    n.boundary ? symbol_constant : symbol_variable});
   for (const auto& e : m.elements()) {
-    std::string kind = e.element ? e.element->kind.name : e.composite ? e.composite->mode.name : "";
+    std::string kind(e.element     ? e.element->kind.name
+                     : e.composite ? e.composite->mode.name
+                                   : std::string_view());
     out.push_back({e.file, e.where, e.name_span, e.name, kind, symbol_object});
   }
   for (const auto& c : m.cases())
     out.push_back({c.file, c.where, c.name_span, c.name, "case", symbol_namespace});
+  for (const auto& sm : m.submodels())
+    out.push_back({sm.file, sm.where, sm.name_span, sm.name, "submodel", symbol_class});
   return out;
 }
 
+/// Whether `name` is the name of one of `decls`.
+bool declared(const std::vector<Decl>& decls, std::string_view name) {
+  return std::any_of(decls.begin(), decls.end(), [&](const Decl& d) { return d.name == name; });
+}
+
+/// declared_name() over a list of declarations.
+std::string declared_name(const std::vector<Decl>& decls, const std::string& written) {
+  if (written.empty() || declared(decls, written)) return written;
+  const std::string inner = "." + written;
+  for (const auto& d : decls)
+    if (d.name.ends_with(inner)) return d.name;
+  const std::size_t index = written.find('[');
+  if (index == std::string::npos) return {};
+  const std::string family = written.substr(0, index + 1);
+  for (const auto& d : decls)
+    if (d.name.starts_with(family)) return d.name;
+  return {};
+}
+
 } // namespace
+
+std::string declared_name(const lang::Model& m, const std::string& written) {
+  return declared_name(declarations(m), written);
+}
 
 nlohmann::json definition(const Document& doc, std::size_t at) {
   const std::string& text = doc.text();
@@ -52,7 +80,10 @@ nlohmann::json definition(const Document& doc, std::size_t at) {
   if (!cw) return nullptr;
   const Word* w = &cw->word;
   const StatementContext& ctx = cw->where;
-  if (w->begin > 0 && text[w->begin - 1] == '.') return nullptr; // a key after `object.`
+  if (w->begin > 0 && text[w->begin - 1] == '.' && followed_by_assignment(text, *w))
+    return nullptr; // a key after `object.`
+  if (auto v = loop_variable(text, *w))
+    return {{"uri", doc.uri()}, {"range", range_json(text, *v, *v + w->text.size())}};
   // Values first (keys are not declarations), then nodes, elements, cases.
   std::vector<Decl> decls = declarations(doc.model());
   std::stable_sort(decls.begin(), decls.end(), [](const Decl& a, const Decl& b) {
@@ -68,8 +99,9 @@ nlohmann::json definition(const Document& doc, std::size_t at) {
       !ctx.tokens.empty() && (ctx.tokens.front() == "param" || ctx.tokens.front() == "const");
   if (followed_by_assignment(text, *w) && !ctx.tokens.empty() && !declares_value)
     return nullptr; // `key = ...` of an element, node or boundary
+  const std::string name = declared_name(decls, qualified_name(text, *w));
   for (const auto& d : decls) {
-    if (d.name != w->text) continue;
+    if (d.name != name) continue;
     const auto& sources = doc.sources();
     std::string uri = d.file == doc.root() ? doc.uri() : path_to_uri(sources.path(d.file));
     return {{"uri", uri},

@@ -72,8 +72,8 @@ const std::vector<std::pair<std::string, std::string>>& builtin_keys(std::string
 std::string element_kind(const lang::Model& m, std::string_view name) {
   for (const auto& e : m.elements())
     if (e.name == name) {
-      if (e.element) return e.element->kind.name;
-      if (e.composite) return e.composite->mode.name;
+      if (e.element) return std::string(e.element->kind.name);
+      if (e.composite) return std::string(e.composite->mode.name);
     }
   return {};
 }

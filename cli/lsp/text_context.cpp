@@ -39,7 +39,79 @@ std::vector<std::string> tokenize(std::string_view s) {
   return out;
 }
 
+/// The offset one past the `]` that closes the `[` at `open`, on the same line, or npos.
+std::size_t closing_bracket(std::string_view text, std::size_t open) {
+  int depth = 0;
+  for (std::size_t i = open; i < text.size() && text[i] != '\n'; ++i) {
+    if (text[i] == '[') ++depth;
+    if (text[i] == ']' && --depth == 0) return i + 1;
+  }
+  return std::string_view::npos;
+}
+
+/// The offset of the `[` that opens the `]` at `close`, on the same line, or npos.
+std::size_t opening_bracket(std::string_view text, std::size_t close) {
+  int depth = 0;
+  for (std::size_t i = close + 1; i-- > 0 && text[i] != '\n';) {
+    if (text[i] == ']') ++depth;
+    if (text[i] == '[' && --depth == 0) return i;
+  }
+  return std::string_view::npos;
+}
+
 } // namespace
+
+std::string qualified_name(std::string_view text, const Word& w) {
+  std::size_t b = w.begin;
+  // Leftwards over `.`, an optional `[...]` and an identifier, as long as the path goes on
+  // (`..` is a range, not a path).
+  while (b > 1 && text[b - 1] == '.' && text[b - 2] != '.') {
+    std::size_t p = b - 1;
+    if (text[p - 1] == ']') {
+      p = opening_bracket(text, p - 1);
+      if (p == std::string_view::npos) break;
+    }
+    std::size_t s = p;
+    while (s > 0 && ident_char(text[s - 1]))
+      --s;
+    if (s == p || std::isdigit(static_cast<unsigned char>(text[s]))) break;
+    b = s;
+  }
+  std::size_t e = w.end;
+  if (e < text.size() && text[e] == '[') {
+    std::size_t close = closing_bracket(text, e);
+    if (close != std::string_view::npos) e = close;
+  }
+  std::string out;
+  for (char c : text.substr(b, e - b))
+    if (!std::isspace(static_cast<unsigned char>(c))) out += c;
+  return out;
+}
+
+std::optional<std::size_t> loop_variable(std::string_view text, const Word& w) {
+  const std::size_t n = w.text.size();
+  for (std::size_t pos = text.rfind(w.text, w.begin); pos != std::string_view::npos;
+       pos = pos == 0 ? std::string_view::npos : text.rfind(w.text, pos - 1)) {
+    if ((pos > 0 && ident_char(text[pos - 1])) ||
+        (pos + n < text.size() && ident_char(text[pos + n])))
+      continue;
+    std::size_t i = pos + n;
+    while (i < text.size() && (text[i] == ' ' || text[i] == '\t'))
+      ++i;
+    if (i == pos + n || text.compare(i, 2, "in") != 0 ||
+        (i + 2 < text.size() && ident_char(text[i + 2])))
+      continue;
+    // The header: from the statement's start (line, `{` or `;`) it reads `for ...`.
+    std::size_t start = text.find_last_of("\n{;", pos);
+    start = start == std::string_view::npos ? 0 : start + 1;
+    while (start < pos && std::isspace(static_cast<unsigned char>(text[start])))
+      ++start;
+    if (text.compare(start, 3, "for") == 0 && start + 3 < text.size() &&
+        std::isspace(static_cast<unsigned char>(text[start + 3])))
+      return pos;
+  }
+  return std::nullopt;
+}
 
 std::optional<Word> word_at(std::string_view text, std::size_t at) {
   at = std::min(at, text.size());
@@ -139,10 +211,22 @@ StatementContext context_at(std::string_view text, std::size_t at) {
   ctx.block = blocks.empty() ? "" : blocks.back();
   std::string_view stmt = text.substr(stmt_begin, at - stmt_begin);
   // The partial word (with an object before a dot) ends at the cursor.
+  // The object may be a path with indices (`p[2, 2].`, `u1.pcb.`).
   std::size_t p = stmt.size();
-  while (p > 0 && (ident_char(stmt[p - 1]) || stmt[p - 1] == '.'))
-    --p;
-  std::string partial(stmt.substr(p));
+  while (p > 0) {
+    if (ident_char(stmt[p - 1]) || stmt[p - 1] == '.') {
+      --p;
+    } else if (stmt[p - 1] == ']' && p < stmt.size() && stmt[p] == '.') {
+      std::size_t open = opening_bracket(stmt, p - 1);
+      if (open == std::string_view::npos) break;
+      p = open;
+    } else {
+      break;
+    }
+  }
+  std::string partial;
+  for (char c : stmt.substr(p))
+    if (!std::isspace(static_cast<unsigned char>(c))) partial += c;
   if (auto dot = partial.rfind('.'); dot != std::string::npos) {
     ctx.object = partial.substr(0, dot);
     partial = partial.substr(dot + 1);

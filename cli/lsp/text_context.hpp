@@ -55,4 +55,12 @@ struct CodeWord {
 /// or string.
 std::optional<CodeWord> code_word_at(std::string_view text, std::size_t at);
 
+/// The full name the identifier `w` is part of, blanks removed: the instance path and indices
+/// before it and its own indices (`u1.pcb` for `pcb` in `u1.pcb.T0`, `p[3,7]` for `p[3, 7]`).
+std::string qualified_name(std::string_view text, const Word& w);
+
+/// The byte offset where `for ... NAME in` declares the loop variable `w` names (the nearest
+/// such loop header at or before it), or nothing.
+std::optional<std::size_t> loop_variable(std::string_view text, const Word& w);
+
 } // namespace thermnet::cli::lsp

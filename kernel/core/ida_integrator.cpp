@@ -196,11 +196,14 @@ private:
   /// naming the node). While stepping, the driver reports a temperature going below 0 K.
   void consistent_initial_conditions(double t, double stop) {
     void* mem = mem_.get();
-    const bool positive = N_VMin(y_.get()) > 0.0;
+    const int temps = ev_.system().temperature_count();
+    const double* y0 = NV_DATA_S(y_.get());
+    const bool positive = std::all_of(y0, y0 + temps, [](double T) { return T > 0.0; });
     if (positive) {
       if (!positive_) {
         positive_.reset(chk_.created(N_VNew_Serial(n_, ctx_.get()), "N_VNew_Serial"));
-        N_VConst(2.0, positive_.get());
+        N_VConst(0.0, positive_.get()); // accounts (energies) unconstrained
+        std::fill(NV_DATA_S(positive_.get()), NV_DATA_S(positive_.get()) + temps, 2.0);
         y_start_.reset(chk_.created(N_VClone(y_.get()), "N_VClone"));
         yp_start_.reset(chk_.created(N_VClone(yp_.get()), "N_VClone"));
       }
@@ -214,7 +217,7 @@ private:
     }
     chk_.call(Api::ida, "IDAGetConsistentIC", IDAGetConsistentIC, mem, y_.get(), yp_.get());
     const double* y = NV_DATA_S(y_.get());
-    if (const int i = coldest_below_absolute_zero(y, n_); i >= 0)
+    if (const int i = coldest_below_absolute_zero(y, ev_.system().temperature_count()); i >= 0)
       fail_below_absolute_zero(
           ev_, {.unknown = i, .crossing = t, .kelvin = y[i], .reached = t, .steady = false},
           "IDACalcIC");

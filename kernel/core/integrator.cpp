@@ -197,7 +197,7 @@ private:
   /// A temperature below 0 K at the end of the step from t_before fails the run, naming the node
   /// and the time it crossed 0 K (bisected on the step's dense output).
   void check_absolute_zero(double t_before) {
-    const int i = detail::coldest_below_absolute_zero(y_, n_);
+    const int i = detail::coldest_below_absolute_zero(y_, sys_.temperature_count());
     if (i < 0) return;
     const auto iu = static_cast<std::size_t>(i);
     ylook_.resize(static_cast<std::size_t>(n_));

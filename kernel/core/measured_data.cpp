@@ -1,4 +1,5 @@
-// load_measured(): a case's CSV data file matched to the network's nodes, degC -> K.
+// load_measured(): a case's CSV data file matched to the network's nodes, degC (or the unit the
+// case declares for it) -> K.
 
 #include "kernel/core/measured_data.hpp"
 
@@ -30,6 +31,10 @@ MeasuredData load_measured(const std::string& path, const lang::NetworkSpec& spe
   MeasuredData data;
   data.path = path;
   data.times.assign(table.time().begin(), table.time().begin() + static_cast<long>(used));
+  // The case's own data file may declare its unit (`data "run.csv" [K]`): values to degC first.
+  const bool own = path == spec.settings.data_path;
+  const double scale = own ? spec.settings.data_scale : 1.0;
+  const double offset = own ? spec.settings.data_offset : 0.0;
   for (std::size_t c = 1; c < table.columns.size(); ++c) {
     const std::string& name = table.columns[c];
     int index = spec.node_index(name);
@@ -41,7 +46,7 @@ MeasuredData load_measured(const std::string& path, const lang::NetworkSpec& spe
     s.node_index = index;
     s.values.assign(table.cells[c].begin(), table.cells[c].begin() + static_cast<long>(used));
     for (double& v : s.values)
-      if (!std::isnan(v)) v += kZeroCelsius;
+      if (!std::isnan(v)) v = scale * v + offset + kZeroCelsius;
     data.series.push_back(std::move(s));
   }
   if (data.points() == 0)

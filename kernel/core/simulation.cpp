@@ -82,12 +82,22 @@ SolverStats simulate(Network& net, const SimulationOptions& opt, const RowCallba
     throw std::invalid_argument(
         fmt::format("case '{}' has no duration; give one with --duration", settings.name));
   if (!(*duration > 0)) throw std::invalid_argument("the duration must be positive");
-  double interval = opt.output.value_or(settings.output.value_or(*duration / 1000.0));
-  if (!(interval > 0)) throw std::invalid_argument("the output interval must be positive");
-  if (*duration / interval > 1e7)
-    throw std::invalid_argument(fmt::format(
-        "{:g} output rows requested; use a longer output interval", *duration / interval));
-  const std::vector<double> times = output_times(*duration, interval);
+  std::vector<double> times;
+  if (!opt.output && !settings.output_times.empty()) {
+    // Listed times (`output = 0, 100, 250`) are written exactly, and only them.
+    times = settings.output_times;
+    if (times.back() > *duration)
+      throw std::invalid_argument(
+          fmt::format("output time {:g} s of case '{}' lies after the end of the run ({:g} s)",
+                      times.back(), settings.name, *duration));
+  } else {
+    double interval = opt.output.value_or(settings.output.value_or(*duration / 1000.0));
+    if (!(interval > 0)) throw std::invalid_argument("the output interval must be positive");
+    if (*duration / interval > 1e7)
+      throw std::invalid_argument(fmt::format(
+          "{:g} output rows requested; use a longer output interval", *duration / interval));
+    times = output_times(*duration, interval);
+  }
   SolverStats s =
       energy ? integrate_with_energy(net, T, 0.0, *duration, times, record, opt.solver, *energy)
              : integrate(net, T, 0.0, *duration, times, record, opt.solver);

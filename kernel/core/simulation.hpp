@@ -14,7 +14,7 @@ namespace thermnet {
 /// What to run.
 struct SimulationOptions {
   std::optional<double> duration; ///< overrides the case's duration, s
-  std::optional<double> output;   ///< overrides the case's output interval, s
+  std::optional<double> output;   ///< overrides the case's output interval or listed times, s
   bool steady = false;            ///< solve the steady state at t = 0 instead of a transient
   SolverOptions solver;           ///< tolerances and linear solver
 };

@@ -24,8 +24,11 @@ struct SparsityPattern {
 class ThermalSystem {
 public:
   virtual ~ThermalSystem() = default;
-  /// Number of unknown temperatures.
+  /// Number of unknowns.
   virtual int size() const = 0;
+  /// Number of leading unknowns that are temperatures (the rest, if any, are accounts such as
+  /// energies, which may be negative).
+  virtual int temperature_count() const { return size(); }
   /// Heat capacity of each unknown in J/K (0 for an algebraic node).
   virtual const std::vector<double>& capacities() const = 0;
   /// Net heat flow into each unknown, F(t, T), in W.

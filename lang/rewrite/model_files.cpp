@@ -37,7 +37,7 @@ struct PathCollector {
     out.push_back({s.begin, s.end, s.text, kind});
   }
   void value(const ast::Value& v) const {
-    if (const auto* t = boost::get<ast::TableSignal>(&v)) add(t->file, PathKind::table);
+    if (const auto* t = v.as_table()) add(t->file, PathKind::table);
   }
   void keys(const std::vector<ast::KeyValue>& kvs) const {
     for (const auto& kv : kvs)
@@ -46,20 +46,30 @@ struct PathCollector {
   void operator()(const ast::IncludeStmt& s) const { add(s.path, PathKind::include); }
   void operator()(const ast::PluginStmt& s) const { add(s.path, PathKind::plugin); }
   void operator()(const ast::NodeStmt& s) const { keys(s.keys); }
-  void operator()(const ast::BoundaryStmt& s) const { keys(s.keys); }
   void operator()(const ast::ElementStmt& s) const { keys(s.keys); }
   void operator()(const ast::CompositeStmt& s) const {
     for (const auto& part : s.parts)
       keys(part.keys);
   }
-  void operator()(const ast::CaseStmt& s) const {
-    for (const auto& item : s.items) {
-      if (const auto* d = boost::get<ast::CaseData>(&item))
+  void operator()(const ast::ForStmt& s) const {
+    for (const auto& b : s.body)
+      std::visit(*this, b);
+  }
+  void operator()(const ast::SubmodelStmt& s) const {
+    for (const auto& b : s.body)
+      std::visit(*this, b);
+  }
+  void items(const std::vector<ast::CaseItem>& items) const {
+    for (const auto& item : items) {
+      if (const auto* d = std::get_if<ast::CaseData>(&item))
         add(d->path, PathKind::data);
-      else if (const auto* a = boost::get<ast::CaseAssign>(&item))
+      else if (const auto* a = std::get_if<ast::CaseAssign>(&item))
         value(a->value);
+      else
+        this->items(std::get<ast::CaseFor>(item).items);
     }
   }
+  void operator()(const ast::CaseStmt& s) const { items(s.items); }
   void operator()(const ast::ModelStmt&) const {}
   void operator()(const ast::ConstStmt&) const {}
   void operator()(const ast::ParamStmt&) const {}
@@ -130,7 +140,7 @@ ModelFiles collect_files(const lang::SourceManager& sources, lang::FileId root) 
     const ast::File parsed = lang::parse_file(f, sources, diags);
     FileRefs info;
     for (const auto& s : parsed.statements)
-      boost::apply_visitor(PathCollector{info.refs}, s);
+      std::visit(PathCollector{info.refs}, s);
     for (const auto& r : info.refs) {
       const fs::path named = real_path(resolve(sources.path(f), r.text));
       std::optional<lang::FileId> target;

@@ -441,3 +441,64 @@ describe('tricky cases (samples/features.tnet)', () => {
     expectNoScope(F, 43, 'boundary', ['meta.block']);
   });
 });
+
+describe('loops, submodels and time (samples/loops.tnet)', () => {
+  const F = 'loops.tnet';
+
+  test('for blocks: keywords, loop variables, ranges and indexed names', () => {
+    expectScope(F, 4, 'for', 'keyword.control.loop.tnet');
+    expectScope(F, 4, 'i', 'variable.other.loop.tnet');
+    expectScope(F, 4, 'in', 'keyword.control.loop.tnet', { nth: 1 });
+    expectScope(F, 4, 'j', 'variable.other.loop.tnet');
+    expectScope(F, 4, '..', 'keyword.operator.range.tnet');
+    expectScope(F, 4, '{', 'punctuation.section.block.begin.tnet');
+    expectNoScope(F, 4, 'for', ['entity.name.type.element']);
+    expectScope(F, 5, 'node', 'storage.type.tnet');
+    expectScope(F, 5, '[', 'punctuation.section.brackets.begin.tnet');
+    expectScope(F, 5, 'i', 'meta.index.tnet');
+    expectNoScope(F, 5, 'i', ['meta.unit', 'keyword.other.unit']);
+    expectScope(F, 6, '}', 'punctuation.section.block.end.tnet');
+  });
+
+  test('a one-line loop body: the element, its indexed name and nodes', () => {
+    expectScope(F, 7, 'conductance', 'entity.name.type.element.tnet');
+    expectScope(F, 7, 'g', 'entity.name.function.element.tnet');
+    expectScope(F, 7, 'p', 'variable.other.node.tnet', { nth: 1 });
+    expectScope(F, 7, '+', 'meta.index.tnet');
+    expectScope(F, 7, 'G', 'variable.parameter.key.tnet');
+  });
+
+  test('submodel definitions, terminals, and instances', () => {
+    expectScope(F, 8, 'submodel', 'keyword.other.tnet');
+    expectScope(F, 8, 'box', 'entity.name.type.submodel.tnet');
+    expectScope(F, 8, 'mount', 'variable.parameter.terminal.tnet');
+    expectScope(F, 8, 'lid', 'variable.parameter.terminal.tnet');
+    expectScope(F, 9, 'param', 'storage.type.tnet');
+    expectScope(F, 11, 'conductance', 'entity.name.type.element.tnet');
+    expectScope(F, 14, 'box', 'entity.name.type.element.tnet');
+    expectScope(F, 14, 'radio', 'entity.name.function.element.tnet');
+    expectScope(F, 15, 'box', 'entity.name.type.element.tnet');
+    expectScope(F, 15, 'b', 'entity.name.function.element.tnet');
+    expectScope(F, 15, 'k', 'meta.index.tnet', { nth: 2 });
+  });
+
+  test('time in expressions', () => {
+    expectScope(F, 3, 'time', 'variable.language.time.tnet');
+  });
+
+  test('case blocks: listed output times, dotted targets, loops and a data unit', () => {
+    expectScope(F, 18, 'output', 'keyword.other.case.tnet');
+    expectScope(F, 18, ',', 'punctuation.separator.delimiter.tnet', { nth: 2 });
+    expectScope(F, 19, 'T0', 'variable.parameter.key.tnet');
+    expectScope(F, 19, 'radio.pcb', 'variable.other.element.tnet');
+    expectScope(F, 20, 'for', 'keyword.control.loop.tnet');
+    expectScope(F, 20, 'i', 'variable.other.loop.tnet');
+    expectScope(F, 20, 'T0', 'variable.parameter.key.tnet');
+    expectScope(F, 21, 'data', 'keyword.other.case.tnet');
+    expectScope(F, 21, 'K', 'keyword.other.unit.tnet');
+    // the loop's braces inside the case do not end the case block
+    expectScope(F, 21, 'data', 'meta.block.case.tnet');
+    expectScope(F, 23, 'node', 'storage.type.tnet');
+    expectNoScope(F, 23, 'node', ['meta.block']);
+  });
+});

@@ -1,6 +1,7 @@
 /// libFuzzer target for the language front end: the bytes are a model file, parsed alone and then
 /// loaded, linted, instantiated and rendered like `thermnet lint` would, against the element
-/// registry. Any crash, sanitizer report, hang or unbounded memory use is a bug.
+/// registry, loops and submodels expanded. Any crash, sanitizer report, hang or unbounded memory
+/// use is a bug.
 
 #include "kernel/core/element_registry.hpp"
 #include "lang/diagnostics.hpp"
@@ -29,8 +30,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // includes and data files fail to open instead of reading whatever lies around.
   lang::SourceManager sources;
   lang::DiagnosticEngine diags(sources);
+  // Loops and instances may generate at most 20,000 declarations and iterations here, so that a
+  // short input cannot ask for more time or memory than the fuzzer allows.
+  lang::LoadOptions options;
+  options.max_generated = 20'000;
   auto model = lang::Model::from_text("/nonexistent-thermnet-fuzz/fuzz.tnet", text,
-                                      thermnet::element_catalog(), sources, diags);
+                                      thermnet::element_catalog(), sources, diags, options);
   model->lint(diags);
   diags.sort();
   (void)lang::render_text(diags);

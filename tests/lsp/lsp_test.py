@@ -243,6 +243,85 @@ labels = complete(46, pos(EDITING, "  duration", 0, 2))
 check("completion in a case offers the case keys and element names",
       {"duration", "output", "gap"} <= set(labels), labels)
 
+# ----------------------------------------------------------------------------- loops and submodels
+LOOPS = """boundary frame T = 20 - 0.001 * time
+for i in 1 .. 3, j in 1 .. 2 {
+  node p[i, j] C = 12
+  conductance g[i, j] p[i, j] frame G = 0.4
+}
+submodel box(mount) {
+  param P = 5
+  node pcb C = 150
+  conductance standoffs pcb mount G = 0.5
+  heater power pcb P = P
+}
+box u1 frame P = 8
+case run {
+  duration = 100
+  u1.pcb.T0 = 30
+  p[2, 1].T0 = 25
+  u1.
+}
+"""
+luri = "file://" + os.path.join(work, "loops.tnet")
+ldoc = {"uri": luri}
+s.notify("textDocument/didOpen",
+         {"textDocument": {"uri": luri, "languageId": "tnet", "version": 1, "text": LOOPS}})
+s.diagnostics(1)
+
+
+def lrequest(rid, method, needle, occurrence=0, offset=1):
+    r = s.request(rid, method, {"textDocument": ldoc, "position": pos(LOOPS, needle, occurrence, offset)})
+    return r.get("result")
+
+
+def hover_text(res):
+    return json.dumps(res["contents"]) if res else ""
+
+
+res = lrequest(60, "textDocument/definition", "pcb.T0", 0, 1)
+check("definition of u1.pcb in a case is the node inside the submodel",
+      res == {"uri": luri, "range": span(LOOPS, "pcb", 0)}, res)
+res = lrequest(61, "textDocument/definition", "p[2, 1]", 0, 0)
+check("definition of p[2, 1] in a case is the indexed node in the loop",
+      (res or {}).get("range", {}).get("start") == pos(LOOPS, "p[i, j] C"), res)
+res = lrequest(62, "textDocument/definition", "i, j] C", 0, 0)
+check("definition of a loop variable is its place in the for header",
+      res == {"uri": luri, "range": {"start": pos(LOOPS, "i in 1"), "end": pos(LOOPS, "i in 1", 0, 1)}}, res)
+res = lrequest(63, "textDocument/definition", "box u1", 0, 1)
+check("definition of a submodel's instance kind is the submodel",
+      res == {"uri": luri, "range": span(LOOPS, "box", 0)}, res)
+res = lrequest(64, "textDocument/hover", "time", 0, 1)
+check("hover on time explains the simulation time", "simulation time" in hover_text(res), res)
+res = lrequest(65, "textDocument/hover", "for i", 0, 1)
+check("hover on for explains loops", "repeats" in hover_text(res), res)
+res = lrequest(66, "textDocument/hover", "box u1", 0, 1)
+check("hover on a submodel name lists its terminals and params",
+      "submodel (mount)" in hover_text(res) and "`P`" in hover_text(res), res)
+res = lrequest(67, "textDocument/hover", "pcb.T0", 0, 1)
+check("hover on u1.pcb names the generated node", "u1.pcb" in hover_text(res) and "node" in hover_text(res), res)
+res = lrequest(68, "textDocument/hover", "j] C", 0, 0)
+check("hover on a loop variable", "loop variable" in hover_text(res), res)
+r = s.request(69, "textDocument/completion",
+              {"textDocument": ldoc, "position": pos(LOOPS, "u1.\n", 0, 3)})
+res = r.get("result")
+labels = [i["label"] for i in (res.get("items", []) if isinstance(res, dict) else (res or []))]
+check("completion after an instance's name offers its inner names",
+      {"pcb", "standoffs", "power"} <= set(labels), labels)
+r = s.request(70, "textDocument/completion",
+              {"textDocument": ldoc, "position": pos(LOOPS, "case run", 0, 0)})
+res = r.get("result")
+labels = [i["label"] for i in (res.get("items", []) if isinstance(res, dict) else (res or []))]
+check("completion at a statement start offers for, submodel and the submodels",
+      {"for", "submodel", "box", "node"} <= set(labels), labels)
+r = s.request(71, "textDocument/completion",
+              {"textDocument": ldoc, "position": pos(LOOPS, "time", 0, 0)})
+res = r.get("result")
+labels = [i["label"] for i in (res.get("items", []) if isinstance(res, dict) else (res or []))]
+check("completion in a value offers time", "time" in labels, labels)
+s.notify("textDocument/didClose", {"textDocument": ldoc})
+s.next(lambda m: m.get("method") == "textDocument/publishDiagnostics")
+
 # ----------------------------------------------------------------------------- scale
 # 50,000 nodes, each isolated (one warning each): the diagnostics and the symbols must come back
 # (they used to take minutes: positions were computed from the start of the text each time). The

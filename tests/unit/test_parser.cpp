@@ -66,7 +66,7 @@ struct Parsed {
   /// The statement at an index, as a given alternative.
   template <typename T> const T& stmt(std::size_t i) const {
     REQUIRE(i < file.statements.size());
-    const T* s = boost::get<T>(&file.statements[i]);
+    const T* s = std::get_if<T>(&file.statements[i]);
     REQUIRE(s != nullptr);
     return *s;
   }
@@ -84,7 +84,7 @@ Quantity eval(const std::string& expr) {
     INFO(d.message);
   REQUIRE(p->diags.all().empty());
   const auto& c = p->stmt<ast::ConstStmt>(0);
-  Evaluator ev(p->id, [](const ast::Identifier& id, FileId) -> Quantity {
+  Evaluator ev(p->file, [](const ast::Identifier& id, FileId) -> Quantity {
     throw EvalError(
         DiagnosticEngine::make(DiagId::unknown_name, std::nullopt, std::nullopt, id.name));
   });
@@ -106,7 +106,7 @@ std::string eval_error(const std::string& expr) {
 }
 
 const ast::Expr& expr_of(const ast::Value& v) {
-  const ast::Expr* e = boost::get<ast::Expr>(&v);
+  const ast::Expr* e = v.as_expr();
   REQUIRE(e != nullptr);
   return *e;
 }
@@ -146,16 +146,16 @@ TEST_CASE("parser: const and param with range and description") {
   CHECK(p->text_of(h.range->lo) == "1");
   CHECK(p->text_of(h.range->hi) == "10");
   CHECK(p->text_of(*h.range) == "1 .. 10");
-  REQUIRE(h.doc.has_value());
+  REQUIRE(h.doc != nullptr);
   CHECK(h.doc->text == "gas gap");
   CHECK(p->where(h.begin) == "2:1");
   CHECK(p->text_of(h) == "param h_gap = 4 [W/(m^2*K)] range 1 .. 10 \"gas gap\"");
   const auto& f = p->stmt<ast::ParamStmt>(2);
   CHECK_FALSE(f.range.has_value());
-  CHECK_FALSE(f.doc.has_value());
+  CHECK(f.doc == nullptr);
   const auto& d = p->stmt<ast::ParamStmt>(3);
   CHECK_FALSE(d.range.has_value());
-  REQUIRE(d.doc.has_value());
+  REQUIRE(d.doc != nullptr);
   CHECK(d.doc->text == "only a description");
 }
 
@@ -176,18 +176,19 @@ TEST_CASE("parser: node and boundary statements") {
                  "boundary ambient T = pwl(0: 20, 2750: -35)\nnode arith C = 0\n");
   CHECK(p->diags.all().empty());
   const auto& n = p->stmt<ast::NodeStmt>(0);
-  CHECK(n.name.name == "plate2");
+  CHECK(n.name.id.name == "plate2");
   REQUIRE(n.keys.size() == 2);
   CHECK(n.keys[0].key.name == "C");
   CHECK(p->text_of(n.keys[0]) == "C = 300 [J/K]");
   CHECK(p->text_of(expr_of(n.keys[0].value)) == "300 [J/K]");
   CHECK(n.keys[1].key.name == "T0");
-  REQUIRE(n.doc.has_value());
+  REQUIRE(n.doc != nullptr);
   CHECK(n.doc->text == "the plate");
-  const auto& b = p->stmt<ast::BoundaryStmt>(1);
-  CHECK(b.name.name == "ambient");
+  const auto& b = p->stmt<ast::NodeStmt>(1);
+  CHECK(b.boundary);
+  CHECK(b.name.id.name == "ambient");
   REQUIRE(b.keys.size() == 1);
-  const auto* sig = boost::get<ast::PointSignal>(&b.keys[0].value);
+  const auto* sig = b.keys[0].value.as_point_signal();
   REQUIRE(sig != nullptr);
   CHECK(sig->kind.name == "pwl");
   REQUIRE(sig->points.size() == 2);
@@ -204,10 +205,10 @@ TEST_CASE("parser: two-terminal and one-terminal elements") {
   CHECK(p->diags.all().empty());
   const auto& e = p->stmt<ast::ElementStmt>(0);
   CHECK(e.kind.name == "convection");
-  CHECK(e.name.name == "gap");
+  CHECK(e.name.id.name == "gap");
   REQUIRE(e.nodes.size() == 2);
-  CHECK(e.nodes[0].name == "plate1");
-  CHECK(e.nodes[1].name == "plate2");
+  CHECK(e.nodes[0].id.name == "plate1");
+  CHECK(e.nodes[1].id.name == "plate2");
   CHECK(p->text_of(e.nodes[1]) == "plate2");
   REQUIRE(e.keys.size() == 2);
   CHECK(e.keys[0].key.name == "h");
@@ -215,13 +216,13 @@ TEST_CASE("parser: two-terminal and one-terminal elements") {
   const auto& h = p->stmt<ast::ElementStmt>(1);
   CHECK(h.kind.name == "heater");
   REQUIRE(h.nodes.size() == 1);
-  CHECK(h.nodes[0].name == "plate1");
+  CHECK(h.nodes[0].id.name == "plate1");
   REQUIRE(h.keys.size() == 1);
-  const auto* sig = boost::get<ast::PointSignal>(&h.keys[0].value);
+  const auto* sig = h.keys[0].value.as_point_signal();
   REQUIRE(sig != nullptr);
   CHECK(sig->kind.name == "step");
   CHECK(sig->points.size() == 2);
-  REQUIRE(h.doc.has_value());
+  REQUIRE(h.doc != nullptr);
   CHECK(h.doc->text == "the film");
   const auto& t = p->stmt<ast::ElementStmt>(2);
   REQUIRE(t.keys.size() == 4);
@@ -232,7 +233,7 @@ TEST_CASE("parser: table signal") {
   auto p = parse("heater h n P = table(\"power.csv\", \"P1\")\n");
   CHECK(p->diags.all().empty());
   const auto& h = p->stmt<ast::ElementStmt>(0);
-  const auto* t = boost::get<ast::TableSignal>(&h.keys[0].value);
+  const auto* t = h.keys[0].value.as_table();
   REQUIRE(t != nullptr);
   CHECK(t->file.text == "power.csv");
   CHECK(t->column.text == "P1");
@@ -246,10 +247,10 @@ TEST_CASE("parser: series and parallel blocks") {
   CHECK(p->diags.all().empty());
   const auto& s = p->stmt<ast::CompositeStmt>(0);
   CHECK(s.mode.name == "series");
-  CHECK(s.name.name == "mount");
+  CHECK(s.name.id.name == "mount");
   REQUIRE(s.nodes.size() == 2);
-  CHECK(s.nodes[0].name == "plate2");
-  CHECK(s.nodes[1].name == "ambient");
+  CHECK(s.nodes[0].id.name == "plate2");
+  CHECK(s.nodes[1].id.name == "ambient");
   REQUIRE(s.parts.size() == 2);
   CHECK(s.parts[0].kind.name == "contact");
   CHECK(s.parts[0].keys.size() == 2);
@@ -272,22 +273,22 @@ TEST_CASE("parser: case block with every kind of setting") {
   CHECK(c.name.name == "warmup");
   CHECK(p->text_of(c.name) == "warmup");
   REQUIRE(c.items.size() == 7);
-  const auto* d = boost::get<ast::CaseAssign>(&c.items[0]);
+  const auto* d = std::get_if<ast::CaseAssign>(&c.items[0]);
   REQUIRE(d != nullptr);
-  CHECK(d->target.object.name == "duration");
-  CHECK_FALSE(d->target.member.has_value());
+  CHECK(d->target.path.id.name == "duration");
+  CHECK(d->target.path.rest().empty());
   CHECK(p->where(d->begin) == "2:3");
-  const auto* film = boost::get<ast::CaseAssign>(&c.items[3]);
+  const auto* film = std::get_if<ast::CaseAssign>(&c.items[3]);
   REQUIRE(film != nullptr);
-  CHECK(film->target.object.name == "film");
-  REQUIRE(film->target.member.has_value());
-  CHECK(film->target.member->name == "P");
+  CHECK(film->target.path.id.name == "film");
+  REQUIRE(film->target.path.rest().size() == 1);
+  CHECK(film->target.path.rest()[0].id.name == "P");
   CHECK(p->text_of(film->target) == "film.P");
-  CHECK(boost::get<ast::PointSignal>(&film->value) != nullptr);
-  const auto* param = boost::get<ast::CaseAssign>(&c.items[5]);
+  CHECK(film->value.as_point_signal() != nullptr);
+  const auto* param = std::get_if<ast::CaseAssign>(&c.items[5]);
   REQUIRE(param != nullptr);
-  CHECK(param->target.object.name == "h_gap");
-  const auto* data = boost::get<ast::CaseData>(&c.items[6]);
+  CHECK(param->target.path.id.name == "h_gap");
+  const auto* data = std::get_if<ast::CaseData>(&c.items[6]);
   REQUIRE(data != nullptr);
   CHECK(data->path.text == "warmup.csv");
   CHECK(p->where(c.end) == "9:2");
@@ -306,19 +307,19 @@ TEST_CASE("parser: keywords are reserved only where a keyword is expected") {
                  "const table = 2\nconst step = table * step\nconductance series1 node2 b G = 1\n"
                  "case c {\n  data = 3\n  data.T = 1\n  duration = 1\n}\n");
   CHECK(p->codes().empty());
-  CHECK(p->stmt<ast::NodeStmt>(0).name.name == "node2");
+  CHECK(p->stmt<ast::NodeStmt>(0).name.id.name == "node2");
   const auto& r = p->stmt<ast::ParamStmt>(1);
   CHECK(r.name.name == "range");
   CHECK(r.range.has_value());
-  CHECK(p->stmt<ast::ElementStmt>(5).name.name == "series1");
+  CHECK(p->stmt<ast::ElementStmt>(5).name.id.name == "series1");
   const auto& c = p->stmt<ast::CaseStmt>(6);
   REQUIRE(c.items.size() == 3);
-  const auto* a = boost::get<ast::CaseAssign>(&c.items[0]);
+  const auto* a = std::get_if<ast::CaseAssign>(&c.items[0]);
   REQUIRE(a != nullptr);
-  CHECK(a->target.object.name == "data");
-  const auto* b = boost::get<ast::CaseAssign>(&c.items[1]);
+  CHECK(a->target.path.id.name == "data");
+  const auto* b = std::get_if<ast::CaseAssign>(&c.items[1]);
   REQUIRE(b != nullptr);
-  CHECK(b->target.member->name == "T");
+  CHECK(b->target.path.rest()[0].id.name == "T");
 }
 
 // -----------------------------------------------------------------------------------------
@@ -356,7 +357,7 @@ TEST_CASE("parser: strings keep UTF-8 and resolve escapes") {
   auto p = parse("node a C = 1 \"W\xC3\xA4rme \\\"inner\\\" \\\\ \xE2\x88\x86T\"\n");
   CHECK(p->codes().empty());
   const auto& n = p->stmt<ast::NodeStmt>(0);
-  REQUIRE(n.doc.has_value());
+  REQUIRE(n.doc != nullptr);
   CHECK(n.doc->text == "W\xC3\xA4rme \"inner\" \\ \xE2\x88\x86T");
 }
 
@@ -520,9 +521,9 @@ TEST_CASE("syntax errors: every broken statement is reported and the rest is par
   CHECK(p->codes() == std::vector<std::string>{"syntax", "syntax", "syntax", "syntax", "syntax"});
   // Parsed: a, c, the case (with its one good item) and d.
   REQUIRE(p->file.statements.size() == 4);
-  CHECK(p->stmt<ast::NodeStmt>(1).name.name == "c");
+  CHECK(p->stmt<ast::NodeStmt>(1).name.id.name == "c");
   CHECK(p->stmt<ast::CaseStmt>(2).items.size() == 1);
-  CHECK(p->stmt<ast::NodeStmt>(3).name.name == "d");
+  CHECK(p->stmt<ast::NodeStmt>(3).name.id.name == "d");
   // The broken declarations keep the names they meant to declare.
   REQUIRE(p->file.unparsed.size() == 3);
   CHECK(p->file.unparsed[0].head.name == "node");
@@ -536,7 +537,7 @@ TEST_CASE("syntax errors: an unclosed '(' ends at its own line") {
   auto p = parse("const x = (1 + 2\nnode b C = 1\n");
   CHECK(p->codes() == std::vector<std::string>{"syntax"});
   REQUIRE(p->file.statements.size() == 1);
-  CHECK(p->stmt<ast::NodeStmt>(0).name.name == "b");
+  CHECK(p->stmt<ast::NodeStmt>(0).name.id.name == "b");
 }
 
 TEST_CASE("syntax errors: the error limit stops the parser and says so") {
@@ -561,4 +562,99 @@ TEST_CASE("syntax errors: NUL bytes and invalid UTF-8 reject the file") {
   // not an encoding error.
   auto r = parse("node a C = 1 \"a\\\xC3\xA9\"\n");
   CHECK(r->codes() == std::vector<std::string>{"syntax"});
+}
+
+// -----------------------------------------------------------------------------------------
+// Extensions: loops, submodels, indexed and dotted names, lists, data units
+
+TEST_CASE("parser: for blocks with several variables, nested, with indexed names") {
+  auto p = parse("for i in 1 .. n - 1, j in i..3\n{\n  node p[i, j + 1] C = 1\n"
+                 "  for k in 0 .. 2 { conductance g[i,k] p[i, 1] u[2].q[k] G = 1 }\n}\n");
+  CHECK(p->codes().empty());
+  const auto& f = p->stmt<ast::ForStmt>(0);
+  REQUIRE(f.ranges.size() == 2);
+  CHECK(f.ranges[0].var.name == "i");
+  CHECK(p->text_of(f.ranges[0].hi) == "n - 1");
+  CHECK(p->text_of(f.ranges[1].lo) == "i");
+  REQUIRE(f.body.size() == 2);
+  const auto* n = std::get_if<ast::NodeStmt>(&f.body[0]);
+  REQUIRE(n != nullptr);
+  CHECK(n->name.id.name == "p");
+  REQUIRE(n->name.index().size() == 2);
+  CHECK(p->text_of(n->name.index()[1]) == "j + 1");
+  const auto* inner = std::get_if<ast::ForStmt>(&f.body[1]);
+  REQUIRE(inner != nullptr);
+  const auto* g = std::get_if<ast::ElementStmt>(&inner->body[0]);
+  REQUIRE(g != nullptr);
+  REQUIRE(g->nodes.size() == 2);
+  const ast::Ref& q = g->nodes[1];
+  CHECK(p->text_of(q) == "u[2].q[k]");
+  REQUIRE(q.rest().size() == 1);
+  CHECK(q.rest()[0].id.name == "q");
+  CHECK(q.rest()[0].index().size() == 1);
+  CHECK(p->where(f.end) == "5:2");
+}
+
+TEST_CASE("parser: a declared range of indices and a statement named like the new keywords") {
+  auto p = parse("node p[1 .. 10, 2] C = 1\nconductance for in out G = 1\nnode submodel C = 1\n");
+  CHECK(p->codes().empty());
+  const auto& n = p->stmt<ast::NodeStmt>(0);
+  REQUIRE(n.name.index().size() == 2);
+  REQUIRE(n.name.index()[0].hi.has_value());
+  CHECK(p->text_of(*n.name.index()[0].hi) == "10");
+  CHECK_FALSE(n.name.index()[1].hi.has_value());
+  // `for` and `submodel` are keywords only where their blocks start.
+  CHECK(p->stmt<ast::ElementStmt>(1).name.id.name == "for");
+  CHECK(p->stmt<ast::NodeStmt>(2).name.id.name == "submodel");
+  // An element of a plugin kind called `for` still reads as an element.
+  auto q = parse("for x in a b G = 1\n");
+  CHECK(q->codes().empty());
+  CHECK(q->stmt<ast::ElementStmt>(0).kind.name == "for");
+}
+
+TEST_CASE("parser: submodel definitions and their params without a value") {
+  auto p = parse("submodel box(mount, lid) {\n  param P\n  param h = 3 \"coefficient\"\n"
+                 "  node wall C = 1\n}\nsubmodel empty() {\n}\nbox b1 a c P = 2\n");
+  CHECK(p->codes().empty());
+  const auto& s = p->stmt<ast::SubmodelStmt>(0);
+  CHECK(s.name.name == "box");
+  REQUIRE(s.terminals.size() == 2);
+  CHECK(s.terminals[1].name == "lid");
+  REQUIRE(s.body.size() == 3);
+  CHECK_FALSE(std::get<ast::ParamStmt>(s.body[0]).value.valid());
+  CHECK(std::get<ast::ParamStmt>(s.body[1]).value.valid());
+  CHECK(p->stmt<ast::SubmodelStmt>(1).terminals.empty());
+  CHECK(p->stmt<ast::ElementStmt>(2).kind.name == "box");
+  // Outside a submodel a param needs its value.
+  CHECK(parse("param P\n")->codes() == std::vector<std::string>{"syntax"});
+}
+
+TEST_CASE("parser: case settings with loops, dotted targets, lists and a data unit") {
+  auto p = parse("case c {\n  output = 0, 100 [s], 250\n  u1.pcb.T0 = 30\n"
+                 "  for i in 1 .. 3 { h[i].P = i }\n  data \"run.csv\" [K]\n}\n");
+  CHECK(p->codes().empty());
+  const auto& c = p->stmt<ast::CaseStmt>(0);
+  REQUIRE(c.items.size() == 4);
+  const auto& out = std::get<ast::CaseAssign>(c.items[0]);
+  REQUIRE(out.more.size() == 2);
+  CHECK(p->text_of(out.more[0]) == "100 [s]");
+  const auto& t0 = std::get<ast::CaseAssign>(c.items[1]);
+  CHECK(p->text_of(t0.target) == "u1.pcb.T0");
+  CHECK(t0.target.path.rest().size() == 2);
+  const auto& loop = std::get<ast::CaseFor>(c.items[2]);
+  REQUIRE(loop.items.size() == 1);
+  CHECK(p->text_of(std::get<ast::CaseAssign>(loop.items[0]).target) == "h[i].P");
+  const auto& data = std::get<ast::CaseData>(c.items[3]);
+  REQUIRE(data.unit.has_value());
+  CHECK(data.unit->text == "K");
+}
+
+TEST_CASE("parser: a node reference as a value, and an index must follow its name") {
+  auto p = parse("thermostat t n P = 5 on = 18 off = 22 sense = p[3]\n");
+  CHECK(p->codes().empty());
+  const auto* r = p->stmt<ast::ElementStmt>(0).keys[3].value.as_reference();
+  REQUIRE(r != nullptr);
+  CHECK(p->text_of(*r) == "p[3]");
+  // `x [K]` is not an index (nor a unit: units follow numbers).
+  CHECK(parse("const y = x [K]\n")->codes() == std::vector<std::string>{"syntax"});
 }

@@ -251,14 +251,34 @@ TEST_CASE("sema: includes are relative to the including file and read once") {
   TempDir dir;
   dir.write("sub/parts.tnet", "include \"consts.tnet\"\nnode plate C = 450\n");
   dir.write("sub/consts.tnet", "const k = 0.5 [W/K]\n");
-  std::string path = dir.write("m.tnet", "include \"sub/parts.tnet\"\ninclude \"sub/parts.tnet\"\n"
-                                         "boundary amb T = 20\nconductance g plate amb G = k\n");
+  dir.write("sub/other.tnet", "include \"consts.tnet\"\nnode arm C = 5\n");
+  // Two files sharing a library read it once, silently.
+  std::string shared = dir.write("shared.tnet", "include \"sub/parts.tnet\"\ninclude "
+                                                "\"sub/other.tnet\"\nboundary amb T = 20\n"
+                                                "conductance g plate amb G = k\n"
+                                                "conductance g2 arm amb G = k\n");
+  {
+    SourceManager sources;
+    DiagnosticEngine diags(sources);
+    auto model = Model::load(shared, thermnet::element_catalog(), sources, diags);
+    REQUIRE(model);
+    model->lint(diags);
+    CHECK(diags.all().empty());
+    CHECK(sources.size() == 4);
+    CHECK(element(model->instantiate(), "g").number("G") == 0.5);
+  }
+  // One file including the same file twice most likely wanted two copies: a warning says that
+  // it is read once (submodels make copies).
+  std::string twice = dir.write("m.tnet", "include \"sub/parts.tnet\"\ninclude \"sub/parts.tnet\"\n"
+                                          "boundary amb T = 20\nconductance g plate amb G = k\n");
   SourceManager sources;
   DiagnosticEngine diags(sources);
-  auto model = Model::load(path, thermnet::element_catalog(), sources, diags);
+  auto model = Model::load(twice, thermnet::element_catalog(), sources, diags);
   REQUIRE(model);
   model->lint(diags);
-  CHECK(diags.all().empty());
+  REQUIRE(diags.all().size() == 1);
+  CHECK(diags.all()[0].code == "repeated-include");
+  CHECK(diags.all()[0].severity == Severity::warning);
   CHECK(sources.size() == 3);
   CHECK(element(model->instantiate(), "g").number("G") == 0.5);
 }

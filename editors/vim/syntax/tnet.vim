@@ -1,8 +1,7 @@
 " Vim syntax file
 " Language:    thermnet model language (.tnet)
-" Contract:    shared/spec/language.md (core language) and thermnet's extensions
-"              (plugin statement, annulus_convection/cavity_convection kinds,
-"              `initial = steady` in a case)
+" Reference:   docs/language.md (the whole language: loops, submodels, time,
+"              listed output times and data units included)
 
 if exists('b:current_syntax')
   finish
@@ -17,7 +16,7 @@ syn iskeyword @,48-57,_
 syn sync fromstart
 
 " A statement starts at the beginning of a line or after ';'.
-let s:sos = '\%(\%(^\|;\)\s*\)\@<='
+let s:sos = '\%(\%(^\|[;{]\)\s*\)\@<='
 " An identifier that is not followed by '=', '(' or '.' (so not a key, a call or a target).
 let s:bare = '\<\h\w*\>\%(\s*\%(=\|(\|\.\%(\.\)\@!\)\)\@!'
 
@@ -36,6 +35,8 @@ syn match   tnetEscape       +\\[\\"]+ contained
 syn match   tnetSignal       "\<\%(step\|pwl\|table\)\ze\s*("
 syn match   tnetFunction     "\<\%(sqrt\|exp\|log10\|log\|sin\|cos\|tan\|abs\|min\|max\|pow\)\ze\s*("
 syn match   tnetConstant     "\<\%(pi\|sigma\)\>\%(\s*[=(]\)\@!"
+" The simulation time in seconds (in boundary temperatures and source powers)
+syn match   tnetTime         "\<time\>\%(\s*[=(]\)\@!"
 syn match   tnetContinuation "\\\ze\s*$"
 syn keyword tnetTodo         contained TODO FIXME XXX NOTE
 syn match   tnetComment      "#.*$" contains=tnetTodo,@Spell
@@ -45,17 +46,20 @@ syn match   tnetKey          "\<\h\w*\ze\s*="
 " A param's range: param NAME = EXPR range LO .. HI
 syn match   tnetRange        "\%(\%(^\|;\)\s*param\>[^;#]*\)\@<=\<range\>\%(\s*[=(]\)\@!"
 
-syn cluster tnetExpr contains=tnetOperator,tnetDelimiter,tnetRangeOp,tnetNumber,tnetUnit,tnetString,tnetSignal,tnetFunction,tnetConstant,tnetContinuation,tnetComment
+" Indices glued to a name: p[i, j + 1] (a unit follows a number, after a blank)
+syn region  tnetIndex        matchgroup=tnetIndexBracket start="\%(\<\h\w*\)\@<=\[" end="\]" oneline contains=@tnetExpr
+
+syn cluster tnetExpr contains=tnetOperator,tnetDelimiter,tnetRangeOp,tnetNumber,tnetUnit,tnetIndex,tnetTime,tnetString,tnetSignal,tnetFunction,tnetConstant,tnetContinuation,tnetComment
 
 " ------------------------------------------------------- element statements
 " KIND NAME NODE_A [NODE_B] key = EXPR ...
 " Any kind (a plugin's too) is recognised by its shape: the first word of a
 " statement followed by two more names. Defined first: the statement keywords
 " below win over it.
-exe 'syn match tnetKind "' . s:sos . '\<\h\w*\>\ze\s\+\h\w*\s\+' . s:bare . '" nextgroup=tnetElementName skipwhite'
-syn match   tnetKind         "\%(\%(^\|;\)\s*\)\@<=\<\%(conductance\|resistor\|conduction\|cylinder_conduction\|contact\|convection\|radiation\|heater\|thermostat\|annulus_convection\|cavity_convection\)\>" nextgroup=tnetElementName skipwhite
-exe 'syn match tnetElementName "' . s:bare . '" contained nextgroup=tnetNodeRef,tnetBlock,tnetHeaderCont skipwhite'
-exe 'syn match tnetNodeRef "' . s:bare . '" contained nextgroup=tnetNodeRef,tnetBlock,tnetHeaderCont skipwhite'
+exe 'syn match tnetKind "' . s:sos . '\<\h\w*\>\ze\s\+\h\w*\%(\[[^]]*\]\)\=\s\+' . s:bare . '" nextgroup=tnetElementName skipwhite'
+syn match   tnetKind         "\%(\%(^\|[;{]\)\s*\)\@<=\<\%(conductance\|resistor\|conduction\|cylinder_conduction\|contact\|convection\|radiation\|heater\|thermostat\|annulus_convection\|cavity_convection\)\>" nextgroup=tnetElementName skipwhite
+exe 'syn match tnetElementName "\<\h\w*\>\%(\[[^]]*\]\)\=\%(\s*\%(=\|(\)\)\@!" contained contains=tnetIndex nextgroup=tnetNodeRef,tnetBlock,tnetHeaderCont skipwhite'
+exe 'syn match tnetNodeRef "\<\h\w*\>\%(\[[^]]*\]\)\=\%(\.\h\w*\%(\[[^]]*\]\)\=\)*\%(\s*\%(=\|(\|\.\%(\.\)\@!\)\)\@!" contained contains=tnetIndex nextgroup=tnetNodeRef,tnetBlock,tnetHeaderCont skipwhite'
 " a '\' continuation among the terminals: they go on on the next line
 syn match   tnetHeaderCont   "\\\ze\s*$" contained nextgroup=tnetNodeRef,tnetBlock skipwhite skipnl
 " thermostat ... sense = NODE
@@ -66,17 +70,28 @@ syn region  tnetBlock        matchgroup=tnetBrace start="{" end="}" contained co
 exe 'syn match tnetInnerKind "\%(\%(^\|[{;]\)\s*\)\@<=' . s:bare . '" contained'
 
 " ---------------------------------------------------------------- statements
-syn match   tnetStatement    "\%(\%(^\|;\)\s*\)\@<=\<\%(include\|plugin\)\>"
-syn match   tnetStatement    "\%(\%(^\|;\)\s*\)\@<=\<\%(model\|const\|param\|node\|boundary\)\>" nextgroup=tnetName skipwhite
-syn match   tnetStatement    "\%(\%(^\|;\)\s*\)\@<=\<\%(series\|parallel\)\>" nextgroup=tnetElementName skipwhite
-syn match   tnetStatement    "\%(\%(^\|;\)\s*\)\@<=\<case\>" nextgroup=tnetCaseName skipwhite
-syn match   tnetName         "\<\h\w*\>" contained
+syn match   tnetStatement    "\%(\%(^\|[;{]\)\s*\)\@<=\<\%(include\|plugin\)\>"
+syn match   tnetStatement    "\%(\%(^\|[;{]\)\s*\)\@<=\<\%(model\|const\|param\|node\|boundary\)\>" nextgroup=tnetName skipwhite
+syn match   tnetStatement    "\%(\%(^\|[;{]\)\s*\)\@<=\<\%(series\|parallel\)\>" nextgroup=tnetElementName skipwhite
+syn match   tnetStatement    "\%(\%(^\|[;{]\)\s*\)\@<=\<case\>" nextgroup=tnetCaseName skipwhite
+syn match   tnetStatement    "\%(\%(^\|[;{]\)\s*\)\@<=\<submodel\>\ze\s\+\h\w*\s*(" nextgroup=tnetSubmodelName skipwhite
+syn match   tnetSubmodelName "\<\h\w*\>" contained nextgroup=tnetTerminals skipwhite
+syn region  tnetTerminals    matchgroup=tnetDelimiter start="(" end=")" oneline contained contains=tnetTerminal,tnetDelimiter
+syn match   tnetTerminal     "\<\h\w*\>" contained
+" for VAR in LO .. HI [, VAR in LO .. HI] { ... }, at the top level and in cases
+syn match   tnetLoop         "\%(\%(^\|[;{]\)\s*\)\@<=\<for\>\ze\s\+\h\w*\s\+in\>" nextgroup=tnetLoopVar skipwhite
+syn match   tnetLoopVar      "\<\h\w*\>\ze\s\+in\>" contained nextgroup=tnetLoopIn skipwhite
+syn match   tnetLoopIn       "\<in\>" contained
+syn match   tnetLoopVar      "\%(\<for\s[^{#]*,\s*\)\@<=\<\h\w*\>\ze\s\+in\>" nextgroup=tnetLoopIn skipwhite
+syn match   tnetBrace        "[{}]"
+syn match   tnetName         "\<\h\w*\%(\[[^]]*\]\)\=" contained contains=tnetIndex
 syn match   tnetCaseName     "\<\h\w*\>" contained nextgroup=tnetCaseBlock skipwhite skipnl
 
 " ---------------------------------------------------------------- case blocks
-syn region  tnetCaseBlock    matchgroup=tnetBrace start="{" end="}" contained contains=tnetKey,tnetCaseTarget,tnetCaseKey,tnetSteady,tnetTerminator,@tnetExpr
+syn region  tnetCaseBlock    matchgroup=tnetBrace start="{" end="}" contained contains=tnetKey,tnetCaseTarget,tnetCaseKey,tnetSteady,tnetTerminator,tnetLoop,tnetLoopVar,tnetCaseInner,@tnetExpr
+syn region  tnetCaseInner    matchgroup=tnetBrace start="{" end="}" contained contains=tnetKey,tnetCaseTarget,tnetTerminator,tnetLoop,tnetLoopVar,tnetCaseInner,@tnetExpr
 " ELEMENT.key = ... / BOUNDARY.T = ...
-syn match   tnetCaseTarget   "\<\h\w*\ze\.\h\w*\s*=" contained nextgroup=tnetAccessor
+syn match   tnetCaseTarget   "\<\h\w*\%(\[[^]]*\]\)\=\%(\.\h\w*\%(\[[^]]*\]\)\=\)*\ze\.\h\w*\s*=" contained contains=tnetIndex nextgroup=tnetAccessor
 syn match   tnetAccessor     "\." contained nextgroup=tnetKey
 syn match   tnetCaseKey      "\<\%(duration\|initial\|output\)\ze\s*=" contained
 syn match   tnetCaseKey      +\%(\%(^\|[{;]\)\s*\)\@<=\<data\>\ze\s*"+ contained
@@ -86,6 +101,13 @@ syn match   tnetSteady       "\%(\<initial\s*=\s*\)\@<=\<steady\>" contained
 hi def link tnetComment      Comment
 hi def link tnetTodo         Todo
 hi def link tnetStatement    Statement
+hi def link tnetLoop         Repeat
+hi def link tnetLoopIn       Repeat
+hi def link tnetLoopVar      Identifier
+hi def link tnetSubmodelName Function
+hi def link tnetTerminal     Identifier
+hi def link tnetTime         Constant
+hi def link tnetIndexBracket Delimiter
 hi def link tnetRange        Keyword
 hi def link tnetCaseKey      Keyword
 hi def link tnetKind         Type

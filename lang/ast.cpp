@@ -1,0 +1,27 @@
+#include "lang/ast.hpp"
+
+namespace thermnet::lang::ast {
+
+namespace {
+const std::vector<IndexItem> no_index;
+const std::vector<Ref> no_parts;
+} // namespace
+
+const std::vector<IndexItem>& Ref::index() const {
+  return tail ? tail->index : no_index;
+}
+
+const std::vector<Ref>& Ref::rest() const {
+  return tail ? tail->rest : no_parts;
+}
+
+Tagged Value::span() const {
+  if (!other) return expr;
+  return std::visit([](const auto& form) -> Tagged { return form; }, *other);
+}
+
+const Tagged& tag_of(const Statement& s) {
+  return std::visit([](const auto& stmt) -> const Tagged& { return stmt; }, s);
+}
+
+} // namespace thermnet::lang::ast

@@ -1,0 +1,62 @@
+#pragma once
+/// Values that depend on the simulation time, written as expressions of the model
+/// (`T = 20 - 0.02 * time`): compiled once into a small stack program, evaluated at any time.
+
+#include "lang/ast.hpp"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace thermnet::lang {
+
+/// An expression of the time `t` (in s) whose every other name is already a number, in SI.
+class TimeProgram {
+public:
+  /// One instruction of the postfix program.
+  struct Op {
+    /// What the instruction does.
+    enum class Code : std::uint8_t {
+      constant,
+      time,
+      negate,
+      add,
+      subtract,
+      multiply,
+      divide,
+      power,
+      exp,
+      log,
+      log10,
+      sin,
+      cos,
+      tan,
+      sqrt,
+      abs,
+      min,
+      max
+    };
+    Code code = Code::constant; ///< the operation
+    std::uint32_t count = 0;    ///< number of arguments of min and max
+    double value = 0;           ///< the constant
+  };
+
+  /// The value at time t (s).
+  double at(double t) const;
+  /// The expression with every name replaced by its value, for messages and rewritten models
+  /// (fully parenthesised: `(20 - (0.02 * time))`).
+  std::string text() const;
+
+  std::vector<Op> ops;       ///< the program, in postfix order
+  std::size_t max_depth = 0; ///< deepest stack it needs
+};
+
+/// Compiles the expression rooted at `root` of `file`: `time` stays the time, every other name is
+/// replaced by `value_of(name)` (SI), a number with a unit by its SI value. The expression must
+/// already have been evaluated once (which checked its names, units and functions).
+std::shared_ptr<const TimeProgram>
+compile_time_program(const ast::File& file, ast::Index root,
+                     const std::function<double(const ast::Identifier&)>& value_of);
+
+} // namespace thermnet::lang
