@@ -17,6 +17,7 @@ Base Selection::select_forward(DiagnosisReport& rep) const {
     const std::size_t b = first_.front();
     applied.push_back({chosen_[b].h, chosen_[b].c, res_[b].f.values});
     rep.findings.push_back(res_[b].f);
+    add_rivals(rep.findings.back(), b, chosen_, res_);
     best = engine_.make_base(applied);
   }
   Base base = best;
@@ -31,11 +32,12 @@ Base Selection::select_forward(DiagnosisReport& rep) const {
     }
     std::vector<Evaluated> nres = engine_.evaluate_all(next, base);
     rep.refitted += next.size();
-    judge(nres);
+    judge(nres, base.holdout_r);
     merge_mechanisms(next, nres);
     const auto order = ranked(nres);
     if (order.empty()) break;
     const std::size_t b = order.front();
+    add_rivals(nres[b].f, b, next, nres);
     applied.push_back({next[b].h, next[b].c, nres[b].f.values});
     if (!reestimate(applied, nres[b].f, rep)) break;
     base = engine_.make_base(applied);
