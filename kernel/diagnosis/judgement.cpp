@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <set>
 
 namespace thermnet::detail {
@@ -41,12 +40,6 @@ void Selection::judge(std::vector<Evaluated>& res, const std::vector<double>& re
     f.significant = f.delta_bic < -10.0 &&
                     f.validation_rmse_after <= f.validation_rmse_before + 0.1 * nf &&
                     f.rmse_after < 0.97 * f.rmse_before && f.holdout_z >= significant_gain_z;
-    if (std::getenv("TN_DBG"))
-      fmt::print(stderr,
-                 "judge {} {} z={:.3g} bic={:.3g} rmse {:.3g}->{:.3g} val {:.3g}->{:.3g} n={} {}\n",
-                 f.candidate.kind, fmt::join(f.candidate.nodes, ","), f.holdout_z, f.delta_bic,
-                 f.rmse_before, f.rmse_after, f.validation_rmse_before, f.validation_rmse_after,
-                 e.holdout_r.size(), reference.size());
   }
 }
 
