@@ -45,22 +45,20 @@ void Selection::judge(std::vector<Evaluated>& res, const std::vector<double>& re
 
 void Selection::add_rivals(Finding& f, std::size_t best, const std::vector<Entry>& entries,
                            const std::vector<Evaluated>& res) const {
-  // Candidates the held-out test cannot tell from the finding (it does not predict their
-  // held-out points better by significant_gain_z) are listed with it: one finding, its rivals.
+  // Candidates the data cannot tell from the finding are listed with it: one finding, its rivals.
+  // The test is the mechanisms' one (compare_fits: the SSE difference against the sampling
+  // spread of an SSE over the independent points, and the held-out error agreeing); the residual
+  // model error (params never fit exactly) makes a noise-only paired test too sharp here.
   const double nf = engine_.evidence().noise_floor;
-  std::vector<std::size_t> idx;
   for (std::size_t i : ranked(res)) {
     const Finding& g = res[i].f;
     if (i == best || site(g.candidate) == site(f.candidate) || entries[i].own_h->recalibrates())
       continue;
-    const double z = holdout_gain_z(res[i].holdout_r, res[best].holdout_r, nf);
-    if (z < significant_gain_z) idx.push_back(i);
-  }
-  for (std::size_t i : idx) {
+    const FitComparison cmp =
+        compare_fits({res[best].r, res[best].holdout_sse}, {res[i].r, res[i].holdout_sse}, nf);
+    if (cmp.separable && cmp.first_better) continue;
     if (f.rivals.size() + 1 >= opt_.top) break;
-    const Finding& g = res[i].f;
-    f.rivals.push_back({g.candidate, g.values, g.rmse_after, g.validation_rmse_after,
-                        holdout_gain_z(res[i].holdout_r, res[best].holdout_r, nf)});
+    f.rivals.push_back({g.candidate, g.values, g.rmse_after, g.validation_rmse_after, cmp.z});
   }
   if (f.rivals.empty()) return;
   // What would separate them: a sensor on a node one of them names that has none; a second sensor
