@@ -36,7 +36,7 @@ Base Selection::select_forward(DiagnosisReport& rep) const {
     rep.refitted += next.size();
     judge(nres, base.holdout_r);
     merge_mechanisms(next, nres);
-    rerank_jointly(applied, base, next, nres);
+    rep.refitted += rerank_jointly(applied, base, next, nres);
     const auto order = ranked(nres);
     if (order.empty()) break;
     const std::size_t b = order.front();
@@ -48,8 +48,9 @@ Base Selection::select_forward(DiagnosisReport& rep) const {
   return best;
 }
 
-void Selection::rerank_jointly(const std::vector<Applied>& applied, const Base& base,
-                               const std::vector<Entry>& next, std::vector<Evaluated>& nres) const {
+std::size_t Selection::rerank_jointly(const std::vector<Applied>& applied, const Base& base,
+                                      const std::vector<Entry>& next,
+                                      std::vector<Evaluated>& nres) const {
   // A candidate fitted on top of the applied findings meets them (and the ranged params they
   // recalibrated) at values fitted without it, which favours proxies of what they absorbed. The
   // best sites are refitted together with every applied finding (values and ranged params free)
@@ -91,6 +92,7 @@ void Selection::rerank_jointly(const std::vector<Applied>& applied, const Base& 
   judge(nres, base.holdout_r);
   for (std::size_t i = 0; i < nres.size(); ++i)
     nres[i].f.significant = nres[i].f.significant && keep[i];
+  return top.size();
 }
 
 std::vector<Entry> Selection::next_entries(const Base& base, const std::vector<Applied>& applied,

@@ -55,8 +55,8 @@ private:
   Base select_forward(DiagnosisReport& rep) const;
   std::vector<Entry> next_entries(const Base& base, const std::vector<Applied>& applied,
                                   bool params_applied) const;
-  void rerank_jointly(const std::vector<Applied>& applied, const Base& base,
-                      const std::vector<Entry>& next, std::vector<Evaluated>& nres) const;
+  std::size_t rerank_jointly(const std::vector<Applied>& applied, const Base& base,
+                             const std::vector<Entry>& next, std::vector<Evaluated>& nres) const;
   bool reestimate(std::vector<Applied>& applied, Finding f, DiagnosisReport& rep) const;
   void redecide_mechanisms(std::vector<Applied>& applied, const Compose& all, Evaluated& joint,
                            DiagnosisReport& rep) const;
