@@ -66,7 +66,8 @@ CaseSims Engine::model_sims(const Hypothesis* h, const Candidate* c, const std::
     const CaseEvidence& ce = ev_.cases[ci];
     if (!case_used(ci, part)) {
       sims.emplace_back();
-    } else if (!h || c->measurement_side) {
+    } else if (!h || (c->measurement_side && !h->recalibrates())) {
+      // (a measurement-side candidate refitted with the ranged params needs a new simulation)
       sims.push_back(base.raw[ci]);
     } else {
       const lang::ParamValues ov = h->overrides(*c, p);

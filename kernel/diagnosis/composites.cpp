@@ -53,7 +53,8 @@ Candidate Compose::candidate() const {
     c.start.insert(c.start.end(), a.p.begin(), a.p.end());
     c.lo.insert(c.lo.end(), a.c.lo.begin(), a.c.lo.end());
     c.hi.insert(c.hi.end(), a.c.hi.begin(), a.c.hi.end());
-    c.measurement_side = c.measurement_side && a.c.measurement_side;
+    // (a part refitted with the ranged params changes the model: it is simulated)
+    c.measurement_side = c.measurement_side && a.c.measurement_side && !a.h->recalibrates();
   }
   return c;
 }

@@ -47,6 +47,15 @@ struct FitMetrics {
   std::map<std::string, std::map<std::string, NodeMetrics>> cases; ///< per case, per node
 };
 
+/// A candidate that fits the data as well as a finding's own (within the held-out test's spread).
+struct Rival {
+  Candidate candidate;                ///< what it is
+  std::vector<double> values;         ///< its fitted parameters (candidate.names)
+  double rmse_after = 0.0;            ///< K, all data
+  double validation_rmse_after = 0.0; ///< K, held-out data
+  double z = 0.0;                     ///< how much better the finding predicts held-out data (z)
+};
+
 /// One ranked finding.
 struct Finding {
   int rank = 0;                        ///< 1 = best
@@ -71,6 +80,9 @@ struct Finding {
   double validation_r2_after = 0.0;    ///< held-out data
   double delta_bic = 0.0;              ///< BIC after - BIC before (negative: better)
   bool significant = false;            ///< passes the significance rule
+  double holdout_z = 0.0;              ///< held-out gain over its reference fit, z
+  std::vector<Rival> rivals;           ///< candidates that fit as well (the ambiguity set)
+  std::string separate_by;             ///< what measurement would separate it from its rivals
 };
 
 /// The outcome of a diagnosis.

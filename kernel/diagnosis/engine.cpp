@@ -58,6 +58,7 @@ Base Engine::make_base(std::vector<Applied> applied) const {
   for (std::size_t f = 0; f < folds(); ++f) {
     residuals(b.sims, Part{Part::test, f}, r);
     b.sse_test += sum_of_squares(r);
+    b.holdout_r.insert(b.holdout_r.end(), r.begin(), r.end());
   }
   b.metrics = metrics(b.sims);
   b.at_floor = at_floor(b.metrics);
@@ -80,7 +81,8 @@ Evaluated Engine::evaluate(const Entry& e, const Base& base, bool joint) const {
   const Fit b = fit(h, e.c, e.c.start, Part{}, base, max_iter, rtol);
   if (!b.ok) return out;
   // 2. Validation: refit without each fold's held-out points, score on them.
-  if (!validate(h, e.c, b, base, fold_iter, rtol, out.holdout_sse)) return out;
+  if (!validate(h, e.c, b, base, fold_iter, rtol, out.holdout_r)) return out;
+  out.holdout_sse = sum_of_squares(out.holdout_r);
   // Residuals per series (the all-data rows, in order) for the mechanism comparison.
   long row = 0;
   for (const auto& ce : ev_.cases)
@@ -97,7 +99,7 @@ Evaluated Engine::evaluate(const Entry& e, const Base& base, bool joint) const {
 }
 
 bool Engine::validate(const Hypothesis& h, const Candidate& c, const Fit& all, const Base& base,
-                      int max_iter, double rtol, double& holdout_sse) const {
+                      int max_iter, double rtol, std::vector<double>& holdout_r) const {
   std::vector<double> r;
   for (std::size_t k = 0; k < folds(); ++k) {
     const Fit a = fit(h, c, all.p, Part{Part::train, k}, base, max_iter, rtol, &all);
@@ -107,7 +109,7 @@ bool Engine::validate(const Hypothesis& h, const Candidate& c, const Fit& all, c
     } catch (const std::exception&) {
       return false;
     }
-    holdout_sse += sum_of_squares(r);
+    holdout_r.insert(holdout_r.end(), r.begin(), r.end());
   }
   return true;
 }

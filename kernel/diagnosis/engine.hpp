@@ -28,13 +28,14 @@ struct Part {
 
 /// The model candidates are compared with: the declared model plus the findings applied so far.
 struct Base {
-  std::vector<Applied> applied; ///< applied findings, in order
-  CaseSims raw;                 ///< simulated series of the model-side extensions (uncorrected)
-  CaseSims sims;                ///< with the measurement-side corrections: compared with data
-  double sse_all = 0.0;         ///< SSE on all data, K^2
-  double sse_test = 0.0;        ///< SSE on the held-out points of every fold, K^2
-  FitMetrics metrics;           ///< its fit
-  bool at_floor = false;        ///< its error is measurement noise only
+  std::vector<Applied> applied;  ///< applied findings, in order
+  CaseSims raw;                  ///< simulated series of the model-side extensions (uncorrected)
+  CaseSims sims;                 ///< with the measurement-side corrections: compared with data
+  double sse_all = 0.0;          ///< SSE on all data, K^2
+  double sse_test = 0.0;         ///< SSE on the held-out points of every fold, K^2
+  std::vector<double> holdout_r; ///< residuals on the held-out points of every fold, K
+  FitMetrics metrics;            ///< its fit
+  bool at_floor = false;         ///< its error is measurement noise only
 };
 
 /// A hypothesis with one candidate (what the engine refits).
@@ -50,6 +51,7 @@ struct Evaluated {
   Finding f;                          ///< the finding (empty values: the fit failed)
   std::vector<std::vector<double>> r; ///< residuals on all data, per measured series
   double holdout_sse = 0.0;           ///< SSE on the held-out points of every fold
+  std::vector<double> holdout_r;      ///< residuals on them (fold by fold, series order), K
 };
 
 /// The evidence of one model's cases with data and the fits of candidates against it.
@@ -123,7 +125,7 @@ private:
           const Base& base, int max_iter, double rtol, const Fit* warm = nullptr) const;
   // engine.cpp
   bool validate(const Hypothesis& h, const Candidate& c, const Fit& all, const Base& base,
-                int max_iter, double rtol, double& holdout_sse) const;
+                int max_iter, double rtol, std::vector<double>& holdout_r) const;
   void measure_gain(Finding& f, const Base& base, double sse, double holdout_sse) const;
   // fit_metrics.cpp
   FitMetrics metrics(const CaseSims& sims) const;

@@ -7,6 +7,8 @@
 #include "kernel/diagnosis/selection.hpp"
 
 #include <algorithm>
+#include <memory>
+#include <set>
 
 namespace thermnet::detail {
 
@@ -17,6 +19,7 @@ Base Selection::select_forward(DiagnosisReport& rep) const {
     const std::size_t b = first_.front();
     applied.push_back({chosen_[b].h, chosen_[b].c, res_[b].f.values});
     rep.findings.push_back(res_[b].f);
+    add_rivals(rep.findings.back(), b, chosen_, res_);
     best = engine_.make_base(applied);
   }
   Base base = best;
@@ -31,16 +34,65 @@ Base Selection::select_forward(DiagnosisReport& rep) const {
     }
     std::vector<Evaluated> nres = engine_.evaluate_all(next, base);
     rep.refitted += next.size();
-    judge(nres);
+    judge(nres, base.holdout_r);
     merge_mechanisms(next, nres);
+    rep.refitted += rerank_jointly(applied, base, next, nres);
     const auto order = ranked(nres);
     if (order.empty()) break;
     const std::size_t b = order.front();
+    add_rivals(nres[b].f, b, next, nres);
     applied.push_back({next[b].h, next[b].c, nres[b].f.values});
     if (!reestimate(applied, nres[b].f, rep)) break;
     base = engine_.make_base(applied);
   }
   return best;
+}
+
+std::size_t Selection::rerank_jointly(const std::vector<Applied>& applied, const Base& base,
+                                      const std::vector<Entry>& next,
+                                      std::vector<Evaluated>& nres) const {
+  // A candidate fitted on top of the applied findings meets them (and the ranged params they
+  // recalibrated) at values fitted without it, which favours proxies of what they absorbed. The
+  // best sites are refitted together with every applied finding (values and ranged params free)
+  // and judged and ranked on that joint fit; the others are not selected at this step.
+  std::vector<std::size_t> top;
+  std::set<std::string> sites;
+  for (std::size_t i : ranked(nres)) {
+    if (top.size() >= opt_.refits) break;
+    if (sites.insert(site(nres[i].f.candidate)).second) top.push_back(i);
+  }
+  std::vector<std::unique_ptr<Compose>> composed;
+  std::vector<Entry> entries;
+  for (std::size_t i : top) {
+    std::vector<Applied> parts = applied;
+    parts.push_back({next[i].h, next[i].c, nres[i].f.values});
+    composed.push_back(std::make_unique<Compose>(std::move(parts)));
+    Entry e = next[i];
+    e.h = composed.back().get();
+    e.c = composed.back()->candidate();
+    entries.push_back(std::move(e));
+  }
+  std::vector<Evaluated> jres = engine_.evaluate_all(entries, engine_.declared(), true);
+  std::vector<char> keep(nres.size(), 0);
+  const double na = static_cast<double>(engine_.points());
+  for (std::size_t k = 0; k < top.size(); ++k) {
+    Evaluated& e = nres[top[k]];
+    const Finding& j = jres[k].f;
+    if (j.values.empty()) continue;
+    keep[top[k]] = 1;
+    e.f.rmse_after = j.rmse_after, e.f.r2_after = j.r2_after;
+    e.f.validation_rmse_after = j.validation_rmse_after;
+    e.f.validation_r2_after = j.validation_r2_after;
+    e.f.delta_bic = engine_.delta_bic(j.rmse_after * j.rmse_after * na, base.sse_all,
+                                      static_cast<double>(e.f.candidate.start.size()));
+    e.r = std::move(jres[k].r);
+    e.holdout_r = std::move(jres[k].holdout_r);
+    e.holdout_sse = jres[k].holdout_sse;
+  }
+  judge(nres, base.holdout_r);
+  for (std::size_t i = 0; i < nres.size(); ++i)
+    nres[i].f.significant = nres[i].f.significant && keep[i];
+  return top.size();
 }
 
 std::vector<Entry> Selection::next_entries(const Base& base, const std::vector<Applied>& applied,

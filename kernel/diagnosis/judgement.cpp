@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 namespace thermnet::detail {
 
@@ -27,15 +28,69 @@ void note_mechanism(Finding& keep, const Finding& drop, const FitComparison& cmp
                                   numbers, keep.candidate.mechanism);
 }
 
-void Selection::judge(std::vector<Evaluated>& res) const {
-  // Better by the information criterion, not worse on held-out data, a real drop of the error.
+void Selection::judge(std::vector<Evaluated>& res, const std::vector<double>& reference) const {
+  // Better by the information criterion, a real drop of the error, and a held-out gain over the
+  // reference (the model the candidate is added to) beyond chance: the paired test on the
+  // held-out residuals (holdout_gain_z), counting independent points only.
   const double nf = engine_.evidence().noise_floor;
   for (auto& e : res) {
     Finding& f = e.f;
-    f.significant = !f.values.empty() && f.delta_bic < -10.0 &&
+    if (f.values.empty()) continue;
+    f.holdout_z = holdout_gain_z(reference, e.holdout_r, nf);
+    f.significant = f.delta_bic < -10.0 &&
                     f.validation_rmse_after <= f.validation_rmse_before + 0.1 * nf &&
-                    f.rmse_after < 0.97 * f.rmse_before;
+                    f.rmse_after < 0.97 * f.rmse_before && f.holdout_z >= significant_gain_z;
   }
+}
+
+void Selection::add_rivals(Finding& f, std::size_t best, const std::vector<Entry>& entries,
+                           const std::vector<Evaluated>& res) const {
+  // Candidates the data cannot tell from the finding are listed with it: one finding, its rivals.
+  // The test is the mechanisms' one (compare_fits: the SSE difference against the sampling
+  // spread of an SSE over the independent points, and the held-out error agreeing); the residual
+  // model error (params never fit exactly) makes a noise-only paired test too sharp here.
+  const double nf = engine_.evidence().noise_floor;
+  for (std::size_t i : ranked(res)) {
+    const Finding& g = res[i].f;
+    if (i == best || site(g.candidate) == site(f.candidate) || entries[i].own_h->recalibrates())
+      continue;
+    const FitComparison cmp =
+        compare_fits({res[best].r, res[best].holdout_sse}, {res[i].r, res[i].holdout_sse}, nf);
+    if (cmp.separable && cmp.first_better) continue;
+    if (f.rivals.size() + 1 >= opt_.top) break;
+    f.rivals.push_back({g.candidate, g.values, g.rmse_after, g.validation_rmse_after, cmp.z});
+  }
+  if (f.rivals.empty()) return;
+  // What would separate them: a sensor on a node one of them names that has none; a second sensor
+  // where a sensor fault competes with a model cause; else a heater schedule that excites them.
+  const Evidence& ev = engine_.evidence();
+  std::vector<Candidate> all{f.candidate};
+  for (const auto& r : f.rivals)
+    all.push_back(r.candidate);
+  std::set<std::string> unmeasured, sensed;
+  bool measurement = false, model = false;
+  for (const auto& c : all) {
+    (c.measurement_side ? measurement : model) = true;
+    for (const auto& n : c.nodes) {
+      const int i = ev.node_index(n);
+      if (i >= 0 && !ev.measured(i) &&
+          !ev.cases.front().spec.nodes[static_cast<std::size_t>(i)].boundary)
+        unmeasured.insert(n);
+      if (c.measurement_side) sensed.insert(n);
+    }
+  }
+  std::vector<std::string> ways;
+  if (!unmeasured.empty())
+    ways.push_back(fmt::format("a sensor on {} (not measured; the candidates differ there)",
+                               fmt::join(unmeasured, ", ")));
+  if (measurement && model)
+    ways.push_back(fmt::format("a second sensor beside {} (a sensor fault moves only its own "
+                               "reading)",
+                               fmt::join(sensed, ", ")));
+  if (ways.empty() || model)
+    ways.push_back("a case whose heater powers step at different times than in the data (the "
+                   "candidates' responses to a step differ in size and delay)");
+  f.separate_by = fmt::format("{}", fmt::join(ways, "; or "));
 }
 
 void Selection::merge_mechanisms(const std::vector<Entry>& entries,

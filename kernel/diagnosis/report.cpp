@@ -74,7 +74,33 @@ nlohmann::json finding_json(const Finding& f) {
   x["validation_r2_before"] = f.validation_r2_before;
   x["validation_r2_after"] = f.validation_r2_after;
   x["delta_bic"] = f.delta_bic;
+  x["holdout_z"] = f.holdout_z;
   if (f.given > 0) x["given"] = f.given;
+  if (!f.rivals.empty()) {
+    // The ambiguity set: the finding itself first, then the candidates that fit as well.
+    nlohmann::json cands = nlohmann::json::array();
+    auto member = [](const Candidate& c, const std::vector<double>& values, double rmse,
+                     double held, double z) {
+      nlohmann::json m;
+      m["kind"] = c.kind;
+      m["nodes"] = c.nodes;
+      if (!c.element.empty()) m["element"] = c.element;
+      if (!c.mechanism.empty()) m["mechanism"] = c.mechanism;
+      nlohmann::json v = nlohmann::json::object();
+      for (std::size_t k = 0; k < values.size() && k < c.names.size(); ++k)
+        v[c.names[k]] = values[k];
+      m["values"] = v;
+      m["rmse"] = rmse;
+      m["validation_rmse"] = held;
+      m["z"] = z;
+      return m;
+    };
+    cands.push_back(member(f.candidate, f.values, f.rmse_after, f.validation_rmse_after, 0.0));
+    for (const auto& r : f.rivals)
+      cands.push_back(member(r.candidate, r.values, r.rmse_after, r.validation_rmse_after, r.z));
+    x["candidates"] = cands;
+    x["separate_by"] = f.separate_by;
+  }
   return x;
 }
 
@@ -168,6 +194,15 @@ std::string diagnosis_text(const DiagnosisReport& r) {
                      "{:.3g} -> {:.3g} K ({})\n",
                      f.rmse_before, f.rmse_after, f.r2_before, f.r2_after, f.validation_rmse_before,
                      f.validation_rmse_after, validation);
+    if (!f.rivals.empty()) {
+      s += "     fits as well (held-out test cannot tell them apart):\n";
+      for (const auto& r : f.rivals)
+        s += fmt::format(
+            "       {}{} [{}]: RMSE {:.3g} K, held-out {:.3g} K (z = {:.2g})\n", r.candidate.kind,
+            r.candidate.mechanism.empty() ? "" : " (" + r.candidate.mechanism + ")",
+            fmt::join(r.candidate.nodes, ", "), r.rmse_after, r.validation_rmse_after, r.z);
+      s += fmt::format("     to separate them: {}\n", f.separate_by);
+    }
     s += "     extension:\n";
     if (!f.statement.empty()) s += indent_lines(f.statement, "       ");
     for (const auto& [name, lines] : f.case_statements)

@@ -43,7 +43,7 @@ void Selection::widen(std::size_t sites, std::set<std::size_t>& taken) {
   // order is a poor guide here: the next sites are refitted too (at most twice).
   const std::vector<std::string> order = site_order(side_);
   for (int round = 0; round < 2; ++round) {
-    judge(res_);
+    judge(res_, engine_.declared().holdout_r);
     const auto best = ranked(res_);
     std::size_t pos = 0;
     for (std::size_t i : best)
@@ -64,11 +64,18 @@ void Selection::widen(std::size_t sites, std::set<std::size_t>& taken) {
   }
 }
 
-void Selection::rank_first(const std::vector<double>& vs_recalibration) {
-  // A jointly refitted candidate must also beat the recalibration alone.
-  judge(res_);
-  for (std::size_t i = 0; i < res_.size(); ++i)
-    res_[i].f.significant = res_[i].f.significant && vs_recalibration[i] < -10.0;
+void Selection::rank_first(std::size_t recal) {
+  // When recalibrating the ranged params alone is significant (`recal`), every other candidate
+  // must beat that recalibration on held-out data by more than chance, not only the baseline.
+  judge(res_, engine_.declared().holdout_r);
+  if (recal < res_.size())
+    for (std::size_t i = 0; i < res_.size(); ++i) {
+      Finding& f = res_[i].f;
+      if (i == recal || f.values.empty()) continue;
+      f.holdout_z =
+          holdout_gain_z(res_[recal].holdout_r, res_[i].holdout_r, engine_.evidence().noise_floor);
+      f.significant = f.significant && f.holdout_z >= significant_gain_z;
+    }
   merge_mechanisms(chosen_, res_);
   first_ = ranked(res_);
 }

@@ -48,15 +48,15 @@ private:
   // The stages, in order (selection.cpp, joint_refit.cpp, forward_selection.cpp).
   void refit_shortlist(DiagnosisReport& rep);
   void widen(std::size_t sites, std::set<std::size_t>& taken);
-  std::vector<double> joint_refit(DiagnosisReport& rep);
-  void add_recalibrated_shortlist(std::size_t recal, const std::vector<double>& ranged,
-                                  std::vector<double>& vs_recalibration);
-  void refit_jointly(std::size_t recal, const std::vector<double>& ranged,
-                     std::vector<double>& vs_recalibration, DiagnosisReport& rep);
-  void rank_first(const std::vector<double>& vs_recalibration);
+  std::size_t joint_refit(DiagnosisReport& rep);
+  void add_recalibrated_shortlist(std::size_t recal, const std::vector<double>& ranged);
+  void refit_jointly(std::size_t recal, const std::vector<double>& ranged, DiagnosisReport& rep);
+  void rank_first(std::size_t recal);
   Base select_forward(DiagnosisReport& rep) const;
   std::vector<Entry> next_entries(const Base& base, const std::vector<Applied>& applied,
                                   bool params_applied) const;
+  std::size_t rerank_jointly(const std::vector<Applied>& applied, const Base& base,
+                             const std::vector<Entry>& next, std::vector<Evaluated>& nres) const;
   bool reestimate(std::vector<Applied>& applied, Finding f, DiagnosisReport& rep) const;
   void redecide_mechanisms(std::vector<Applied>& applied, const Compose& all, Evaluated& joint,
                            DiagnosisReport& rep) const;
@@ -70,7 +70,9 @@ private:
   std::vector<Entry> shortlisted(const std::vector<Entry>& side, const Evidence& ev,
                                  std::size_t sites, std::set<std::size_t>* taken) const;
   // judgement.cpp
-  void judge(std::vector<Evaluated>& res) const;
+  void judge(std::vector<Evaluated>& res, const std::vector<double>& reference) const;
+  void add_rivals(Finding& f, std::size_t best, const std::vector<Entry>& entries,
+                  const std::vector<Evaluated>& res) const;
   void merge_mechanisms(const std::vector<Entry>& entries, std::vector<Evaluated>& res) const;
   double score(const Finding& f) const;
   std::vector<std::size_t> ranked(const std::vector<Evaluated>& res) const;

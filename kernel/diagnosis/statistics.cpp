@@ -49,4 +49,16 @@ FitComparison compare_fits(const FitResiduals& a, const FitResiduals& b, double 
   return c;
 }
 
+double holdout_gain_z(const std::vector<double>& reference, const std::vector<double>& candidate,
+                      double noise) {
+  if (reference.empty() || reference.size() != candidate.size() || !(noise > 0.0)) return 0.0;
+  double gain = 0.0, diff2 = 0.0;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    gain += reference[i] * reference[i] - candidate[i] * candidate[i];
+    diff2 += (reference[i] - candidate[i]) * (reference[i] - candidate[i]);
+  }
+  if (diff2 <= 0.0) return 0.0;
+  return gain / (2.0 * noise * std::sqrt(diff2));
+}
+
 } // namespace thermnet

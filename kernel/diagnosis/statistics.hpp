@@ -36,4 +36,16 @@ struct FitComparison {
 FitComparison compare_fits(const FitResiduals& a, const FitResiduals& b, double noise,
                            double threshold = 3.0);
 
+/// The paired held-out comparison of a candidate with a reference fit against measurement noise:
+/// z = (SSE_ref - SSE_cand) / (2 noise ||r_ref - r_cand||) over the same held-out points. With
+/// white noise of that level and the two predictions differing by r_ref - r_cand, the SSE
+/// difference has that spread; positive: the candidate predicts the held-out data better; 0 when
+/// there is nothing to compare.
+double holdout_gain_z(const std::vector<double>& reference, const std::vector<double>& candidate,
+                      double noise);
+
+/// The z a held-out gain must reach to be more than chance (one-sided, about 1 in 10^4 per
+/// comparison, margin for the many candidates compared).
+inline constexpr double significant_gain_z = 3.5;
+
 } // namespace thermnet
