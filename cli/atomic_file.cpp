@@ -1,5 +1,7 @@
 #include "cli/atomic_file.hpp"
 
+#include "kernel/core/process_group.hpp"
+
 #include <fmt/format.h>
 
 #include <cerrno>
@@ -66,6 +68,8 @@ void write_file_atomically(const std::string& path, const std::string& content) 
 }
 
 void write_files_atomically(const std::vector<OutputFile>& files) {
+  // Under mpirun every rank holds the same result: rank 0 alone writes it (docs/cluster.md).
+  if (process_group().rank() != 0) return;
   std::set<fs::path> targets;
   for (const auto& f : files) {
     std::error_code ec;

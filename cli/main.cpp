@@ -9,6 +9,7 @@
 #include "cli/lint_command.hpp"
 #include "cli/lsp_command.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/mpi_session.hpp"
 #include "cli/sensitivity_command.hpp"
 #include "cli/simulate_command.hpp"
 
@@ -17,7 +18,9 @@
 #include <exception>
 #include <iostream>
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_main(int argc, char** argv) {
   using namespace thermnet::cli;
   CLI::App app{"thermnet: lumped-parameter thermal networks (lint, simulate, calibrate, diagnose)",
                "thermnet"};
@@ -52,4 +55,12 @@ int main(int argc, char** argv) {
     return exit_failure;
   }
   return status;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  // Under mpirun the ranks share the work; a rank that fails ends the job (cli/mpi_session.hpp).
+  thermnet::cli::MpiSession mpi(argc, argv);
+  return mpi.finish(run_main(argc, argv));
 }
