@@ -5,6 +5,7 @@ the `thermnet` command line's for the same model (CSV digits and JSON reports)."
 import csv
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -264,6 +265,18 @@ class ReportsTest(unittest.TestCase):
             plain.calibrate()
         with self.assertRaises(thermnet.ModelError):
             self.model.calibrate(cases=["nope"])
+
+
+class ExampleTest(unittest.TestCase):
+    def test_notebook_example_improves_the_held_out_case(self):
+        script = os.path.join(SRC, "python", "examples", "camera_calibration.py")
+        with tempfile.TemporaryDirectory() as tmp:
+            done = subprocess.run([sys.executable, script, tmp], capture_output=True, text=True,
+                                  check=True)
+            self.assertGreater(os.path.getsize(os.path.join(tmp, "camera_calibration.png")), 10000)
+        nominal, fitted = map(float, re.search(r"RMSE nominal ([0-9.]+) K -> calibrated ([0-9.]+) K",
+                                               done.stdout).groups())
+        self.assertLess(fitted, nominal / 2)
 
 
 if __name__ == "__main__":
