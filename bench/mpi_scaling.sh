@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# MPI strong scaling (docs/cluster.md): a 12,000-sample Monte Carlo calibration of the aerial
-# camera (all 11 cases) and a 400-sample uncertainty run, on 1, 2 and 4 ranks with one thread
+# MPI strong scaling (docs/cluster.md): a 12,000-sample Monte Carlo calibration of the extended aerial
+# camera model of study A (all 11 cases) and a 400-sample uncertainty run, on 1, 2 and 4 ranks with one thread
 # each; prints wall times, speed-up and efficiency, and checks every result against 1 rank.
 #   bench/mpi_scaling.sh build/cli/thermnet [MC_SAMPLES] [UQ_SAMPLES]
 # On a 2-core machine 4 ranks are oversubscribed: expect no gain past 2.
 set -euo pipefail
 T=$(realpath "$1"); MC=${2:-12000}; UQ=${3:-400}
-M=$(realpath "$(dirname "$0")/../models/aerial_camera/camera.tnet")
+M=$(realpath "$(dirname "$0")/../models/aerial_camera/extended.tnet")
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 W=$(mktemp -d); trap 'rm -rf "$W"' EXIT
 run() { # ranks label args...
