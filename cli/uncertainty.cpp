@@ -84,27 +84,25 @@ UncertaintyBands run_uncertainty(const lang::Model& model, const std::string& ca
     runs[i].resize(bytes.size() / sizeof(float));
     std::memcpy(runs[i].data(), bytes.data(), runs[i].size() * sizeof(float));
   };
-  distributed_for(
-      o.samples, o.threads,
-      [&](std::size_t i) {
-        lang::ParamValues values;
-        for (std::size_t j = 0; j < ranged.size(); ++j)
-          values[ranged[j].name] =
-              *ranged[j].lo + (*ranged[j].hi - *ranged[j].lo) * uniform01(o.seed, j, i);
-        try {
-          Network net(model.instantiate(name, values));
-          SimulationResult r = simulate(net, o.simulation);
-          if (r.times.size() != nt) return;
-          std::vector<float> flat(nt * nn);
-          for (std::size_t k = 0; k < nt; ++k)
-            for (std::size_t n = 0; n < nn; ++n)
-              flat[k * nn + n] = static_cast<float>(r.temps[k][n] - b.nominal.temps[k][n]);
-          runs[i] = std::move(flat);
-        } catch (const std::exception&) {
-          // A sample that cannot be simulated is left out and counted below.
-        }
-      },
-      pack, unpack);
+  auto run_sample = [&](std::size_t i) {
+    lang::ParamValues values;
+    for (std::size_t j = 0; j < ranged.size(); ++j)
+      values[ranged[j].name] =
+          *ranged[j].lo + (*ranged[j].hi - *ranged[j].lo) * uniform01(o.seed, j, i);
+    try {
+      Network net(model.instantiate(name, values));
+      SimulationResult r = simulate(net, o.simulation);
+      if (r.times.size() != nt) return;
+      std::vector<float> flat(nt * nn);
+      for (std::size_t k = 0; k < nt; ++k)
+        for (std::size_t n = 0; n < nn; ++n)
+          flat[k * nn + n] = static_cast<float>(r.temps[k][n] - b.nominal.temps[k][n]);
+      runs[i] = std::move(flat);
+    } catch (const std::exception&) {
+      // A sample that cannot be simulated is left out and counted below.
+    }
+  };
+  distributed_for(o.samples, o.threads, run_sample, pack, unpack);
   std::vector<std::size_t> ok;
   for (std::size_t i = 0; i < runs.size(); ++i)
     if (!runs[i].empty()) ok.push_back(i);

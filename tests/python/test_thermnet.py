@@ -79,7 +79,8 @@ class LoadingTest(unittest.TestCase):
         self.assertEqual(m.nodes, ["ambient", "plate1", "plate2"])
         self.assertEqual(m.cases, ["warmup", "cold"])
         self.assertEqual(m.params["h_gap"]["value"], 4.0)
-        self.assertIsNone(thermnet.Model.from_string("model b\nnode a C = 1\n").params.get("x"))
+        plain = thermnet.Model.from_string("model b\nnode a C = 1 [J/K]\n")
+        self.assertEqual((plain.nodes, plain.params, plain.cases), (["a"], {}, []))
 
     def test_error_carries_file_line_column(self):
         text = "model bad\nnode a C = 1 [J/K]\nconvection c a b h = 1 A = 1\n"
