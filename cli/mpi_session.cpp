@@ -24,6 +24,7 @@
 namespace thermnet::cli {
 namespace {
 
+#ifdef THERMNET_WITH_MPI
 /// True when an MPI launcher (OpenMPI's mpirun, or a PMI-based one such as srun) started us.
 bool launched_by_mpirun() {
   for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE"})
@@ -41,7 +42,6 @@ void write_all(int fd, const std::string& text) {
   }
 }
 
-#ifdef THERMNET_WITH_MPI
 /// MPI_COMM_WORLD.
 class MpiWorld final : public ProcessGroup {
 public:
