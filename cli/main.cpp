@@ -10,6 +10,7 @@
 #include "cli/lsp_command.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/output_stream.hpp"
+#include "cli/mpi_session.hpp"
 #include "cli/sensitivity_command.hpp"
 #include "cli/simulate_command.hpp"
 #include "cli/sweep_command.hpp"
@@ -43,7 +44,7 @@ int close_standard_output(int status) {
   return status;
 }
 
-int run(int argc, char** argv) {
+int run_main(int argc, char** argv) {
   using namespace thermnet::cli;
   CLI::App app{"thermnet: lumped-parameter thermal networks (lint, simulate, calibrate, diagnose)",
                "thermnet"};
@@ -84,6 +85,8 @@ int run(int argc, char** argv) {
 } // namespace
 
 int main(int argc, char** argv) {
+  // Under mpirun the ranks share the work; a rank that fails ends the job (cli/mpi_session.hpp).
+  thermnet::cli::MpiSession mpi(argc, argv);
   thermnet::cli::route_standard_output();
-  return close_standard_output(run(argc, argv));
+  return mpi.finish(close_standard_output(run_main(argc, argv)));
 }

@@ -1,6 +1,7 @@
 #include "cli/output_stream.hpp"
 
 #include "cli/temp_files.hpp"
+#include "kernel/core/process_group.hpp"
 
 #include <fmt/format.h>
 
@@ -108,7 +109,18 @@ OutputStream::OutputStream()
   buffer_.reserve(kBufferSize);
 }
 
-OutputStream::OutputStream(const std::string& path) : name_(path), target_(resolve_output(path)) {
+namespace {
+
+/// Under mpirun every rank holds the same result: rank 0 alone writes it (docs/cluster.md); the
+/// other ranks write to /dev/null.
+std::string this_ranks_target(const std::string& path) {
+  return process_group().rank() == 0 ? path : "/dev/null";
+}
+
+} // namespace
+
+OutputStream::OutputStream(const std::string& path)
+    : name_(path), target_(resolve_output(this_ranks_target(path))) {
   buffer_.reserve(kBufferSize);
   if (target_.kind == OutputTarget::Kind::stream) {
     fd_ = ::open(target_.real.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);

@@ -62,7 +62,27 @@ std::string format_table(const SensitivityReport& r) {
   return out;
 }
 
-nlohmann::json to_json(const lang::Model& model, const SensitivityReport& r) {
+int run_sensitivity(const SensitivityCommandOptions& o, lang::SourceManager& sources) {
+  int status = exit_ok;
+  auto model = load_checked_model(o.model, sources, status);
+  if (!model) return status;
+  check_outputs({{"--json", o.json}}, model_inputs(*model));
+  SensitivityOptions opt;
+  opt.elements = o.elements;
+  opt.cases = o.cases;
+  opt.threads = o.threads;
+  SensitivityReport r = compute_sensitivities(*model, opt);
+  std::cout << format_table(r);
+  for (const auto& n : r.notes)
+    std::cerr << "thermnet sensitivity: note: " << n << "\n";
+  std::cerr << fmt::format("thermnet sensitivity: {} simulations\n", r.simulations);
+  if (!o.json.empty()) write_output_file(o.json, sensitivity_json(*model, r).dump(2) + "\n");
+  return exit_ok;
+}
+
+} // namespace
+
+nlohmann::json sensitivity_json(const lang::Model& model, const SensitivityReport& r) {
   nlohmann::json factors = nlohmann::json::array();
   for (std::size_t j = 0; j < r.factors.size(); ++j) {
     const SensitivityFactor& f = r.factors[j];
@@ -96,26 +116,6 @@ nlohmann::json to_json(const lang::Model& model, const SensitivityReport& r) {
           {"simulations", r.simulations},
           {"notes", r.notes}};
 }
-
-int run_sensitivity(const SensitivityCommandOptions& o, lang::SourceManager& sources) {
-  int status = exit_ok;
-  auto model = load_checked_model(o.model, sources, status);
-  if (!model) return status;
-  check_outputs({{"--json", o.json}}, model_inputs(*model));
-  SensitivityOptions opt;
-  opt.elements = o.elements;
-  opt.cases = o.cases;
-  opt.threads = o.threads;
-  SensitivityReport r = compute_sensitivities(*model, opt);
-  std::cout << format_table(r);
-  for (const auto& n : r.notes)
-    std::cerr << "thermnet sensitivity: note: " << n << "\n";
-  std::cerr << fmt::format("thermnet sensitivity: {} simulations\n", r.simulations);
-  if (!o.json.empty()) write_output_file(o.json, to_json(*model, r).dump(2) + "\n");
-  return exit_ok;
-}
-
-} // namespace
 
 void add_sensitivity_command(CLI::App& app, int& status) {
   auto o = std::make_shared<SensitivityCommandOptions>();

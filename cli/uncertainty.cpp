@@ -10,6 +10,7 @@
 #include "cli/result_output.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/parallel.hpp"
+#include "kernel/core/process_group.hpp"
 #include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
@@ -17,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <cstring>
 #include <stdexcept>
 
 namespace thermnet::cli {
@@ -62,8 +64,18 @@ UncertaintyBands run_uncertainty(const lang::Model& model, const std::string& ca
     }
 
   const std::size_t nt = b.times.size(), nn = b.names.size();
+  // Each process (MPI rank) simulates its share of the samples; the runs are then exchanged, so
+  // every process computes the same bands from all of them.
   std::vector<std::vector<float>> runs(o.samples);
-  parallel_for(o.samples, o.threads, [&](std::size_t i) {
+  auto pack = [&](std::size_t i) {
+    return std::string(reinterpret_cast<const char*>(runs[i].data()),
+                       runs[i].size() * sizeof(float));
+  };
+  auto unpack = [&](std::size_t i, std::string_view bytes) {
+    runs[i].resize(bytes.size() / sizeof(float));
+    std::memcpy(runs[i].data(), bytes.data(), runs[i].size() * sizeof(float));
+  };
+  auto run_sample = [&](std::size_t i) {
     lang::ParamValues values;
     for (std::size_t j = 0; j < ranged.size(); ++j)
       values[ranged[j].name] =
@@ -80,7 +92,8 @@ UncertaintyBands run_uncertainty(const lang::Model& model, const std::string& ca
     } catch (const std::exception&) {
       // A sample that cannot be simulated is left out and counted below.
     }
-  });
+  };
+  distributed_for(o.samples, o.threads, run_sample, pack, unpack);
   std::vector<std::size_t> ok;
   for (std::size_t i = 0; i < runs.size(); ++i)
     if (!runs[i].empty()) ok.push_back(i);

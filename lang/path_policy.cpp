@@ -17,6 +17,7 @@
 #include <sys/stat.h>
 #include <sys/vfs.h>
 #include <unistd.h>
+#include <mutex>
 #include <vector>
 
 namespace thermnet::lang {
@@ -25,6 +26,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
+std::mutex g_policy_mutex; // the policy may be read by worker threads while a caller sets it
 PathPolicy g_policy;
 bool g_allow_outside = false;
 std::vector<fs::path> g_named; // canonical paths the user named on the command line
@@ -75,10 +77,12 @@ bool pseudo_file_system(long type) {
 } // namespace
 
 void set_path_policy(PathPolicy policy) {
+  std::lock_guard lock(g_policy_mutex);
   g_policy = std::move(policy);
 }
 
-const PathPolicy& path_policy() {
+PathPolicy path_policy() {
+  std::lock_guard lock(g_policy_mutex);
   return g_policy;
 }
 
@@ -103,12 +107,12 @@ std::optional<std::string> open_model_file(const std::string& path, std::size_t 
   fd = -1;
   const fs::path canonical = canonical_or_self(path);
   const bool named = std::find(g_named.begin(), g_named.end(), canonical) != g_named.end();
-  if (!g_policy.root.empty() && !g_policy.allow_outside && !named &&
-      !inside(canonical, g_policy.root))
+  const PathPolicy policy = path_policy();
+  if (!policy.root.empty() && !policy.allow_outside && !named && !inside(canonical, policy.root))
     return fmt::format("it lies outside the model's folder {}; a model may read only files in "
                        "its own folder tree (pass --allow-outside-paths, or set "
                        "THERMNET_ALLOW_OUTSIDE_PATHS=1, if you trust it)",
-                       escape_for_display(g_policy.root.string()));
+                       escape_for_display(policy.root.string()));
   const int f = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (f < 0) return std::string(std::strerror(errno));
   struct stat st {};

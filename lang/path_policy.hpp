@@ -21,7 +21,7 @@ struct PathPolicy {
 /// model's folder), the language server for each document it analyses.
 void set_path_policy(PathPolicy policy);
 /// The process-wide policy (default: anywhere).
-const PathPolicy& path_policy();
+PathPolicy path_policy();
 /// The policy for the model file at `model_path`: its folder is the root; outside paths are
 /// allowed when the user passed --allow-outside-paths or set THERMNET_ALLOW_OUTSIDE_PATHS=1.
 PathPolicy policy_for_model(const std::string& model_path);

@@ -3,13 +3,13 @@
 #include "kernel/calibration/sample_search.hpp"
 
 #include "kernel/core/parallel.hpp"
+#include "kernel/core/process_group.hpp"
 
 #include <fmt/format.h>
 
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <mutex>
 #include <numeric>
 
 namespace thermnet {
@@ -27,7 +27,29 @@ struct Outcome {
   double rmse = 0.0;
   double r2 = 0.0;
   std::size_t simulations = 0;
+  std::string failure; ///< why a failed sample failed
 };
+
+/// An outcome as bytes, for the processes that did not compute it (distributed_for).
+std::string pack(const Outcome& o) {
+  std::string out;
+  append_bytes(out, o.state);
+  append_bytes(out, o.rmse);
+  append_bytes(out, o.r2);
+  append_bytes(out, static_cast<std::uint64_t>(o.simulations));
+  return out + o.failure;
+}
+
+/// The outcome pack() wrote.
+Outcome unpack(std::string_view in) {
+  Outcome o;
+  o.state = take_bytes<Outcome::State>(in);
+  o.rmse = take_bytes<double>(in);
+  o.r2 = take_bytes<double>(in);
+  o.simulations = static_cast<std::size_t>(take_bytes<std::uint64_t>(in));
+  o.failure = std::string(in);
+  return o;
+}
 
 /// Lowers `best` to `value` if smaller (lock-free; NaN means "none yet").
 void lower_to(std::atomic<double>& best, double value) {
@@ -84,13 +106,15 @@ OptimizerResult sample_search(const CalibrationProblem& problem, const Optimizer
   eo.tolerance = settings.tolerance;
   eo.solver = settings.solver;
 
+  // Each process (MPI rank) evaluates its share of the samples; the outcomes are then exchanged,
+  // so the reduction below sees them all, whatever the number of processes and threads.
   std::vector<Outcome> outcomes(n);
-  std::mutex failure_mutex; // the message of the first failed sample (by index)
-  std::size_t failure_index = n;
-  std::string failure;
+  const ProcessGroup& group = process_group();
+  const auto [share_begin, share_end] = share_of(n, group.rank(), group.size());
+  const std::size_t share = share_end - share_begin;
   std::atomic<std::size_t> done{0};
   std::atomic<double> best_rmse{std::numeric_limits<double>::quiet_NaN()};
-  parallel_for(
+  distributed_for(
       n, settings.threads,
       [&](std::size_t i) {
         const Evaluation e = problem.evaluate(point(i), eo);
@@ -101,25 +125,23 @@ OptimizerResult sample_search(const CalibrationProblem& problem, const Optimizer
         o.rmse = e.rmse;
         o.r2 = e.r2;
         o.simulations = e.simulations;
-        if (!e.ok) {
-          std::lock_guard lock(failure_mutex);
-          if (i < failure_index) failure_index = i, failure = e.failure;
-        }
+        if (!e.ok) o.failure = e.failure;
         if (e.accepted) lower_to(best_rmse, e.rmse);
         const std::size_t d = done.fetch_add(1) + 1;
-        if (settings.on_progress) settings.on_progress(Progress{d, n, best_rmse.load()});
+        if (settings.on_progress) settings.on_progress(Progress{d, share, best_rmse.load()});
       },
-      settings.cancel);
+      [&](std::size_t i) { return pack(outcomes[i]); },
+      [&](std::size_t i, std::string_view bytes) { outcomes[i] = unpack(bytes); }, settings.cancel);
 
   // Reduce in index order: the result is the same whatever thread finished what.
-  std::size_t best = n, failed = 0;
+  std::size_t best = n, failed = 0, failure_index = n;
   for (std::size_t i = 0; i < n; ++i) {
     const Outcome& o = outcomes[i];
     if (o.state == Outcome::State::not_run) continue;
     ++res.evaluations;
     res.simulations += o.simulations;
     if (o.state == Outcome::State::failed) {
-      ++failed;
+      if (failed++ == 0) failure_index = i;
       continue;
     }
     if (o.state != Outcome::State::accepted) continue;
@@ -141,7 +163,8 @@ OptimizerResult sample_search(const CalibrationProblem& problem, const Optimizer
   }
   if (failed > 0)
     res.notes.push_back(fmt::format("{} sample{} failed to simulate (sample {}: {})", failed,
-                                    failed == 1 ? "" : "s", failure_index, failure));
+                                    failed == 1 ? "" : "s", failure_index,
+                                    outcomes[failure_index].failure));
   if (res.cancelled)
     res.notes.push_back(fmt::format("interrupted after {} of {} samples", res.evaluations, n));
   res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

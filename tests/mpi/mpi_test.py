@@ -1,0 +1,143 @@
+#!/usr/bin/env python3
+"""thermnet under mpirun: calibrate (mc, lhs) and simulate --samples over 2 and 3 ranks give the
+single-process result bit for bit; a rank that fails or is killed mid-run ends the whole job with
+a clear error within a time limit."""
+
+import json
+import os
+import signal
+import subprocess
+import tempfile
+import time
+import unittest
+import uuid
+
+EXE = os.environ["THERMNET_EXE"]
+SRC = os.environ["THERMNET_SOURCE_DIR"]
+MPIRUN = os.environ.get("MPIEXEC") or "mpirun"
+CAMERA = os.path.join(SRC, "models", "aerial_camera", "camera.tnet")
+LIMIT = 300  # seconds: a run that takes longer is a hang
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_rmaps_base_oversubscribe="1")
+
+
+def run(args, ranks, cwd):
+    """Runs thermnet directly (ranks == 0) or under mpirun; returns the finished process."""
+    cmd = [EXE, *args] if ranks == 0 else [MPIRUN, "-n", str(ranks), "--oversubscribe", EXE, *args]
+    return subprocess.run(cmd, cwd=cwd, env=ENV, capture_output=True, text=True, timeout=LIMIT,
+                          check=False)
+
+
+def outputs(args, ranks):
+    """The files a run writes into a fresh directory, by name, as bytes."""
+    with tempfile.TemporaryDirectory() as tmp:
+        done = run(args, ranks, tmp)
+        if done.returncode != 0:
+            raise AssertionError(f"{ranks} ranks: exit {done.returncode}: {done.stderr}")
+        files = {}
+        for name in sorted(os.listdir(tmp)):
+            with open(os.path.join(tmp, name), "rb") as f:
+                files[name] = f.read()
+        return files, done
+
+
+def without_wall(report_bytes):
+    report = json.loads(report_bytes)
+    report.pop("wall_s")
+    return report
+
+
+class SameResultTest(unittest.TestCase):
+    def check_calibration(self, method):
+        args = ["calibrate", CAMERA, "--method", method, "--samples", "150", "--seed", "11",
+                "--case", "case01", "--tolerance", "4", "--json", "r.json", "-o", "cal.tnet"]
+        single, _ = outputs(args + ["--threads", "2"], 0)
+        self.assertGreater(json.loads(single["r.json"])["accepted"], 0)
+        for ranks in (2, 3):
+            spread, done = outputs(args + ["--threads", "1"], ranks)
+            self.assertEqual(sorted(spread), sorted(single))
+            # The JSON report in full except the wall time, and the calibrated model bit for bit.
+            self.assertEqual(without_wall(spread["r.json"]), without_wall(single["r.json"]))
+            for name in single:
+                if name != "r.json":
+                    self.assertEqual(spread[name], single[name], name)
+            # Only rank 0 prints the table.
+            self.assertEqual(done.stdout.count("(param values in SI units)"), 1)
+
+    def test_monte_carlo(self):
+        self.check_calibration("mc")
+
+    def test_latin_hypercube(self):
+        self.check_calibration("lhs")
+
+    def test_uncertainty_bands(self):
+        args = ["simulate", CAMERA, "--case", "case02", "--samples", "25", "--seed", "5",
+                "--percentiles", "10,50,90", "-o", "bands.csv"]
+        single, _ = outputs(args, 0)
+        for ranks in (2, 3):
+            spread, _ = outputs(args + ["--threads", "1"], ranks)
+            self.assertEqual(spread["bands.csv"], single["bands.csv"])
+
+
+class FailureTest(unittest.TestCase):
+    def test_a_failing_rank_ends_the_job(self):
+        # Rank 0 runs a long calibration; rank 1 cannot read its model and stops at once: rank 0
+        # must not wait for it forever.
+        with tempfile.TemporaryDirectory() as tmp:
+            cmd = [MPIRUN, "-n", "1", EXE, "calibrate", CAMERA, "--method", "mc", "--samples",
+                   "100000", ":", "-n", "1", EXE, "calibrate", "/nonexistent/model.tnet",
+                   "--method", "mc", "--samples", "100000"]
+            start = time.monotonic()
+            done = subprocess.run(cmd, cwd=tmp, env=ENV, capture_output=True, text=True,
+                                  timeout=LIMIT, check=False)
+        self.assertNotEqual(done.returncode, 0)
+        self.assertIn("[rank 1] /nonexistent/model.tnet: error: cannot read file", done.stderr)
+        self.assertIn("thermnet: rank 1 of 2 failed (exit status 2); ending the job", done.stderr)
+        self.assertLess(time.monotonic() - start, LIMIT)
+
+    def test_a_killed_rank_ends_the_job(self):
+        token = uuid.uuid4().hex
+        env = dict(ENV, THERMNET_MPI_TEST_TOKEN=token)
+        with tempfile.TemporaryDirectory() as tmp:
+            proc = subprocess.Popen(
+                [MPIRUN, "-n", "2", "--oversubscribe", "-x", "THERMNET_MPI_TEST_TOKEN", EXE,
+                 "calibrate", CAMERA, "--method", "mc", "--samples", "100000", "--threads", "1"],
+                cwd=tmp, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            victim = None
+            deadline = time.monotonic() + 60
+            while victim is None and time.monotonic() < deadline and proc.poll() is None:
+                victim = rank_process(token, 1)
+                time.sleep(0.2)
+            self.assertIsNotNone(victim, "rank 1 never started")
+            time.sleep(1.0)  # let it get into the calibration
+            os.kill(victim, signal.SIGKILL)
+            try:
+                _, err = proc.communicate(timeout=LIMIT)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.communicate()
+                self.fail("the job hung after rank 1 was killed")
+        self.assertNotEqual(proc.returncode, 0)
+        self.assertRegex(err, r"rank 1 .*(signal 9|Killed)|signal 9")
+
+
+def rank_process(token, rank):
+    """The pid of the thermnet process of a rank started with our token, or None."""
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit():
+            continue
+        try:
+            with open(f"/proc/{pid}/environ", "rb") as f:
+                env = f.read().split(b"\0")
+            with open(f"/proc/{pid}/comm", encoding="utf-8") as f:
+                comm = f.read().strip()
+        except OSError:
+            continue
+        if (comm == "thermnet" and f"THERMNET_MPI_TEST_TOKEN={token}".encode() in env
+                and f"OMPI_COMM_WORLD_RANK={rank}".encode() in env):
+            return int(pid)
+    return None
+
+
+if __name__ == "__main__":
+    unittest.main()
