@@ -1,4 +1,4 @@
-// thermnet: one executable, subcommands as in shared/spec/cli.md. Every error is caught here and
+// thermnet: one executable, subcommands listed in README.md. Every error is caught here and
 // rendered; no input ends in a crash.
 
 #include "cli/calibrate_command.hpp"
@@ -9,11 +9,12 @@
 #include "cli/lint_command.hpp"
 #include "cli/lsp_command.hpp"
 #include "cli/model_loading.hpp"
-#include "cli/output_stream.hpp"
 #include "cli/mpi_session.hpp"
+#include "cli/output_stream.hpp"
 #include "cli/sensitivity_command.hpp"
 #include "cli/simulate_command.hpp"
 #include "cli/sweep_command.hpp"
+#include "lang/display_text.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -70,13 +71,15 @@ int run_main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    // As CLI11 prints it, with what the user typed escaped (it may hold control characters).
+    std::cerr << thermnet::lang::escape_for_display(e.what())
+              << "\nRun with --help for more information.\n";
     return exit_usage;
   } catch (const std::bad_alloc&) {
     std::cerr << "thermnet: error: out of memory\n";
     return exit_failure;
   } catch (const std::exception& e) {
-    std::cerr << "thermnet: error: " << e.what() << "\n";
+    std::cerr << "thermnet: error: " << thermnet::lang::escape_for_display(e.what()) << "\n";
     return exit_failure;
   }
   return status;

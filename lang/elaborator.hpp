@@ -108,10 +108,10 @@ private:
     Span mark;      ///< its path
   };
   std::optional<DataTimes> data_times_; ///< set by check_data()
-  bool structural_ = false;        // load time: params refused
-  const Scope* context_ = nullptr; // scope of the declaration being elaborated
-  bool saw_time_ = false;          // the last evaluation used `time`
-  bool time_allowed_ = false;      // `time` may be used by the evaluation under way
+  bool structural_ = false;             // load time: params refused
+  const Scope* context_ = nullptr;      // scope of the declaration being elaborated
+  bool saw_time_ = false;               // the last evaluation used `time`
+  bool time_allowed_ = false;           // `time` may be used by the evaluation under way
   std::unordered_map<std::string_view, const ValueDecl*> value_decls_;
   std::unordered_map<std::string_view, Quantity> values_;
   std::unordered_map<std::string_view, std::pair<double, double>> ranges_;

@@ -13,11 +13,11 @@
 #include <cstring>
 #include <fcntl.h>
 #include <linux/magic.h>
+#include <mutex>
 #include <string_view>
 #include <sys/stat.h>
 #include <sys/vfs.h>
 #include <unistd.h>
-#include <mutex>
 #include <vector>
 
 namespace thermnet::lang {

@@ -11,8 +11,8 @@
 #include "kernel/core/network.hpp"
 #include "kernel/diagnosis/diagnosis.hpp"
 #include "kernel/diagnosis/report.hpp"
-#include "lang/path_policy.hpp"
 #include "lang/diagnostics.hpp"
+#include "lang/path_policy.hpp"
 
 #include <fmt/format.h>
 
@@ -99,9 +99,9 @@ std::shared_ptr<const ModelSession> ModelSession::from_text(const std::string& t
   lang::DiagnosticEngine diags(*sources);
   // As for a file: what the text names is read under the policy of the folder of `path`.
   lang::set_path_policy(lang::policy_for_model(path));
-  auto model = lang::Model::from_text(
-      path, text, element_catalog(), *sources, diags,
-      cli::load_options(cli::ModelPlugins::if_allowed, "thermnet (Python)"));
+  auto model =
+      lang::Model::from_text(path, text, element_catalog(), *sources, diags,
+                             cli::load_options(cli::ModelPlugins::if_allowed, "thermnet (Python)"));
   return checked(std::move(sources), std::move(model), diags, path);
 }
 
