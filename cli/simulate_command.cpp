@@ -186,7 +186,7 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
     csv->write(result_csv_row(t, row_temps, kelvin));
     if (summary) summary->add(t, temps);
     if (flows || json) {
-      for (std::size_t u = 0; u < unknowns.size(); ++u)
+      for (std::size_t u = 0; u < net.unknown_nodes().size(); ++u)
         unknowns[u] = temps[static_cast<std::size_t>(net.unknown_nodes()[u])];
       net.element_heat(t, unknowns.data(), heat);
     }

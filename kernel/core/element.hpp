@@ -8,6 +8,7 @@
 #include "lang/network_spec.hpp"
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace thermnet {
@@ -21,9 +22,23 @@ public:
 };
 
 /// An element instantiated in a network.
+///
+/// An element may own internal states (a thermostat's lagged sensor reading): the network
+/// integrates them with the temperatures, as unknowns after the nodes' (capacity 1, so their F is
+/// their rate of change), and gives them indices after the spec's nodes in the T, F and Jacobian
+/// slot arrays its methods receive. They are not temperatures of the network: they carry no heat,
+/// are not kept above 0 K and are not written as nodes.
 class Element {
 public:
   virtual ~Element() = default;
+  /// Number of internal states it owns (0 for most elements).
+  virtual int state_count() const { return 0; }
+  /// Receives the index of its first internal state in the node arrays (called before declare()).
+  virtual void assign_states(int /*first*/) {}
+  /// Writes its internal states' values at the start into x, from the node temperatures T.
+  virtual void initial_states(const double* /*T*/, double* /*x*/) const {}
+  /// Name of its internal state k, for messages ("sensor").
+  virtual std::string state_name(int /*k*/) const { return "state"; }
   /// Requests the Jacobian entries it stamps (called when the network is built; keep the slots).
   virtual void declare(JacobianLayout& layout) = 0;
   /// Adds heat flows into F (W, into each node) and, unless J is null (only flows wanted),

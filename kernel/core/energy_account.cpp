@@ -30,7 +30,7 @@ public:
   }
 
   int size() const override { return n_ + extra_; }
-  int temperature_count() const override { return n_; }
+  int temperature_count() const override { return net_.temperature_count(); }
   const std::vector<double>& capacities() const override { return capacities_; }
   void heat_balance(double t, const double* T, double* F) override {
     net_.heat_balance(t, T, F);

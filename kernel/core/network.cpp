@@ -93,6 +93,21 @@ Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec
     else
       add(e, static_cast<int>(k));
   }
+  // Internal states of elements follow the nodes in the node arrays and the temperatures among
+  // the unknowns.
+  for (const Piece& p : pieces_) {
+    if (p.element < 0) continue;
+    Element& e = *elements_[static_cast<std::size_t>(p.element)];
+    const int count = e.state_count();
+    if (count > 0) e.assign_states(static_cast<int>(n) + state_count_);
+    for (int j = 0; j < count; ++j) {
+      unknown_of_.push_back(static_cast<int>(unknown_nodes_.size()) + state_count_++);
+      capacities_.push_back(1.0);
+      state_owner_.push_back(p.element);
+      state_names_.push_back(spec_.elements[static_cast<std::size_t>(p.spec_element)].name + "." +
+                             e.state_name(j));
+    }
+  }
   // Fix the pattern: every unknown's diagonal plus what the elements declare.
   std::vector<std::pair<int, int>> pairs;
   RecordingLayout recorder(pairs, unknown_of_);
@@ -119,9 +134,10 @@ Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec
     event_offset_.push_back(event_count_);
     event_count_ += e->event_count();
   }
-  T_all_.assign(n, 0.0);
-  F_all_.assign(n, 0.0);
-  F_piece_.assign(n, 0.0);
+  const std::size_t entries = n + static_cast<std::size_t>(state_count_);
+  T_all_.assign(entries, 0.0);
+  F_all_.assign(entries, 0.0);
+  F_piece_.assign(entries, 0.0);
   J_links_.assign(static_cast<std::size_t>(pattern_.nnz()) + 1, 0.0);
   links_.stamp_jacobian(J_links_.data());
   J_all_ = J_links_;
@@ -134,8 +150,13 @@ void Network::expand(double t, const double* T, double* all) const {
     all[b] = spec_.nodes[static_cast<std::size_t>(b)].T.at(t);
 }
 
-void Network::stamp_all(double t, const double* T, bool with_jacobian) {
+void Network::load(double t, const double* T) {
   expand(t, T, T_all_.data());
+  std::copy(T + unknown_nodes_.size(), T + size(), T_all_.begin() + spec_.nodes.size());
+}
+
+void Network::stamp_all(double t, const double* T, bool with_jacobian) {
+  load(t, T);
   std::fill(F_all_.begin(), F_all_.end(), 0.0);
   // Right-hand sides outnumber Jacobians by ~50 to 1: skip the derivatives when not asked for.
   double* J = nullptr;
@@ -155,6 +176,8 @@ void Network::heat_balance(double t, const double* T, double* F) {
   stamp_all(t, T, false);
   for (std::size_t u = 0; u < unknown_nodes_.size(); ++u)
     F[u] = F_all_[static_cast<std::size_t>(unknown_nodes_[u])];
+  std::copy(F_all_.begin() + static_cast<std::ptrdiff_t>(spec_.nodes.size()), F_all_.end(),
+            F + unknown_nodes_.size());
 }
 
 void Network::jacobian(double t, const double* T, double* values) {
@@ -163,14 +186,14 @@ void Network::jacobian(double t, const double* T, double* values) {
 }
 
 void Network::events(double t, const double* T, double* g) {
-  expand(t, T, T_all_.data());
+  load(t, T);
   for (std::size_t k = 0; k < elements_.size(); ++k)
     if (elements_[k]->event_count() > 0)
       elements_[k]->events(t, T_all_.data(), g + event_offset_[k]);
 }
 
 bool Network::apply_events(double t, const double* T, const std::vector<int>& fired) {
-  expand(t, T, T_all_.data());
+  load(t, T);
   bool changed = false;
   for (std::size_t k = 0; k < elements_.size(); ++k)
     for (int j = 0; j < elements_[k]->event_count(); ++j)
@@ -180,7 +203,7 @@ bool Network::apply_events(double t, const double* T, const std::vector<int>& fi
 }
 
 void Network::init_events(double t, const double* T) {
-  expand(t, T, T_all_.data());
+  load(t, T);
   for (auto& e : elements_)
     e->init_events(t, T_all_.data());
 }
@@ -200,20 +223,31 @@ std::vector<double> Network::breakpoints(double t0, double t1) const {
 }
 
 std::string Network::unknown_name(int i) const {
-  return spec_.nodes.at(static_cast<std::size_t>(unknown_nodes_.at(static_cast<std::size_t>(i))))
-      .name;
+  const auto u = static_cast<std::size_t>(i);
+  if (u < unknown_nodes_.size())
+    return spec_.nodes.at(static_cast<std::size_t>(unknown_nodes_[u])).name;
+  return state_names_.at(u - unknown_nodes_.size());
 }
 
 std::vector<double> Network::initial_state() const {
   std::vector<double> T0;
-  T0.reserve(unknown_nodes_.size());
+  T0.reserve(static_cast<std::size_t>(size()));
   for (int i : unknown_nodes_)
     T0.push_back(spec_.nodes[static_cast<std::size_t>(i)].T0.value_or(spec_.default_initial()));
+  if (state_count_ == 0) return T0;
+  std::vector<double> all(spec_.nodes.size());
+  expand(0.0, T0.data(), all.data());
+  T0.resize(static_cast<std::size_t>(size()), 0.0);
+  for (std::size_t s = 0; s < state_owner_.size();) {
+    const Element& e = *elements_[static_cast<std::size_t>(state_owner_[s])];
+    e.initial_states(all.data(), T0.data() + unknown_nodes_.size() + s);
+    s += static_cast<std::size_t>(e.state_count());
+  }
   return T0;
 }
 
 double Network::source_power(double t, const double* T) {
-  expand(t, T, T_all_.data());
+  load(t, T);
   double P = 0.0;
   for (const auto& e : elements_)
     P += e->power_in(t, T_all_.data());
@@ -237,7 +271,7 @@ bool Network::element_switches(std::size_t e) const {
 }
 
 void Network::element_heat(double t, const double* T, std::vector<std::vector<double>>& heat) {
-  expand(t, T, T_all_.data());
+  load(t, T);
   heat.resize(spec_.elements.size());
   for (std::size_t e = 0; e < heat.size(); ++e)
     heat[e].assign(spec_.elements[e].nodes.size(), 0.0);
@@ -263,6 +297,9 @@ void Network::element_heat(double t, const double* T, std::vector<std::vector<do
     }
     collect(p);
   }
+  // Rates of internal states are not heat: cleared for the next use.
+  std::fill(F_piece_.begin() + static_cast<std::ptrdiff_t>(spec_.nodes.size()), F_piece_.end(),
+            0.0);
 }
 
 } // namespace thermnet

@@ -10,6 +10,7 @@
 
 #include <memory>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace thermnet {
@@ -19,14 +20,16 @@ struct NetworkError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The network the integrators solve: unknown temperatures are the non-boundary nodes.
+/// The network the integrators solve: the unknowns are the temperatures of the non-boundary nodes,
+/// then the internal states of elements that own some (a thermostat's lagged sensor reading).
 class Network final : public ThermalSystem {
 public:
   /// Builds the elements from their plugins and fixes the Jacobian pattern.
   explicit Network(lang::NetworkSpec spec,
                    const ElementRegistry& registry = ElementRegistry::global());
 
-  int size() const override { return static_cast<int>(unknown_nodes_.size()); }
+  int size() const override { return static_cast<int>(unknown_nodes_.size()) + state_count_; }
+  int temperature_count() const override { return static_cast<int>(unknown_nodes_.size()); }
   const std::vector<double>& capacities() const override { return capacities_; }
   void heat_balance(double t, const double* T, double* F) override;
   const SparsityPattern& jacobian_pattern() const override { return pattern_; }
@@ -40,17 +43,19 @@ public:
 
   /// The spec it was built from.
   const lang::NetworkSpec& spec() const { return spec_; }
-  /// Spec node index of each unknown.
+  /// Spec node index of each unknown temperature (the first temperature_count() unknowns).
   const std::vector<int>& unknown_nodes() const { return unknown_nodes_; }
-  /// Initial temperatures of the unknowns (T0, else the case's initial, else 20 degC), K.
+  /// The unknowns at t = 0: temperatures T0, else the case's initial, else 20 degC (K), then the
+  /// elements' internal states as they start from those temperatures.
   std::vector<double> initial_state() const;
-  /// Temperatures of every node (unknowns from T, boundaries from their signals at t), K.
+  /// Temperatures of every node, spec order (unknowns from T, boundaries from their signals at
+  /// t), K; `all` has one entry per spec node (internal states are not written).
   void expand(double t, const double* T, double* all) const;
   /// Heat entering the network from sources at t, W.
   double source_power(double t, const double* T);
   /// Heat leaving the network into boundaries at t, W.
   double boundary_loss(double t, const double* T);
-  /// Heat each element of the spec adds to its terminals at (t, T) (T: the unknowns), W:
+  /// Heat each element of the spec adds to its terminals at (t, T) (T: all unknowns), W:
   /// heat[e][j] goes into spec().elements[e].nodes[j]; a two-terminal link gives (-Q, +Q) with Q
   /// its flow from the first terminal to the second. `heat` is resized as needed.
   void element_heat(double t, const double* T, std::vector<std::vector<double>>& heat);
@@ -58,6 +63,8 @@ public:
   bool element_switches(std::size_t e) const;
 
 private:
+  /// Loads T_all_: every node as expand() does, then the internal states.
+  void load(double t, const double* T);
   void stamp_all(double t, const double* T, bool with_jacobian);
 
   lang::NetworkSpec spec_;
@@ -65,7 +72,10 @@ private:
   std::vector<std::unique_ptr<Element>> elements_; // every other element
   std::vector<int> boundary_nodes_;                // spec nodes with prescribed temperatures
   std::vector<int> unknown_nodes_;                 // unknown -> spec node
-  std::vector<int> unknown_of_;                    // spec node -> unknown or -1
+  std::vector<int> unknown_of_;                    // node array index -> unknown or -1
+  int state_count_ = 0;                            // internal states, after the nodes
+  std::vector<int> state_owner_;                   // per internal state: index into elements_
+  std::vector<std::string> state_names_;           // per internal state: "element.state"
   std::vector<double> capacities_;
   SparsityPattern pattern_;
   /// A built piece of a spec element: a link of links_ (batch >= 0) or an entry of elements_.
@@ -78,7 +88,8 @@ private:
   std::vector<double> F_piece_;   // scratch of element_heat, kept zero between uses
   std::vector<int> event_offset_; // per element: first event index
   int event_count_ = 0;
-  // Scratch sized once: temperatures, heat balance and Jacobian values of every node.
+  // Scratch sized once: temperatures, heat balance and Jacobian values of every node, then the
+  // internal states (node array index spec_.nodes.size() + k holds state k).
   std::vector<double> T_all_, F_all_, J_all_;
   std::vector<double> J_links_; // the links' constant part of J_all_
 };

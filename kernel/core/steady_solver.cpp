@@ -80,9 +80,13 @@ public:
     std::copy(T.begin(), T.end(), NV_DATA_S(u_.get()));
     N_VConst(1.0, uscale_.get());
     scale_residuals();
-    // Temperatures are absolute: keep the iterates above 0 K when the guess is.
-    positive_ = std::all_of(T.begin(), T.end(), [](double x) { return x > 0.0; });
-    N_VConst(positive_ ? 2.0 : 0.0, constraints_.get());
+    // Temperatures are absolute: keep the iterates above 0 K when the guess is (other unknowns,
+    // such as a thermostat's sensor reading, are left unconstrained).
+    const int temps = ev.system().temperature_count();
+    positive_ = std::all_of(T.begin(), T.begin() + temps, [](double x) { return x > 0.0; });
+    N_VConst(0.0, constraints_.get());
+    if (positive_)
+      std::fill(NV_DATA_S(constraints_.get()), NV_DATA_S(constraints_.get()) + temps, 2.0);
     kin_.reset(chk_.created(KINCreate(sc), "KINCreate"));
     chk_.describe_failure = [this] { return failure_report(); };
     configure(kind, opt, positive_);
@@ -109,7 +113,8 @@ public:
       }
     }
     const double* uu = NV_DATA_S(u_.get());
-    if (const int i = detail::coldest_below_absolute_zero(uu, n_); i >= 0)
+    if (const int i = detail::coldest_below_absolute_zero(uu, ev_.system().temperature_count());
+        i >= 0)
       detail::fail_below_absolute_zero(
           ev_, {.unknown = i, .crossing = t_, .kelvin = uu[i], .reached = t_, .steady = true},
           "KINSol");

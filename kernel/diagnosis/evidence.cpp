@@ -114,7 +114,7 @@ void Engine::build_screen(CaseEvidence& ce, const std::vector<std::vector<double
     for (double c : corners)
       if (c > ta && c < tb) straddles = true;
     if (straddles) continue;
-    for (std::size_t u = 0; u < Tu.size(); ++u)
+    for (std::size_t u = 0; u < net.unknown_nodes().size(); ++u)
       Tu[u] = ce.T[k][static_cast<std::size_t>(net.unknown_nodes()[u])];
     net.heat_balance(t[k], Tu.data(), F.data());
     for (int node : ce.rows) {

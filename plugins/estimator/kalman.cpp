@@ -44,6 +44,7 @@ public:
   double q = 0.0; ///< extra heat flow, W
 
   int size() const override { return net_.size(); }
+  int temperature_count() const override { return net_.temperature_count(); }
   const std::vector<double>& capacities() const override { return net_.capacities(); }
   void heat_balance(double t, const double* T, double* F) override {
     net_.heat_balance(t, T, F);
@@ -86,8 +87,8 @@ public:
                         net_.unknown_name(i)));
     auto unknown_of = [&](const std::string& name) {
       int spec = net_.spec().node_index(name);
-      for (int i = 0; i < n_; ++i)
-        if (net_.unknown_nodes()[i] == spec) return i;
+      for (std::size_t i = 0; i < net_.unknown_nodes().size(); ++i)
+        if (net_.unknown_nodes()[i] == spec) return static_cast<int>(i);
       return -1;
     };
     std::string input = s.text("input");
