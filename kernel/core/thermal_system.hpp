@@ -57,6 +57,35 @@ public:
   virtual std::string unknown_name(int i) const { return "#" + std::to_string(i); }
 };
 
+/// A ThermalSystem that hands every call to another one; subclasses override what they change
+/// (an extra heat input, a record of the events applied).
+class ForwardingSystem : public ThermalSystem {
+public:
+  /// Forwards to `inner` (which must outlive it).
+  explicit ForwardingSystem(ThermalSystem& inner) : inner_(inner) {}
+  int size() const override { return inner_.size(); }
+  int temperature_count() const override { return inner_.temperature_count(); }
+  const std::vector<double>& capacities() const override { return inner_.capacities(); }
+  void heat_balance(double t, const double* T, double* F) override { inner_.heat_balance(t, T, F); }
+  const SparsityPattern& jacobian_pattern() const override { return inner_.jacobian_pattern(); }
+  void jacobian(double t, const double* T, double* values) override {
+    inner_.jacobian(t, T, values);
+  }
+  int event_count() const override { return inner_.event_count(); }
+  void events(double t, const double* T, double* g) override { inner_.events(t, T, g); }
+  bool apply_events(double t, const double* T, const std::vector<int>& fired) override {
+    return inner_.apply_events(t, T, fired);
+  }
+  void init_events(double t, const double* T) override { inner_.init_events(t, T); }
+  std::vector<double> breakpoints(double t0, double t1) const override {
+    return inner_.breakpoints(t0, t1);
+  }
+  std::string unknown_name(int i) const override { return inner_.unknown_name(i); }
+
+private:
+  ThermalSystem& inner_;
+};
+
 /// Flags in `crossed` the event functions whose sign changed from `before` to `after` (+1 rising,
 /// -1 falling, 0 not), as a step between the two states would fire them; true when any did.
 inline bool events_crossed(const std::vector<double>& before, const std::vector<double>& after,

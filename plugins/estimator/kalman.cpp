@@ -38,33 +38,17 @@ constexpr double kelvin = 273.15;
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 // The network with an extra heat input q into one unknown (the augmented state's dynamics).
-class DrivenNetwork final : public ThermalSystem {
+class DrivenNetwork final : public ForwardingSystem {
 public:
-  DrivenNetwork(Network& net, int input_unknown) : net_(net), input_(input_unknown) {}
+  DrivenNetwork(Network& net, int input_unknown) : ForwardingSystem(net), input_(input_unknown) {}
   double q = 0.0; ///< extra heat flow, W
 
-  int size() const override { return net_.size(); }
-  int temperature_count() const override { return net_.temperature_count(); }
-  const std::vector<double>& capacities() const override { return net_.capacities(); }
   void heat_balance(double t, const double* T, double* F) override {
-    net_.heat_balance(t, T, F);
+    ForwardingSystem::heat_balance(t, T, F);
     if (input_ >= 0) F[input_] += q;
   }
-  const SparsityPattern& jacobian_pattern() const override { return net_.jacobian_pattern(); }
-  void jacobian(double t, const double* T, double* values) override { net_.jacobian(t, T, values); }
-  int event_count() const override { return net_.event_count(); }
-  void events(double t, const double* T, double* g) override { net_.events(t, T, g); }
-  bool apply_events(double t, const double* T, const std::vector<int>& fired) override {
-    return net_.apply_events(t, T, fired);
-  }
-  void init_events(double t, const double* T) override { net_.init_events(t, T); }
-  std::vector<double> breakpoints(double t0, double t1) const override {
-    return net_.breakpoints(t0, t1);
-  }
-  std::string unknown_name(int i) const override { return net_.unknown_name(i); }
 
 private:
-  Network& net_;
   int input_;
 };
 

@@ -40,32 +40,16 @@ SolverOptions tight() {
 }
 
 /// A network that records the times at which its events changed an output (a thermostat switched).
-class SwitchLog final : public ThermalSystem {
+class SwitchLog final : public ForwardingSystem {
 public:
-  explicit SwitchLog(Network& net) : net_(net) {}
+  explicit SwitchLog(Network& net) : ForwardingSystem(net) {}
   std::vector<double> times; ///< switching instants, s
 
-  int size() const override { return net_.size(); }
-  int temperature_count() const override { return net_.temperature_count(); }
-  const std::vector<double>& capacities() const override { return net_.capacities(); }
-  void heat_balance(double t, const double* T, double* F) override { net_.heat_balance(t, T, F); }
-  const SparsityPattern& jacobian_pattern() const override { return net_.jacobian_pattern(); }
-  void jacobian(double t, const double* T, double* v) override { net_.jacobian(t, T, v); }
-  int event_count() const override { return net_.event_count(); }
-  void events(double t, const double* T, double* g) override { net_.events(t, T, g); }
   bool apply_events(double t, const double* T, const std::vector<int>& fired) override {
-    const bool changed = net_.apply_events(t, T, fired);
+    const bool changed = ForwardingSystem::apply_events(t, T, fired);
     if (changed) times.push_back(t);
     return changed;
   }
-  void init_events(double t, const double* T) override { net_.init_events(t, T); }
-  std::vector<double> breakpoints(double t0, double t1) const override {
-    return net_.breakpoints(t0, t1);
-  }
-  std::string unknown_name(int i) const override { return net_.unknown_name(i); }
-
-private:
-  Network& net_;
 };
 
 /// x' = A x + b for two states, from x(0) = x0, in closed form. By Cayley-Hamilton each component
