@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace thermnet::detail {
 
@@ -79,15 +80,15 @@ Refit Engine::refit(const Entry& e, const Base& base, bool joint) const {
   const int max_iter = joint ? 12 : 30, fold_iter = joint ? 1 : 3;
   const double rtol = joint ? 1e-5 : 1e-7;
   // 1. Fit on all data: the reported values.
-  const Fit b = fit(h, e.c, e.c.start, Part{}, base, max_iter, rtol);
+  Fit b = fit(h, e.c, e.c.start, Part{}, base, max_iter, rtol);
   if (!b.ok) return out;
   // 2. Validation: refit without each fold's held-out points, score on them.
   if (!validate(h, e.c, b, base, fold_iter, rtol, out.holdout_r)) return out;
   out.ok = true;
-  out.p = b.p;
-  out.se = b.se;
+  out.p = std::move(b.p);
+  out.se = std::move(b.se);
   out.sse = b.sse;
-  out.r = b.r;
+  out.r = std::move(b.r);
   return out;
 }
 

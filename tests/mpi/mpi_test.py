@@ -168,9 +168,9 @@ class FailureTest(unittest.TestCase):
     def test_a_failing_rank_ends_a_sweep_or_diagnosis(self):
         # Rank 1 stops at once (a bad grid, a missing model) while rank 0 runs its share and
         # waits for rank 1's results.
+        sweep = ["sweep", CAMERA, "--case", "case01", "--threads", "1", "--param"]
         for good, bad in (
-                (["sweep", CAMERA, "--param", "k7=2..15:40", "--threads", "1"],
-                 ["sweep", CAMERA, "--param", "k99=1,2", "--threads", "1"]),
+                ([*sweep, "k7=2..15:40"], [*sweep, "k99=1,2"]),
                 (["diagnose", CAMERA, "--case", "case03", "--threads", "1"],
                  ["diagnose", "/nonexistent/model.tnet", "--threads", "1"])):
             with self.subTest(good[0]), tempfile.TemporaryDirectory() as tmp:
