@@ -8,7 +8,7 @@
 #include "cli/param_overrides.hpp"
 #include "cli/result_output.hpp"
 #include "cli/run_command.hpp"
-#include "kernel/core/parallel.hpp"
+#include "kernel/core/process_group.hpp"
 #include "kernel/core/simulation.hpp"
 #include "plot/svg_plot.hpp"
 
@@ -18,6 +18,7 @@
 #include <iterator>
 #include <memory>
 #include <optional>
+#include <string_view>
 
 namespace thermnet::cli {
 namespace {
@@ -45,6 +46,21 @@ struct PointResult {
   std::vector<NodeStats> stats;
   std::string error;
 };
+
+/// A point's result as bytes, for the processes that did not compute it (distributed_for).
+std::string pack(const PointResult& r) {
+  std::string out;
+  append_values(out, r.stats);
+  return out + r.error;
+}
+
+/// The result pack() wrote.
+PointResult unpack(std::string_view in) {
+  PointResult r;
+  r.stats = take_values<NodeStats>(in);
+  r.error = std::string(in);
+  return r;
+}
 
 /// The grid points (every combination, the last axis fastest), as value indices per axis.
 std::vector<std::vector<std::size_t>> grid(const std::vector<SweepAxis>& axes) {
@@ -158,8 +174,10 @@ int run_sweep(const SweepOptions& o, lang::SourceManager& sources) {
   for (std::size_t c : columns)
     selected.push_back(names[c]);
 
+  // Each process (MPI rank) runs its share of the grid; the results are then exchanged, and rank 0
+  // writes the one table (docs/cluster.md).
   std::vector<PointResult> results(points.size());
-  parallel_for(points.size(), o.threads, [&](std::size_t i) {
+  auto run_point = [&](std::size_t i) {
     lang::ParamValues values = fixed;
     for (std::size_t a = 0; a < axes.size(); ++a)
       values.insert_or_assign(axes[a].name, axes[a].values[points[i][a]]);
@@ -171,7 +189,10 @@ int run_sweep(const SweepOptions& o, lang::SourceManager& sources) {
     } catch (const std::exception& e) {
       results[i].error = e.what();
     }
-  });
+  };
+  distributed_for(
+      points.size(), o.threads, run_point, [&](std::size_t i) { return pack(results[i]); },
+      [&](std::size_t i, std::string_view bytes) { results[i] = unpack(bytes); });
   std::size_t failed = 0;
   for (const auto& r : results)
     failed += r.error.empty() ? 0 : 1;

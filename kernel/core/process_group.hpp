@@ -5,11 +5,13 @@
 
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -63,6 +65,26 @@ template <typename T> T take_bytes(std::string_view& in) {
   std::memcpy(&value, in.data(), sizeof(T));
   in.remove_prefix(sizeof(T));
   return value;
+}
+
+/// Appends a vector of trivially copyable values to a buffer: its length, then its elements.
+template <typename T> void append_values(std::string& out, const std::vector<T>& values) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  append_bytes(out, static_cast<std::uint64_t>(values.size()));
+  if (!values.empty())
+    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+/// Reads a vector that append_values() wrote from the front of a buffer and advances it; throws
+/// std::runtime_error when the buffer is too short.
+template <typename T> std::vector<T> take_values(std::string_view& in) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  const auto n = take_bytes<std::uint64_t>(in);
+  if (n > in.size() / sizeof(T)) throw_short_buffer();
+  std::vector<T> values(static_cast<std::size_t>(n));
+  if (!values.empty()) std::memcpy(values.data(), in.data(), values.size() * sizeof(T));
+  in.remove_prefix(values.size() * sizeof(T));
+  return values;
 }
 
 } // namespace thermnet

@@ -1,13 +1,15 @@
 // The evidence/fit engine's entry points: the baseline, bases with applied findings, the
-// evaluation of a candidate (fit on all data, validation folds, gain), and the curves.
+// evaluation of a candidate (fit on all data, validation folds, gain; spread over processes and
+// threads for many candidates), and the curves.
 
 #include "kernel/diagnosis/engine.hpp"
 
 #include "kernel/calibration/least_squares.hpp"
-#include "kernel/core/parallel.hpp"
+#include "kernel/core/process_group.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace thermnet::detail {
 
@@ -66,11 +68,11 @@ Base Engine::make_base(std::vector<Applied> applied) const {
 }
 
 Evaluated Engine::evaluate(const Entry& e, const Base& base, bool joint) const {
-  Evaluated out;
-  Finding& f = out.f;
-  f.candidate = e.c;
-  f.evidence = e.c.evidence;
-  f.given = static_cast<int>(base.applied.size());
+  return evaluated(e, base, refit(e, base, joint));
+}
+
+Refit Engine::refit(const Entry& e, const Base& base, bool joint) const {
+  Refit out;
   const Stack stack(&base.applied, e.h, &e.c);
   const Hypothesis& h = base.applied.empty() ? *e.h : stack;
   // The joint refit (many parameters, started at the recalibrated values) stops earlier; a fold's
@@ -78,23 +80,39 @@ Evaluated Engine::evaluate(const Entry& e, const Base& base, bool joint) const {
   const int max_iter = joint ? 12 : 30, fold_iter = joint ? 1 : 3;
   const double rtol = joint ? 1e-5 : 1e-7;
   // 1. Fit on all data: the reported values.
-  const Fit b = fit(h, e.c, e.c.start, Part{}, base, max_iter, rtol);
+  Fit b = fit(h, e.c, e.c.start, Part{}, base, max_iter, rtol);
   if (!b.ok) return out;
   // 2. Validation: refit without each fold's held-out points, score on them.
   if (!validate(h, e.c, b, base, fold_iter, rtol, out.holdout_r)) return out;
+  out.ok = true;
+  out.p = std::move(b.p);
+  out.se = std::move(b.se);
+  out.sse = b.sse;
+  out.r = std::move(b.r);
+  return out;
+}
+
+Evaluated Engine::evaluated(const Entry& e, const Base& base, Refit refit) const {
+  Evaluated out;
+  Finding& f = out.f;
+  f.candidate = e.c;
+  f.evidence = e.c.evidence;
+  f.given = static_cast<int>(base.applied.size());
+  out.holdout_r = std::move(refit.holdout_r);
+  if (!refit.ok) return out;
   out.holdout_sse = sum_of_squares(out.holdout_r);
   // Residuals per series (the all-data rows, in order) for the mechanism comparison.
-  long row = 0;
+  std::size_t row = 0;
   for (const auto& ce : ev_.cases)
     for (const auto& s : ce.measured.series) {
       out.r.emplace_back();
       for (double v : s.values)
-        if (!std::isnan(v)) out.r.back().push_back(b.r[row++]);
+        if (!std::isnan(v)) out.r.back().push_back(refit.r[row++]);
     }
-  f.values = b.p;
-  f.std_errors = b.se;
-  measure_gain(f, base, b.sse, out.holdout_sse);
-  write_extension(f, *e.h, e.c, b.p, ev_);
+  f.values = refit.p;
+  f.std_errors = std::move(refit.se);
+  measure_gain(f, base, refit.sse, out.holdout_sse);
+  write_extension(f, *e.h, e.c, refit.p, ev_);
   return out;
 }
 
@@ -134,10 +152,40 @@ void Engine::measure_gain(Finding& f, const Base& base, double sse, double holdo
 
 std::vector<Evaluated> Engine::evaluate_all(const std::vector<Entry>& entries, const Base& base,
                                             bool joint) const {
+  // Each process refits its share of the entries; the refits are exchanged, and every process
+  // makes the same findings from all of them.
+  std::vector<Refit> refits(entries.size());
+  distributed_for(
+      entries.size(), opt_.threads,
+      [&](std::size_t i) { refits[i] = refit(entries[i], base, joint); },
+      [&](std::size_t i) { return pack_refit(refits[i]); },
+      [&](std::size_t i, std::string_view bytes) { refits[i] = unpack_refit(bytes); });
   std::vector<Evaluated> res(entries.size());
-  parallel_for(entries.size(), opt_.threads,
-               [&](std::size_t i) { res[i] = evaluate(entries[i], base, joint); });
+  for (std::size_t i = 0; i < entries.size(); ++i)
+    res[i] = evaluated(entries[i], base, std::move(refits[i]));
   return res;
+}
+
+std::string pack_refit(const Refit& refit) {
+  std::string out;
+  append_bytes(out, refit.ok);
+  append_values(out, refit.p);
+  append_values(out, refit.se);
+  append_bytes(out, refit.sse);
+  append_values(out, refit.r);
+  append_values(out, refit.holdout_r);
+  return out;
+}
+
+Refit unpack_refit(std::string_view bytes) {
+  Refit refit;
+  refit.ok = take_bytes<bool>(bytes);
+  refit.p = take_values<double>(bytes);
+  refit.se = take_values<double>(bytes);
+  refit.sse = take_bytes<double>(bytes);
+  refit.r = take_values<double>(bytes);
+  refit.holdout_r = take_values<double>(bytes);
+  return refit;
 }
 
 double Engine::delta_bic(double sse_after, double sse_before, double k) const {

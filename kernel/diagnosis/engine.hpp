@@ -11,6 +11,7 @@
 
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace thermnet::detail {
@@ -54,6 +55,23 @@ struct Evaluated {
   std::vector<double> holdout_r;      ///< residuals on them (fold by fold, series order), K
 };
 
+/// What a candidate's refit computes (the costly part of Engine::evaluate()): all that processes
+/// exchange when the refits are spread over them, the finding being made from it everywhere.
+struct Refit {
+  bool ok = false;               ///< the fit and every validation fold succeeded
+  std::vector<double> p;         ///< fitted parameters (all data)
+  std::vector<double> se;        ///< their standard errors (NaN when unknown)
+  double sse = 0.0;              ///< SSE on all data, K^2
+  std::vector<double> r;         ///< residuals on all data (measured rows, series by series), K
+  std::vector<double> holdout_r; ///< residuals on the held-out points of every fold, K
+};
+
+/// A refit as bytes, for the processes that did not compute it.
+std::string pack_refit(const Refit& refit);
+
+/// The refit pack_refit() wrote; throws std::runtime_error on a truncated buffer.
+Refit unpack_refit(std::string_view bytes);
+
 /// The evidence of one model's cases with data and the fits of candidates against it.
 class Engine {
 public:
@@ -83,7 +101,8 @@ public:
   /// Fits a candidate on top of a base on all data (the reported values) and in every validation
   /// fold, and measures its gain; a joint refit (many parameters) stops earlier.
   Evaluated evaluate(const Entry& e, const Base& base, bool joint = false) const;
-  /// evaluate() of every entry, in parallel (options.threads).
+  /// evaluate() of every entry: the refits spread over the processes (process_group.hpp) and
+  /// their threads (options.threads); the same results whatever their numbers.
   std::vector<Evaluated> evaluate_all(const std::vector<Entry>& entries, const Base& base,
                                       bool joint = false) const;
   /// n ln((SSE_after + f n) / (SSE_before + f n)) + k ln n over all data (f: a small noise floor).
@@ -124,6 +143,8 @@ private:
   Fit fit(const Hypothesis& h, const Candidate& c, const std::vector<double>& start, Part part,
           const Base& base, int max_iter, double rtol, const Fit* warm = nullptr) const;
   // engine.cpp
+  Refit refit(const Entry& e, const Base& base, bool joint) const;
+  Evaluated evaluated(const Entry& e, const Base& base, Refit refit) const;
   bool validate(const Hypothesis& h, const Candidate& c, const Fit& all, const Base& base,
                 int max_iter, double rtol, std::vector<double>& holdout_r) const;
   void measure_gain(Finding& f, const Base& base, double sse, double holdout_sse) const;

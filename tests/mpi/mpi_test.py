@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
-"""thermnet under mpirun: calibrate (mc, lhs) and simulate --samples over 2 and 3 ranks give the
-single-process result bit for bit; a rank that fails or is killed mid-run ends the whole job with
-a clear error within a time limit."""
+"""thermnet under mpirun: calibrate (mc, lhs), simulate --samples, sweep and diagnose over 2 and 3
+ranks give the single-process result bit for bit; a rank that fails or is killed mid-run ends the
+whole job with a clear error within a time limit."""
 
 import json
 import os
+import re
 import signal
 import subprocess
 import tempfile
@@ -16,6 +17,7 @@ EXE = os.environ["THERMNET_EXE"]
 SRC = os.environ["THERMNET_SOURCE_DIR"]
 MPIRUN = os.environ.get("MPIEXEC") or "mpirun"
 CAMERA = os.path.join(SRC, "models", "aerial_camera", "camera.tnet")
+SCENARIO = os.path.join(SRC, "tests", "diagnose_scenarios", "generate.py")
 LIMIT = 300  # seconds: a run that takes longer is a hang
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1")
@@ -45,6 +47,14 @@ def without_wall(report_bytes):
     report = json.loads(report_bytes)
     report.pop("wall_s")
     return report
+
+
+def wall_blanked(report_bytes):
+    """A JSON report's bytes with the value of its wall time (which no two runs share) blanked."""
+    blanked, count = re.subn(rb'"wall_s": [^,\n]+', b'"wall_s": -', report_bytes)
+    if count != 1:
+        raise AssertionError(f"{count} wall_s fields in the report")
+    return blanked
 
 
 class SameResultTest(unittest.TestCase):
@@ -79,6 +89,68 @@ class SameResultTest(unittest.TestCase):
             self.assertEqual(spread["bands.csv"], single["bands.csv"])
 
 
+class SweepTest(unittest.TestCase):
+    def test_sweep(self):
+        # 3 x 2 grid points, every other one failing (a negative resistance): the error column
+        # travels between ranks too. 3 ranks get 2 points each, 2 ranks 3 each.
+        args = ["sweep", CAMERA, "--case", "case01", "--param", "k7=2..15:3", "--param",
+                "k15=-5,50", "--nodes", "lens*", "--band", "15..25", "-o", "table.csv",
+                "--plot", "sweep.svg"]
+        single, done = outputs(args + ["--threads", "2"], 0)
+        self.assertEqual(single["table.csv"].count(b"must be > 0"), 3)
+        self.assertIn("6 runs, 3 failed", done.stderr)
+        for ranks in (2, 3):
+            spread, done = outputs(args + ["--threads", "1"], ranks)
+            self.assertEqual(spread, single)
+            self.assertEqual(done.stderr.count("6 runs, 3 failed"), 1)
+
+    def test_sweep_table_on_standard_output(self):
+        args = ["sweep", CAMERA, "--case", "case01", "--param", "k8=2..10:5", "--nodes", "lens1*"]
+        _, single = outputs(args, 0)
+        _, spread = outputs(args + ["--threads", "1"], 3)
+        self.assertEqual(spread.stdout, single.stdout)
+        self.assertEqual(len(single.stdout.splitlines()), 6)
+
+
+class DiagnoseTest(unittest.TestCase):
+    """Scenario D01 of the diagnosis scenarios (a 10-node bar, two cases, every ranged param off
+    and two hidden effects): the shortlist's refits, the joint refit with the ranged params and a
+    second forward-selection step all run spread over the ranks."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.model = os.path.join(cls.tmp.name, "model.tnet")
+        subprocess.run(["/usr/bin/python3", SCENARIO, "D01", cls.tmp.name], check=True,
+                       capture_output=True, timeout=LIMIT)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_diagnose(self):
+        args = ["diagnose", self.model, "--json", "r.json", "--write", "ext.tnet", "--plot",
+                "d.svg"]
+        single, done = outputs(args + ["--threads", "2"], 0)
+        report = json.loads(single["r.json"])
+        self.assertEqual(len(report["findings"]), 2)  # a forward-selection step was taken
+        self.assertIn("refitted jointly with the ranged params", single["r.json"].decode())
+        for ranks in (2, 3):
+            spread, spread_done = outputs(args + ["--threads", "1"], ranks)
+            self.assertEqual(sorted(spread), sorted(single))
+            # The text report and every file byte for byte (the JSON's wall time aside).
+            self.assertEqual(spread_done.stdout, done.stdout)
+            self.assertEqual(wall_blanked(spread["r.json"]), wall_blanked(single["r.json"]))
+            for name in ("ext.tnet", "d.svg"):
+                self.assertEqual(spread[name], single[name], name)
+
+    def test_a_killed_rank_ends_the_diagnosis(self):
+        # (the camera against all its cases: refits for a minute, far longer than the second
+        # before the kill on any machine)
+        err = run_and_kill_rank_1(["diagnose", CAMERA, "--threads", "1"])
+        self.assertRegex(err, r"rank 1 .*(signal 9|Killed)|signal 9")
+
+
 class FailureTest(unittest.TestCase):
     def test_a_failing_rank_ends_the_job(self):
         # Rank 0 runs a long calibration; rank 1 cannot read its model and stops at once: rank 0
@@ -95,30 +167,58 @@ class FailureTest(unittest.TestCase):
         self.assertIn("thermnet: rank 1 of 2 failed (exit status 2); ending the job", done.stderr)
         self.assertLess(time.monotonic() - start, LIMIT)
 
+    def test_a_failing_rank_ends_a_sweep_or_diagnosis(self):
+        # Rank 1 stops at once (a bad grid, a missing model) while rank 0 runs its share and
+        # waits for rank 1's results.
+        sweep = ["sweep", CAMERA, "--case", "case01", "--threads", "1", "--param"]
+        for good, bad in (
+                ([*sweep, "k7=2..15:40"], [*sweep, "k99=1,2"]),
+                (["diagnose", CAMERA, "--case", "case03", "--threads", "1"],
+                 ["diagnose", "/nonexistent/model.tnet", "--threads", "1"])):
+            with self.subTest(good[0]), tempfile.TemporaryDirectory() as tmp:
+                cmd = [MPIRUN, "-n", "1", EXE, *good, ":", "-n", "1", EXE, *bad]
+                done = subprocess.run(cmd, cwd=tmp, env=ENV, capture_output=True, text=True,
+                                      timeout=LIMIT, check=False)
+                self.assertNotEqual(done.returncode, 0)
+                self.assertRegex(done.stderr, r"\[rank 1\] .*(k99|/nonexistent/model.tnet)")
+                self.assertRegex(done.stderr,
+                                 r"thermnet: rank 1 of 2 failed \(exit status \d\); ending the job")
+
     def test_a_killed_rank_ends_the_job(self):
-        token = uuid.uuid4().hex
-        env = dict(ENV, THERMNET_MPI_TEST_TOKEN=token)
-        with tempfile.TemporaryDirectory() as tmp:
-            proc = subprocess.Popen(
-                [MPIRUN, "-n", "2", "--oversubscribe", "-x", "THERMNET_MPI_TEST_TOKEN", EXE,
-                 "calibrate", CAMERA, "--method", "mc", "--samples", "100000", "--threads", "1"],
-                cwd=tmp, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-            victim = None
-            deadline = time.monotonic() + 60
-            while victim is None and time.monotonic() < deadline and proc.poll() is None:
-                victim = rank_process(token, 1)
-                time.sleep(0.2)
-            self.assertIsNotNone(victim, "rank 1 never started")
-            time.sleep(1.0)  # let it get into the calibration
-            os.kill(victim, signal.SIGKILL)
-            try:
-                _, err = proc.communicate(timeout=LIMIT)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                proc.communicate()
-                self.fail("the job hung after rank 1 was killed")
-        self.assertNotEqual(proc.returncode, 0)
+        err = run_and_kill_rank_1(["calibrate", CAMERA, "--method", "mc", "--samples", "100000",
+                                   "--threads", "1"])
         self.assertRegex(err, r"rank 1 .*(signal 9|Killed)|signal 9")
+
+
+def run_and_kill_rank_1(args):
+    """Runs thermnet on 2 ranks, kills rank 1 a second into the run and returns the job's stderr;
+    fails the test when the job does not end with a non-zero status within the time limit."""
+    token = uuid.uuid4().hex
+    env = dict(ENV, THERMNET_MPI_TEST_TOKEN=token)
+    with tempfile.TemporaryDirectory() as tmp:
+        proc = subprocess.Popen(
+            [MPIRUN, "-n", "2", "--oversubscribe", "-x", "THERMNET_MPI_TEST_TOKEN", EXE, *args],
+            cwd=tmp, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        victim = None
+        deadline = time.monotonic() + 60
+        while victim is None and time.monotonic() < deadline and proc.poll() is None:
+            victim = rank_process(token, 1)
+            time.sleep(0.2)
+        if victim is None:
+            proc.kill()
+            proc.communicate()
+            raise AssertionError("rank 1 never started")
+        time.sleep(1.0)  # let it get into the run
+        os.kill(victim, signal.SIGKILL)
+        try:
+            _, err = proc.communicate(timeout=LIMIT)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            _, err = proc.communicate()
+            raise AssertionError(f"the job hung after rank 1 was killed; stderr: {err}") from None
+    if proc.returncode == 0:
+        raise AssertionError("the job ended with status 0 after rank 1 was killed")
+    return err
 
 
 def rank_process(token, rank):

@@ -4,6 +4,8 @@
 
 #include <doctest/doctest.h>
 
+#include <cstring>
+#include <limits>
 #include <vector>
 
 using namespace thermnet;
@@ -46,4 +48,22 @@ TEST_CASE("values travel through bytes unchanged, and a short buffer is an error
   CHECK(take_bytes<std::uint64_t>(in) == 42);
   CHECK(in.empty());
   CHECK_THROWS_AS(take_bytes<double>(in), std::runtime_error);
+}
+
+TEST_CASE("vectors travel through bytes unchanged, empty ones too; a short buffer is an error") {
+  const std::vector<double> values{1.0 / 3.0, -0.0, std::numeric_limits<double>::quiet_NaN(),
+                                   1e300};
+  std::string buffer;
+  append_values(buffer, values);
+  append_values(buffer, std::vector<double>{});
+  append_bytes(buffer, 7);
+  std::string_view in(buffer);
+  const auto back = take_values<double>(in);
+  REQUIRE(back.size() == values.size());
+  CHECK(std::memcmp(back.data(), values.data(), values.size() * sizeof(double)) == 0);
+  CHECK(take_values<double>(in).empty());
+  CHECK(take_bytes<int>(in) == 7);
+  CHECK(in.empty());
+  std::string_view cut(buffer.data(), buffer.size() / 2);
+  CHECK_THROWS_AS(take_values<double>(cut), std::runtime_error);
 }
