@@ -198,4 +198,28 @@ run sweep base.tnet --case c --param tstat.P=-1,2
 check "sweep --param over a key with a bad value: exit 2" [ "$rc" = 2 ]
 check "... naming --param" grep -qF -- "--param: 'tstat.P' ('P' of 'tstat') must be >= 0" err.txt
 
+# Inside a submodel instance an element is set by its full name; a key of an alternative group
+# the element does not use (radiation given by A, eps1, eps2) cannot replace that group.
+cat >sub.tnet <<'EOF'
+model subm
+submodel box(a) {
+  node n C = 100
+  conductance g n a G = 1
+  heater h n P = 1
+}
+boundary amb T = 20
+box u1 amb
+node r1 C = 10
+radiation rad r1 amb A = 0.01 eps1 = 0.8 eps2 = 0.8
+case c { duration = 100 }
+EOF
+run simulate sub.tnet --steady --set u1.h.P=5
+check "--set u1.h.P=5 inside an instance: 20 degC + 5 W / 1 W/K" grep -q "^0,20.00000000,25.00000000,20.00000000$" out.txt
+run simulate sub.tnet --steady --set u1.P=5
+check "--set of an instance itself: exit 2, saying what to set" [ "$rc" = 2 ]
+check "... what to set" grep -q "'u1' is an instance of submodel 'box'" err.txt
+run simulate sub.tnet --steady --set rad.GR=1e-3
+check "--set of a key outside the alternative the element uses: exit 2" [ "$rc" = 2 ]
+check "... saying so" grep -q "radiation 'rad' is not given by 'GR' here" err.txt
+
 finish
