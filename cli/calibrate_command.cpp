@@ -11,6 +11,7 @@
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/output_files.hpp"
+#include "cli/param_overrides.hpp"
 #include "cli/progress_bar.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/calibration/optimizer.hpp"
@@ -41,6 +42,7 @@ struct CalibrateOptions {
   std::string json;
   std::string plot;
   std::vector<std::string> cases;
+  std::vector<std::string> sets;
 };
 
 std::atomic<bool> g_interrupted{false};
@@ -174,13 +176,16 @@ void write_outputs(const CalibrateOptions& o, const lang::Model& model,
                              "declaring calibrated params, written beside it: {}\n",
                              o.out, fmt::join(copies, ", "));
   }
-  if (!model_files.empty()) note_files_outside(o.out, model, model_files);
+  if (!model_files.empty()) {
+    note_files_outside(o.out, model, model_files);
+    note_sets_not_written(model, "thermnet calibrate", o.out);
+  }
 }
 
 int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
   const char* me = "thermnet calibrate";
   int status = exit_ok;
-  auto model = load_checked_model(o.model, sources, status);
+  auto model = load_checked_model(o.model, sources, status, o.sets);
   if (!model) return status;
   check_outputs({{"-o", o.out}, {"--json", o.json}, {"--plot", o.plot}}, model_inputs(*model));
   const std::string method = o.method.empty() ? default_method() : o.method;
@@ -274,6 +279,9 @@ void add_calibrate_command(CLI::App& app, int& status) {
                   "cases to compare (repeat --case or separate by commas; default: all with data)")
       ->allow_extra_args(false)
       ->delimiter(',');
+  add_set_option(cmd, o->sets,
+                 "; a ranged param set this way keeps its range and starts the fit there "
+                 "(lm; the sampling methods draw over the range); -o does not write these values");
   cmd->callback([o, &status] {
     status = run_command("thermnet calibrate",
                          [&](lang::SourceManager& sources) { return run_calibrate(*o, sources); });

@@ -6,6 +6,7 @@
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/output_files.hpp"
+#include "cli/param_overrides.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/diagnosis/report.hpp"
 #include "lang/rewrite/case_blocks.hpp"
@@ -31,12 +32,13 @@ struct DiagnoseOptions {
   std::string plot;
   int threads = 0;
   std::size_t top = 5;
+  std::vector<std::string> sets;
 };
 
 int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   const char* me = "thermnet diagnose";
   int status = exit_ok;
-  auto model = load_checked_model(o.model, sources, status);
+  auto model = load_checked_model(o.model, sources, status, o.sets);
   if (!model) return status;
   check_outputs({{"--json", o.json}, {"--write", o.write}, {"--plot", o.plot}},
                 model_inputs(*model));
@@ -57,6 +59,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   }
   if (!o.plot.empty()) files.push_back({o.plot, diagnosis_svg(rep)});
   write_output_files(files);
+  if (!o.write.empty() && !rep.findings.empty()) note_sets_not_written(*model, me, o.write);
   return exit_ok;
 }
 
@@ -158,6 +161,7 @@ void add_diagnose_command(CLI::App& app, int& status) {
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--top", o->top, "most findings reported")->check(CLI::PositiveNumber);
+  add_set_option(sub, o->sets, "; the model diagnosed has them (--write does not write them)");
   sub->callback([o, &status] {
     status = run_command("thermnet diagnose",
                          [&](lang::SourceManager& sources) { return run_diagnose(*o, sources); });

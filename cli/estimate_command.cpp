@@ -4,6 +4,7 @@
 #include "cli/model_loading.hpp"
 #include "cli/output_files.hpp"
 #include "cli/output_stream.hpp"
+#include "cli/param_overrides.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
@@ -34,7 +35,10 @@ struct EstimateOptions {
   std::string data;
   std::string out, plot, json;
   bool stream = false;
-  std::vector<std::string> sets; // key=value passed to the plugin
+  std::vector<std::string> options; // --option KEY=VALUE passed to the plugin
+  // --set: values of the model (estimate) or, the older spelling of --option, method options
+  // (invert; estimate when KEY is one of the method's options)
+  std::vector<std::string> sets;
   EstimatorSettings settings;
 };
 
@@ -243,18 +247,31 @@ int run_batch(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin& 
   return exit_ok;
 }
 
+/// True when `name` is one of the plugin's documented options.
+bool is_method_option(const EstimatorPlugin& plugin, const std::string& name) {
+  return std::any_of(plugin.options.begin(), plugin.options.end(),
+                     [&](const EstimatorOption& opt) { return opt.name == name; });
+}
+
 int run_method(EstimateOptions& o, lang::SourceManager& sources) {
   const std::string who = "thermnet " + o.command;
-  for (const auto& kv : o.sets) {
-    auto eq = kv.find('=');
-    if (eq == std::string::npos || eq == 0) {
-      std::cerr << who << ": error: --set expects KEY=VALUE, got '" << kv << "'\n";
-      return exit_usage;
-    }
-    o.settings.set(kv.substr(0, eq), kv.substr(eq + 1));
-  }
   const EstimatorPlugin* plugin = EstimatorRegistry::global().find(o.method);
   bool wants_model = o.command == "estimate";
+  // Method options; in `estimate`, --set items that name none of them are values of the model.
+  std::vector<std::string> model_sets;
+  for (const auto& [flag, items] : {std::pair{"--option", &o.options}, std::pair{"--set", &o.sets}})
+    for (const auto& kv : *items) {
+      auto eq = kv.find('=');
+      if (eq == std::string::npos || eq == 0) {
+        std::cerr << who << ": error: " << flag << " expects KEY=VALUE, got '" << kv << "'\n";
+        return exit_usage;
+      }
+      const std::string key = kv.substr(0, eq);
+      if (wants_model && items == &o.sets && !(plugin && is_method_option(*plugin, key)))
+        model_sets.push_back(kv);
+      else
+        o.settings.set(key, kv.substr(eq + 1));
+    }
   if (!plugin || plugin->needs_model != wants_model) {
     std::string names;
     for (const auto& n : EstimatorRegistry::global().names()) {
@@ -286,8 +303,17 @@ int run_method(EstimateOptions& o, lang::SourceManager& sources) {
   std::string title = fmt::format("{} ({})", o.method, o.data.empty() ? "stdin" : o.data);
   if (wants_model) {
     int status = exit_ok;
-    model = load_checked_model(o.model, sources, status);
+    model = load_checked_model(o.model, sources, status, model_sets);
     if (!model) return status;
+    for (const auto& p : model->params())
+      for (const auto& kv : o.sets)
+        if (kv.rfind(p.name + "=", 0) == 0 && is_method_option(*plugin, p.name)) {
+          std::cerr << fmt::format("{}: error: --set {}: '{}' is both a param of the model and "
+                                   "an option of method '{}': write --option for the method "
+                                   "(a param of that name cannot be set here)\n",
+                                   who, kv, p.name, o.method);
+          return exit_usage;
+        }
     spec = model->instantiate(o.case_name);
     ctx.network = &*spec;
     if (o.data.empty() && !o.stream) o.data = spec->settings.data_path;
@@ -337,7 +363,14 @@ void add_common(CLI::App* cmd, const std::shared_ptr<EstimateOptions>& o) {
   cmd->add_option("--json", o->json, "JSON report: method, options, metrics");
   cmd->add_flag("--stream", o->stream,
                 "read rows from standard input, write the estimate of each row as it arrives");
-  cmd->add_option("--set", o->sets, "any method option as KEY=VALUE (repeatable)");
+  cmd->add_option("--option", o->options, "any method option as KEY=VALUE (repeatable)")
+      ->type_name("KEY=VALUE");
+  if (o->command == "estimate")
+    add_set_option(cmd, o->sets,
+                   "; a KEY that is one of the method's options is passed to the method, as "
+                   "with --option");
+  else
+    cmd->add_option("--set", o->sets, "the same as --option (repeatable)")->type_name("KEY=VALUE");
 }
 
 } // namespace
@@ -349,7 +382,7 @@ void add_estimate_commands(CLI::App& app, int& status) {
     o->method = "tim-ab";
     CLI::App* cmd = app.add_subcommand(
         "invert", "Inverse estimation from sensor data alone (TIM-AB surface temperature)");
-    cmd->footer("Methods and their options (--set KEY=VALUE):" + methods_doc(false) +
+    cmd->footer("Methods and their options (--option KEY=VALUE):" + methods_doc(false) +
                 "\nSee docs/inverse.md.");
     cmd->add_option("DATA", o->data, "CSV: time, sensor columns ('-' or omitted with --stream)");
     cmd->add_option("--method", o->method, "inverse method (default: tim-ab)");
@@ -381,7 +414,7 @@ void add_estimate_commands(CLI::App& app, int& status) {
     CLI::App* cmd = app.add_subcommand(
         "estimate",
         "State estimation over a model (digital twin): hidden nodes and an unknown heat input");
-    cmd->footer("Methods and their options (--set KEY=VALUE):" + methods_doc(true) +
+    cmd->footer("Methods and their options (--option KEY=VALUE):" + methods_doc(true) +
                 "\nSee docs/inverse.md.");
     cmd->add_option("MODEL", o->model, "model file (.tnet)")->required();
     cmd->add_option("DATA", o->data,

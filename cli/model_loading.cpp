@@ -1,6 +1,7 @@
 #include "cli/model_loading.hpp"
 
 #include "cli/exit_status.hpp"
+#include "cli/param_overrides.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "kernel/plugin_host/plugin_loader.hpp"
 #include "lang/path_policy.hpp"
@@ -128,7 +129,8 @@ bool reports_unreadable_file(const lang::DiagnosticEngine& diags) {
 }
 
 std::unique_ptr<lang::Model> load_checked_model(const std::string& path,
-                                                lang::SourceManager& sources, int& status) {
+                                                lang::SourceManager& sources, int& status,
+                                                const std::vector<std::string>& sets) {
   lang::DiagnosticEngine diags(sources);
   auto model = load_model(path, sources, diags);
   if (model) model->lint(diags);
@@ -144,6 +146,7 @@ std::unique_ptr<lang::Model> load_checked_model(const std::string& path,
     status = reports_unreadable_file(diags) ? exit_usage : exit_failure;
     return nullptr;
   }
+  if (!sets.empty()) model->set_overrides(parse_sets(*model, sets));
   return model;
 }
 

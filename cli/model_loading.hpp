@@ -54,9 +54,12 @@ std::vector<NamedInput> model_inputs(const lang::Model& model);
 bool reports_unreadable_file(const lang::DiagnosticEngine& diags);
 
 /// Loads and lints a model for a command; on errors prints them to stderr, sets `status` and
-/// returns nullptr (status 2 when a file it needs cannot be read, 1 for errors in it).
+/// returns nullptr (status 2 when a file it needs cannot be read, 1 for errors in it). Then sets
+/// the values of the command's `--set` items (cli/param_overrides.hpp), which every later use of
+/// the model sees; throws lang::OverrideError when they are wrong.
 std::unique_ptr<lang::Model> load_checked_model(const std::string& path,
-                                                lang::SourceManager& sources, int& status);
+                                                lang::SourceManager& sources, int& status,
+                                                const std::vector<std::string>& sets = {});
 
 /// Prints a model error found while running a command and returns the exit status it calls for:
 /// 2 for a wrong or missing --case or a file that cannot be read, 1 otherwise.

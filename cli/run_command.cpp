@@ -52,6 +52,10 @@ int run_command(const std::string& who, const CommandBody& body, int invalid_arg
     return report(who, e, exit_failure);
   } catch (const DiagnosisError& e) {
     return report(who, e, exit_failure);
+  } catch (const lang::OverrideError& e) {
+    if (!e.diag) return report(who, e, exit_usage);
+    print_diagnostic(*e.diag, sources);
+    return exit_usage;
   } catch (const std::invalid_argument& e) {
     return report(who, e, invalid_argument_status);
   }

@@ -19,8 +19,9 @@ using CommandBody = std::function<int(lang::SourceManager& sources)>;
 /// printed compiler-style (report_model_error); every other error as "WHO: error: MESSAGE".
 /// Unwritable outputs (also outputs onto inputs or onto each other, and a rewritten model with
 /// nowhere to go) and unreadable CSV files give 2;
-/// CSV content, solver, network, estimator and diagnosis errors give 1; std::invalid_argument (a
-/// bad option or input value) gives `invalid_argument_status`. Anything else is left to main()'s
+/// CSV content, solver, network, estimator and diagnosis errors give 1; a `--set` value the model
+/// cannot take (lang::OverrideError) gives 2; std::invalid_argument (a bad option or input value)
+/// gives `invalid_argument_status`. Anything else is left to main()'s
 /// last-resort handler.
 int run_command(const std::string& who, const CommandBody& body,
                 int invalid_argument_status = exit_failure);

@@ -3,6 +3,7 @@
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/output_files.hpp"
+#include "cli/param_overrides.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/calibration/sensitivity.hpp"
 #include "kernel/core/simulation.hpp"
@@ -24,6 +25,7 @@ struct SensitivityCommandOptions {
   bool elements = false;
   std::vector<std::string> cases;
   int threads = 0;
+  std::vector<std::string> sets;
 };
 
 std::string format_value(const SensitivityFactor& f) {
@@ -64,7 +66,7 @@ std::string format_table(const SensitivityReport& r) {
 
 int run_sensitivity(const SensitivityCommandOptions& o, lang::SourceManager& sources) {
   int status = exit_ok;
-  auto model = load_checked_model(o.model, sources, status);
+  auto model = load_checked_model(o.model, sources, status, o.sets);
   if (!model) return status;
   check_outputs({{"--json", o.json}}, model_inputs(*model));
   SensitivityOptions opt;
@@ -128,6 +130,7 @@ void add_sensitivity_command(CLI::App& app, int& status) {
   cmd->add_option("--case", o->cases, "case(s) to use (default: every case with data)");
   cmd->add_option("--threads", o->threads, "worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
+  add_set_option(cmd, o->sets, "; the derivatives are taken at these values");
   cmd->callback([o, &status] {
     status = run_command("thermnet sensitivity", [&](lang::SourceManager& sources) {
       return run_sensitivity(*o, sources);

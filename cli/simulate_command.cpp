@@ -102,7 +102,7 @@ void print_stats(const SolverStats& s, double wall) {
 
 int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   int status = exit_ok;
-  auto model = load_checked_model(o.model, sources, status);
+  auto model = load_checked_model(o.model, sources, status, o.sets);
   if (!model) return status;
   check_outputs({{"-o", o.out},
                  {"--plot", o.plot},
@@ -114,8 +114,6 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   if (o.samples > 0 && !(o.flows.empty() && o.energy.empty() && o.summary.empty()))
     throw std::invalid_argument(
         "--flows, --energy and --summary report one run: not with --samples");
-  if (o.samples > 0 && !o.sets.empty())
-    throw std::invalid_argument("--set is not available with --samples");
   if (o.steady && !o.energy.empty())
     throw std::invalid_argument("--energy reports a transient: not with --steady");
   if (!o.band.empty() && o.summary.empty())
@@ -131,9 +129,9 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
     run_samples(*model, o, sim);
     return exit_ok;
   }
-  // Without overrides the case's network elaborated by the check is taken, not built again.
-  Network net(o.sets.empty() ? model->take_network(o.case_name)
-                             : model->instantiate(o.case_name, parse_param_sets(*model, o.sets)));
+  // The case's network elaborated by the check (or with the --set values) is taken, not built
+  // again.
+  Network net(model->take_network(o.case_name));
   const lang::NetworkSpec& spec = net.spec();
   std::vector<std::string> names, element_names;
   for (const auto& n : spec.nodes)
@@ -251,9 +249,7 @@ void add_simulate_command(CLI::App& app, int& status) {
                   "nodes and boundaries in the CSV, plot and summary: names or globs "
                   "(comma-separated; default: all)")
       ->delimiter(',');
-  cmd->add_option("--set", o->sets,
-                  "param value NAME=VALUE (repeatable): a number in SI (degC for a temperature) "
-                  "or with a unit, e.g. 'h=0.02 [W/(cm^2*K)]'");
+  add_set_option(cmd, o->sets, "; with --samples, the ranged params are still drawn");
   cmd->add_option("--unit", o->unit, "temperature unit of the CSV and summary (default degC)")
       ->check(CLI::IsMember({"degC", "K"}));
   cmd->add_option("--flows", o->flows,

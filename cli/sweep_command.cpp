@@ -149,10 +149,9 @@ std::string plot_svg(const std::string& title, const std::vector<SweepAxis>& axe
 
 int run_sweep(const SweepOptions& o, lang::SourceManager& sources) {
   int status = exit_ok;
-  auto model = load_checked_model(o.model, sources, status);
+  auto model = load_checked_model(o.model, sources, status, o.sets);
   if (!model) return status;
   check_outputs({{"-o", o.out}, {"--plot", o.plot}}, model_inputs(*model));
-  const lang::ParamValues fixed = parse_param_sets(*model, o.sets);
   std::vector<SweepAxis> axes;
   for (const auto& a : o.axes)
     axes.push_back(parse_sweep_axis(*model, a));
@@ -165,7 +164,7 @@ int run_sweep(const SweepOptions& o, lang::SourceManager& sources) {
   const std::optional<Band> band =
       o.band.empty() ? std::optional<Band>{} : std::optional<Band>{parse_band(o.band)};
   // The selection is checked once, on the nominal network, before the grid runs.
-  const lang::NetworkSpec nominal = model->instantiate(o.case_name, fixed);
+  const lang::NetworkSpec nominal = model->instantiate(o.case_name);
   std::vector<std::string> names;
   for (const auto& n : nominal.nodes)
     names.push_back(n.name);
@@ -178,11 +177,12 @@ int run_sweep(const SweepOptions& o, lang::SourceManager& sources) {
   // writes the one table (docs/cluster.md).
   std::vector<PointResult> results(points.size());
   auto run_point = [&](std::size_t i) {
-    lang::ParamValues values = fixed;
+    // A point is the model with --set values and the axes' values set the same way.
+    lang::Overrides values = model->overrides();
     for (std::size_t a = 0; a < axes.size(); ++a)
-      values.insert_or_assign(axes[a].name, axes[a].values[points[i][a]]);
+      add_override(values, axes[a].target, axes[a].values[points[i][a]], "--param " + axes[a].name);
     try {
-      Network net(model->instantiate(o.case_name, values));
+      Network net(model->instantiate(o.case_name, {}, values));
       NodeSummary summary(names, columns, band);
       simulate(net, sim, [&](double t, const std::vector<double>& T) { summary.add(t, T); });
       results[i].stats = summary.results();
@@ -217,10 +217,12 @@ void add_sweep_command(CLI::App& app, int& status) {
       "sweep", "Run a case over a grid of param values: one summary row per grid point");
   cmd->add_option("MODEL", o->model, "model file (.tnet)")->required();
   cmd->add_option("--param", o->axes,
-                  "swept param: NAME=LO..HI:N (N values) or NAME=V1,V2,...; repeat for a grid")
+                  "swept param or key: NAME=LO..HI:N (N values) or NAME=V1,V2,... (NAME a param "
+                  "or NAME.KEY of a node, boundary or element, values as --set); repeat for a "
+                  "grid")
       ->required();
   cmd->add_option("--case", o->case_name, "case to run (default: the only case, or 'default')");
-  cmd->add_option("--set", o->sets, "fixed param value NAME=VALUE (repeatable)");
+  add_set_option(cmd, o->sets, "; the same for every point");
   cmd->add_option("--nodes", o->nodes, "nodes summarised: names or globs (default: all)")
       ->delimiter(',');
   cmd->add_option("--band", o->band, "LO..HI in degC: adds each node's time outside it, s");

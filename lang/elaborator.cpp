@@ -30,7 +30,9 @@ KeySchema temperature_key(std::string name, std::string doc) {
   return k;
 }
 
-/// Schemas of the built-in statements, so nodes and boundaries are checked like element keys.
+} // namespace
+
+// Schemas of the built-in statements, so nodes and boundaries are checked like element keys.
 const ElementSchema& node_schema() {
   static const ElementSchema s = [] {
     ElementSchema e;
@@ -59,6 +61,8 @@ const ElementSchema& boundary_schema() {
   }();
   return s;
 }
+
+namespace {
 
 /// The identifier a value consists of, if it is a bare name.
 const ast::Identifier* as_identifier(const ast::Value& v, const ast::File& file) {
@@ -101,9 +105,12 @@ bool is_case_key(std::string_view k) {
 } // namespace
 
 Elaborator::Elaborator(const Model& model, Reporter report, const CaseDecl* c,
-                       const ParamValues& overrides, bool check_data)
+                       const ParamValues& overrides, bool check_data, const Overrides* external)
     : m_(model), report_(std::move(report)), case_(c),
-      overrides_(overrides.begin(), overrides.end()), check_data_(check_data) {
+      external_(external ? external : &model.overrides()), check_data_(check_data) {
+  overrides_ = external_->params;
+  for (const auto& [name, value] : overrides)
+    overrides_.insert_or_assign(name, value);
   for (const auto& v : m_.values())
     value_decls_.emplace(v.name, &v);
   instance_values_.resize(m_.instance_slots());
@@ -872,7 +879,7 @@ void Elaborator::apply_param_overrides() {
     }
   }
   for (const auto& [k, v] : pending_params_)
-    overrides_[k] = v;
+    if (!external_->params.count(k)) overrides_[k] = v; // set from outside: kept
   values_.clear(); // values computed so far may have used the declared params
   std::fill(instance_values_.begin(), instance_values_.end(), std::nullopt);
 }
@@ -896,7 +903,48 @@ NetworkSpec Elaborator::run() {
     net.elements.push_back(std::move(*e));
   }
   if (case_) apply_case(net);
+  apply_key_settings(net);
   return net;
+}
+
+// Keys set from outside the model come last, over the model's and the case's values; the objects
+// and keys were checked by Model::settable_key(), the values against the keys' ranges.
+void Elaborator::apply_key_settings(NetworkSpec& net) {
+  for (const KeySetting& s : external_->keys) {
+    if (const int n = m_.node_index(s.object); n >= 0) {
+      NodeSpec& node = net.nodes[static_cast<std::size_t>(n)];
+      if (s.key == "T")
+        node.T = Signal::of(s.value);
+      else if (s.key == "C")
+        node.C = s.value;
+      else
+        node.T0 = s.value;
+      continue;
+    }
+    const int decl = m_.element_index(s.object);
+    if (decl < 0) continue;
+    const int slot = element_slot_[static_cast<std::size_t>(decl)];
+    if (slot < 0) continue; // the element has errors, reported
+    ElementSpec& e = net.elements[static_cast<std::size_t>(slot)];
+    const Span at{e.where.file, e.where.begin, e.where.begin};
+    const bool in_group =
+        std::any_of(e.schema->alternatives.begin(), e.schema->alternatives.end(),
+                    [&](const auto& g) { return std::find(g.begin(), g.end(), s.key) != g.end(); });
+    if (in_group && !e.has(s.key)) {
+      report(DiagnosticEngine::make(
+          DiagId::conflicting_keys, at, std::nullopt,
+          fmt::format("{}: {} '{}' is not given by '{}' here, so its value cannot be replaced "
+                      "(set the keys it is given by)",
+                      s.option, e.kind, e.name, s.key)));
+      continue;
+    }
+    e.values[s.key] = Signal::of(s.value);
+    if (e.schema->check)
+      for (const auto& problem : e.schema->check(e.key_values()))
+        report(DiagnosticEngine::make(
+            DiagId::conflicting_keys, at, std::nullopt,
+            fmt::format("{}: {} '{}': {}", s.option, e.kind, e.name, problem.message)));
+  }
 }
 
 void Elaborator::apply_case(NetworkSpec& net) {

@@ -21,12 +21,19 @@ namespace thermnet::lang {
 /// Receives each problem found; may throw to stop at the first error.
 using Reporter = std::function<void(Diagnostic)>;
 
+/// The schema of node statements (keys C, T0), checked like an element's.
+const ElementSchema& node_schema();
+/// The schema of boundary statements (key T).
+const ElementSchema& boundary_schema();
+
 /// Evaluates and checks one instantiation of a model.
 class Elaborator {
 public:
-  /// Elaborates `model` for case `c` (nullptr: the base model) with param overrides.
+  /// Elaborates `model` for case `c` (nullptr: the base model) with param overrides and the
+  /// values set from outside the model, which take precedence over the case's: `external`, or
+  /// when it is nullptr the model's own (Model::overrides()).
   Elaborator(const Model& model, Reporter report, const CaseDecl* c, const ParamValues& overrides,
-             bool check_data);
+             bool check_data, const Overrides* external = nullptr);
   /// An elaborator for the structure of a model being loaded: params are refused.
   static Elaborator structural(const Model& model, Reporter report);
 
@@ -86,6 +93,7 @@ private:
   std::optional<ElementSpec> elaborate_element(const ElementDecl& d);
   std::optional<ElementSpec> elaborate_composite(const ElementDecl& d);
   void apply_param_overrides();
+  void apply_key_settings(NetworkSpec& net);
   void apply_case(NetworkSpec& net);
   void apply_case_items(NetworkSpec& net, const std::vector<ast::CaseItem>& items,
                         const Scope* scope, std::set<std::string>& seen);
@@ -100,6 +108,7 @@ private:
   Reporter report_;
   const CaseDecl* case_;
   ParamValues overrides_;
+  const Overrides* external_; // values set from outside the model
   bool check_data_;
   /// The time column of the case's data file and where the case names it.
   struct DataTimes {

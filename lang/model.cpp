@@ -167,9 +167,14 @@ NetworkSpec Model::take_network(const std::string& case_name) const {
 }
 
 NetworkSpec Model::instantiate(const std::string& case_name, const ParamValues& params) const {
+  return instantiate(case_name, params, overrides_);
+}
+
+NetworkSpec Model::instantiate(const std::string& case_name, const ParamValues& params,
+                               const Overrides& overrides) const {
   std::string name = resolve_case(case_name);
   if (load_error_) throw ModelError(*load_error_);
-  if (params.empty()) {
+  if (params.empty() && &overrides == &overrides_) { // the cache holds networks with overrides_
     std::lock_guard lock(cache_mutex_);
     if (auto it = cache_.find(name); it != cache_.end()) return *it->second;
   }
@@ -179,7 +184,7 @@ NetworkSpec Model::instantiate(const std::string& case_name, const ParamValues& 
   Reporter fail = [](Diagnostic d) {
     if (d.severity == Severity::error) throw ModelError(std::move(d));
   };
-  Elaborator e(*this, fail, c, params, false);
+  Elaborator e(*this, fail, c, params, false, &overrides);
   NetworkSpec net = e.run();
   if (!c) net.settings.name = name;
   return net;

@@ -141,6 +141,34 @@ struct ParamInfo {
 /// Param values overriding the declared ones, by name, in SI.
 using ParamValues = std::map<std::string, double, std::less<>>;
 
+/// A key of a node, boundary or element given a value from outside the model (`--set
+/// NAME.KEY=VALUE`).
+struct KeySetting {
+  std::string object; ///< node, boundary or element, by full name
+  std::string key;    ///< one of its keys (not a node-valued one)
+  double value = 0.0; ///< SI (K for a temperature); a signal key becomes this constant
+  std::string option; ///< the setting as the user wrote it, for messages
+};
+
+/// Values set from outside the model for a run (`--set`): they take precedence over the model's
+/// declarations and over its cases' settings.
+struct Overrides {
+  ParamValues params;                   ///< params, SI
+  std::vector<std::string> param_texts; ///< the param settings as written, for messages
+  std::vector<KeySetting> keys;         ///< node, boundary and element keys, applied in order
+  /// True when nothing is set.
+  bool empty() const { return params.empty() && keys.empty(); }
+};
+
+/// A value set from outside the model that the model cannot take: an unknown name, a key of the
+/// wrong kind, a value out of range or in conflict with the model.
+struct OverrideError : std::invalid_argument {
+  /// A message naming the option; `d` locates the model statement it conflicts with, if any.
+  explicit OverrideError(const std::string& message, std::optional<Diagnostic> d = std::nullopt)
+      : std::invalid_argument(message), diag(std::move(d)) {}
+  std::optional<Diagnostic> diag; ///< the model's diagnostic, with a note naming the settings
+};
+
 /// How to load a model.
 struct LoadOptions {
   /// Loads a plugin library named by a `plugin` statement; returns an error message or nothing.
@@ -169,8 +197,9 @@ public:
   /// included.
   void lint(DiagnosticEngine& diags) const;
 
-  /// Elaborates a case (empty name: the only case or the implicit default) with param overrides;
-  /// throws ModelError at the first problem.
+  /// Elaborates a case (empty name: the only case or the implicit default) with param overrides
+  /// (over the values set from outside; a case's own setting of a param keeps precedence over
+  /// them) and the values set from outside the model; throws ModelError at the first problem.
   NetworkSpec instantiate(const std::string& case_name = "", const ParamValues& params = {}) const;
 
   /// The network of a case without param overrides, elaborated once and shared (lint() elaborates
@@ -179,6 +208,21 @@ public:
   /// The network of a case moved out of the cache when nothing else holds it (no copy of a large
   /// network for a single run), else instantiate(case_name).
   NetworkSpec take_network(const std::string& case_name = "") const;
+
+  /// The schema of key `key` of node, boundary or element `object`, to be set from outside the
+  /// model; throws OverrideError naming `option` (unknown object or key, with a suggestion; a
+  /// node-valued key; a key of a series/parallel block or of a submodel instance).
+  const KeySchema& settable_key(std::string_view object, std::string_view key,
+                                const std::string& option) const;
+  /// Makes every later instantiate(), network(), take_network() and params() use these values
+  /// (after lint(): the model file is checked without them). Elaborates every case with them and
+  /// throws OverrideError when one cannot take them.
+  void set_overrides(Overrides overrides);
+  /// The values set from outside the model (empty unless set_overrides() was called).
+  const Overrides& overrides() const { return overrides_; }
+  /// Elaborates a case like instantiate(), with `overrides` in place of the model's own.
+  NetworkSpec instantiate(const std::string& case_name, const ParamValues& params,
+                          const Overrides& overrides) const;
 
   /// Names of the declared cases, in order (empty when the model has none).
   std::vector<std::string> case_names() const;
@@ -261,6 +305,7 @@ private:
   std::size_t instance_slots_ = 0;
   bool truncated_ = false; // loops or instances were cut short at the generation limit
   std::optional<Diagnostic> load_error_;
+  Overrides overrides_; // values set from outside the model (`--set`)
   std::set<std::string, std::less<>> structurally_used_; // consts used by loops and indices
   // Name -> declaration index, filled while loading and shared by every elaboration; the keys
   // view the declarations' names (a deque never moves them).
