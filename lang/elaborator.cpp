@@ -896,6 +896,7 @@ NetworkSpec Elaborator::run() {
     net.elements.push_back(std::move(*e));
   }
   if (case_) apply_case(net);
+  add_requirements(net);
   return net;
 }
 
