@@ -158,8 +158,12 @@ DesignResult design_search(const DesignProblem& problem, const DesignSettings& s
   std::vector<double> start(n);
   for (std::size_t j = 0; j < n; ++j)
     start[j] = problem.params()[j].value;
-  // Stage 1: the declared values and seeded uniform samples, evaluated in parallel by index.
-  std::vector<std::vector<double>> xs{start};
+  // Stage 1: the declared values, the upper ends of the ranges (most heating: often feasible,
+  // a good start to descend from) and seeded uniform samples, evaluated in parallel by index.
+  std::vector<double> upper(n);
+  for (std::size_t j = 0; j < n; ++j)
+    upper[j] = *problem.params()[j].hi;
+  std::vector<std::vector<double>> xs{start, upper};
   for (std::size_t k = 0; k < settings.samples; ++k) {
     std::vector<double> x(n);
     for (std::size_t j = 0; j < n; ++j) {

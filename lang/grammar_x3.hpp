@@ -439,9 +439,7 @@ inline const auto push_more = [](auto& ctx) {
 inline const auto push_terminal_name = [](auto& ctx) { _val(ctx).terminals.push_back(_attr(ctx)); };
 inline const auto push_point = [](auto& ctx) { _val(ctx).points.push_back(std::move(_attr(ctx))); };
 inline const auto push_part = [](auto& ctx) { _val(ctx).parts.push_back(std::move(_attr(ctx))); };
-inline const auto push_group = [](auto& ctx) {
-  _val(ctx).groups.push_back(std::move(_attr(ctx)));
-};
+inline const auto push_group = [](auto& ctx) { _val(ctx).groups.push_back(std::move(_attr(ctx))); };
 inline const auto push_case = [](auto& ctx) { _val(ctx).cases.push_back(_attr(ctx)); };
 inline const auto take_limit = [](auto& ctx) {
   _val(ctx).bound = _attr(ctx).bound;
@@ -567,13 +565,13 @@ inline const auto require_limit_def =
      expression[set_expr<&RequireLimit::limit>]) |
     (expression[set_expr<&RequireLimit::lo>] > lit("..") >
      expression[set_expr<&RequireLimit::limit>]);
-inline const auto require_stmt_def =
-    (keyword("require") >> &lexeme[requirement_kinds >> !ident_char]) >
-    identifier[set<&ast::RequireStmt::kind>] > require_group[push_group] >
-    *require_group[push_group] > require_limit[take_limit] >
-    -(keyword("from") > expression[set_expr<&ast::RequireStmt::from>]) >
-    -(in_keyword > identifier[push_case] > *(lit(',') > identifier[push_case])) >
-    -string_literal[set_doc];
+inline const auto
+    require_stmt_def = (keyword("require") >> &lexeme[requirement_kinds >> !ident_char]) >
+                       identifier[set<&ast::RequireStmt::kind>] > require_group[push_group] >
+                       *require_group[push_group] > require_limit[take_limit] >
+                       -(keyword("from") > expression[set_expr<&ast::RequireStmt::from>]) >
+                       -(in_keyword > identifier[push_case] > *(lit(',') > identifier[push_case])) >
+                       -string_literal[set_doc];
 // A statement keyword commits to its statement (each throws when the rest is wrong); any other
 // first word is an element kind.
 inline const auto statement_def =
@@ -618,8 +616,7 @@ BOOST_SPIRIT_DEFINE(identifier, string_literal, unit, quantity, callee, primary,
                     value, key_value, keys, model_stmt, include_stmt, plugin_stmt, const_stmt,
                     range, param_value, param_stmt, node_stmt, element_stmt, inner_element,
                     terminal_pair, composite_stmt, require_group, require_limit, require_stmt,
-                    statement, case_header, in_keyword,
-                    first_loop_range, loop_range, loop_header, submodel_header, case_data,
-                    case_assign, case_item)
+                    statement, case_header, in_keyword, first_loop_range, loop_range, loop_header,
+                    submodel_header, case_data, case_assign, case_item)
 
 } // namespace thermnet::lang::grammar::x3_rules

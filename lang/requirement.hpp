@@ -16,7 +16,7 @@ enum class RequirementKind {
   gradient, ///< max |T_i - T_j| over the members (of one group, or between two groups) <= hi, K
   power,    ///< peak of the summed power of the member elements <= hi, W
   energy,   ///< energy of the member elements <= hi, J
-  margin    ///< each member's installed power >= (1 + lo) x its mean delivered power
+  margin    ///< the members' installed power >= (1 + lo) x the mean power they deliver
 };
 
 /// The keyword of a requirement kind ("band", ...).

@@ -19,7 +19,7 @@ struct RequirementOutcome {
   double worst = 0.0; ///< the value at the worst point (temperature, spread, W, J, margin), SI
   double time = 0.0;  ///< when the worst point occurred, s (energy, margin: the end)
   std::string where;  ///< the node, node pair or element at the worst point ("" for a sum)
-  double duty = 0.0;  ///< margin: the worst member's mean power / installed power
+  double duty = 0.0;  ///< margin: the members' mean delivered power / installed power
 };
 
 /// Accumulates the requirements of one case over the output rows of its run.
