@@ -2,6 +2,8 @@
 // rendered; no input ends in a crash.
 
 #include "cli/calibrate_command.hpp"
+#include "cli/check_command.hpp"
+#include "cli/design_command.hpp"
 #include "cli/diagnose_command.hpp"
 #include "cli/estimate_command.hpp"
 #include "cli/exit_status.hpp"
@@ -57,6 +59,8 @@ int run_main(int argc, char** argv) {
   add_simulate_command(app, status);
   add_estimate_commands(app, status);
   add_calibrate_command(app, status);
+  add_check_command(app, status);
+  add_design_command(app, status);
   add_diagnose_command(app, status);
   add_kinds_command(app, status);
   add_lsp_command(app, status);

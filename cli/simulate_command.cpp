@@ -7,6 +7,7 @@
 #include "cli/node_summary.hpp"
 #include "cli/output_stream.hpp"
 #include "cli/param_overrides.hpp"
+#include "cli/requirement_report.hpp"
 #include "cli/result_output.hpp"
 #include "cli/run_command.hpp"
 #include "cli/uncertainty.hpp"
@@ -133,6 +134,9 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   // again.
   Network net(model->take_network(o.case_name));
   const lang::NetworkSpec& spec = net.spec();
+  // The model's requirements are checked on every transient and reported on standard error.
+  std::optional<RequirementCheck> check;
+  if (!o.steady && !spec.requirements.empty()) check.emplace(spec);
   std::vector<std::string> names, element_names;
   for (const auto& n : spec.nodes)
     names.push_back(n.name);
@@ -183,11 +187,12 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
       row_temps.push_back(temps[c]);
     csv->write(result_csv_row(t, row_temps, kelvin));
     if (summary) summary->add(t, temps);
-    if (flows || json) {
+    if (flows || json || (check && check->needs_heat())) {
       for (std::size_t u = 0; u < net.unknown_nodes().size(); ++u)
         unknowns[u] = temps[static_cast<std::size_t>(net.unknown_nodes()[u])];
       net.element_heat(t, unknowns.data(), heat);
     }
+    if (check) check->add(t, temps, heat);
     if (flows)
       flows->write(o.steady ? steady_flow_listing(spec, flow_elements, heat, temps)
                             : flow_csv_row(t, spec, flow_elements, heat));
@@ -206,6 +211,13 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   const SolverStats stats = simulate(net, sim, row, o.energy.empty() ? nullptr : &energy);
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (o.stats) print_stats(stats, wall);
+  if (check) {
+    const auto outcomes = check->outcomes();
+    std::cerr << outcomes_text(outcomes, sources)
+              << fmt::format("thermnet simulate: {} of {} requirements violated (`thermnet check` "
+                             "exits 1 on a violation)\n",
+                             violations(outcomes), outcomes.size());
+  }
   std::unique_ptr<OutputStream> svg;
   if (!o.plot.empty()) {
     svg = std::make_unique<OutputStream>(o.plot);

@@ -258,9 +258,24 @@ struct CaseStmt : Tagged {
   std::vector<CaseItem> items; ///< its statements
 };
 
+/// `require KIND "GROUP"... LIMIT [from TIME] [in CASE, ...] ["description"]` (extension): a
+/// requirement a run must meet. KIND is band (LIMIT `LO .. HI`), gradient, power or energy
+/// (`max EXPR`) or margin (`min EXPR`); each group is a node or element name or a glob.
+struct RequireStmt : Tagged {
+  Identifier kind;               ///< band, gradient, power, energy or margin
+  std::vector<String> groups;    ///< one or two name patterns, as written
+  std::optional<Expr> lo;        ///< band: the lower limit
+  Expr limit;                    ///< band: the upper limit; else the `max`/`min` value
+  Identifier bound;              ///< `max` or `min` (empty for a band)
+  std::optional<Expr> from;      ///< `from TIME`: checked from then on
+  std::vector<Identifier> cases; ///< `in CASE, ...`: only in these cases (empty: all)
+  std::unique_ptr<String> doc;   ///< description
+};
+
 /// Any statement.
-struct Statement : std::variant<ModelStmt, IncludeStmt, PluginStmt, ConstStmt, ParamStmt, NodeStmt,
-                                ElementStmt, CompositeStmt, CaseStmt, ForStmt, SubmodelStmt> {
+struct Statement
+    : std::variant<ModelStmt, IncludeStmt, PluginStmt, ConstStmt, ParamStmt, NodeStmt, ElementStmt,
+                   CompositeStmt, CaseStmt, ForStmt, SubmodelStmt, RequireStmt> {
   using variant::variant;
 };
 

@@ -904,6 +904,7 @@ NetworkSpec Elaborator::run() {
   }
   if (case_) apply_case(net);
   apply_key_settings(net);
+  add_requirements(net);
   return net;
 }
 

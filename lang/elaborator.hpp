@@ -56,6 +56,9 @@ public:
   /// The full name a reference denotes inside `scope` (indices evaluated, the instance's prefix
   /// not applied): `p[3]`, `w.x`; throws EvalError.
   std::string reference_text(const ast::Ref& r, FileId file, const Scope* scope);
+  /// Adds the model's `require` statements that apply to the case to `net` (groups resolved,
+  /// limits in SI); problems go to the reporter (lang/requirements.cpp).
+  void add_requirements(NetworkSpec& net);
   /// The node a reference denotes inside `scope`, or -1; reports nothing.
   int find_node(const ast::Ref& r, FileId file, const Scope* scope);
   /// The node a reference denotes inside `scope`, or nullopt (reported unless it names a

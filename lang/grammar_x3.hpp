@@ -143,6 +143,12 @@ struct Operation {
   Op op = Op::add;            ///< the operator
   ast::Index rhs = ast::none; ///< the right operand
 };
+/// The limit of a requirement: `LO .. HI`, `max VALUE` or `min VALUE`.
+struct RequireLimit {
+  ast::Identifier bound;       ///< `max` or `min` (empty for a range)
+  std::optional<ast::Expr> lo; ///< the lower end of a range
+  ast::Expr limit;             ///< the upper end of a range, or the value
+};
 /// A param's `= value [range LO .. HI]` (absent in a submodel).
 struct ParamValue {
   ast::Expr value;                 ///< the value (invalid when left out)
@@ -190,6 +196,11 @@ inline const x3::rule<class element_r, ast::ElementStmt> element_stmt = "element
 inline const x3::rule<class inner_r, ast::InnerElement> inner_element = "inner element";
 inline const x3::rule<class pair_r, std::vector<ast::Ref>> terminal_pair = "the two terminal nodes";
 inline const x3::rule<class composite_r, ast::CompositeStmt> composite_stmt = "series/parallel";
+inline const x3::rule<class require_group_r, ast::String> require_group =
+    "a node or element name or glob in quotes (\"lens*\")";
+inline const x3::rule<class require_limit_r, RequireLimit> require_limit =
+    "limit ('LO .. HI', 'max VALUE' or 'min VALUE')";
+inline const x3::rule<class require_r, ast::RequireStmt> require_stmt = "require statement";
 inline const x3::rule<class statement_r, ast::Statement> statement = "statement";
 inline const x3::rule<class case_header_r, ast::Identifier> case_header = "'case NAME {'";
 inline const x3::rule<class in_r> in_keyword = "'in'";
@@ -428,6 +439,13 @@ inline const auto push_more = [](auto& ctx) {
 inline const auto push_terminal_name = [](auto& ctx) { _val(ctx).terminals.push_back(_attr(ctx)); };
 inline const auto push_point = [](auto& ctx) { _val(ctx).points.push_back(std::move(_attr(ctx))); };
 inline const auto push_part = [](auto& ctx) { _val(ctx).parts.push_back(std::move(_attr(ctx))); };
+inline const auto push_group = [](auto& ctx) { _val(ctx).groups.push_back(std::move(_attr(ctx))); };
+inline const auto push_case = [](auto& ctx) { _val(ctx).cases.push_back(_attr(ctx)); };
+inline const auto take_limit = [](auto& ctx) {
+  _val(ctx).bound = _attr(ctx).bound;
+  _val(ctx).lo = _attr(ctx).lo;
+  _val(ctx).limit = _attr(ctx).limit;
+};
 
 // --- definitions: lexical ---------------------------------------------------------------------
 
@@ -539,13 +557,28 @@ inline const auto composite_stmt_def = (&(keyword("series") | keyword("parallel"
                                        terminal_pair[set<&ast::CompositeStmt::nodes>] > *lit('\n') >
                                        lit('{') > separators >
                                        *(inner_element[push_part] >> separators) > lit('}');
+// `require` is a statement only before a requirement kind (an element kind may be called so).
+inline const x3::symbols<> requirement_kinds({"band", "gradient", "power", "energy", "margin"});
+inline const auto require_group_def = string_literal[take];
+inline const auto require_limit_def =
+    ((&(keyword("max") | keyword("min")) >> identifier[set<&RequireLimit::bound>]) >
+     expression[set_expr<&RequireLimit::limit>]) |
+    (expression[set_expr<&RequireLimit::lo>] > lit("..") >
+     expression[set_expr<&RequireLimit::limit>]);
+inline const auto
+    require_stmt_def = (keyword("require") >> &lexeme[requirement_kinds >> !ident_char]) >
+                       identifier[set<&ast::RequireStmt::kind>] > require_group[push_group] >
+                       *require_group[push_group] > require_limit[take_limit] >
+                       -(keyword("from") > expression[set_expr<&ast::RequireStmt::from>]) >
+                       -(in_keyword > identifier[push_case] > *(lit(',') > identifier[push_case])) >
+                       -string_literal[set_doc];
 // A statement keyword commits to its statement (each throws when the rest is wrong); any other
 // first word is an element kind.
 inline const auto statement_def =
     (&lexeme[statement_keywords >> !ident_char] >>
      (node_stmt[take] | composite_stmt[take] | param_stmt[take] | const_stmt[take] |
       model_stmt[take] | include_stmt[take] | plugin_stmt[take])) |
-    element_stmt[take];
+    require_stmt[take] | element_stmt[take];
 
 // --- definitions: blocks ----------------------------------------------------------------------
 
@@ -582,8 +615,8 @@ BOOST_SPIRIT_DEFINE(identifier, string_literal, unit, quantity, callee, primary,
                     name_part, ref, target, terminal, signal_point, point_signal, table_signal,
                     value, key_value, keys, model_stmt, include_stmt, plugin_stmt, const_stmt,
                     range, param_value, param_stmt, node_stmt, element_stmt, inner_element,
-                    terminal_pair, composite_stmt, statement, case_header, in_keyword,
-                    first_loop_range, loop_range, loop_header, submodel_header, case_data,
-                    case_assign, case_item)
+                    terminal_pair, composite_stmt, require_group, require_limit, require_stmt,
+                    statement, case_header, in_keyword, first_loop_range, loop_range, loop_header,
+                    submodel_header, case_data, case_assign, case_item)
 
 } // namespace thermnet::lang::grammar::x3_rules

@@ -124,6 +124,13 @@ struct CaseDecl {
   Span name_span;                      ///< the name
 };
 
+/// A `require` statement (at the top level of a file).
+struct RequirementDecl {
+  const ast::RequireStmt* stmt = nullptr; ///< the statement
+  FileId file = 0;                        ///< declaring file
+  Span where;                             ///< statement
+};
+
 /// A param as calibration sees it (values in SI).
 struct ParamInfo {
   std::string name;             ///< param name
@@ -252,6 +259,8 @@ public:
   const std::vector<CaseDecl>& cases() const { return cases_; }
   /// Submodel definitions.
   const std::deque<SubmodelDecl>& submodels() const { return submodels_; }
+  /// The `require` statements, in order.
+  const std::vector<RequirementDecl>& requirements() const { return requirements_; }
   /// Loop iterations and instances the declarations stand in.
   const std::deque<Scope>& scopes() const { return scopes_; }
   /// The submodel of a name, or nullptr.
@@ -300,6 +309,7 @@ private:
   std::deque<NodeDecl> nodes_;
   std::deque<ElementDecl> elements_;
   std::vector<CaseDecl> cases_;
+  std::vector<RequirementDecl> requirements_;
   std::set<std::string, std::less<>> unparsed_names_;
   std::size_t syntax_errors_ = 0;
   std::size_t instance_slots_ = 0;

@@ -1,6 +1,7 @@
 #pragma once
 /// A model instantiated for one case and one set of param values: resolved names, values in SI.
 
+#include "lang/requirement.hpp"
 #include "lang/schema.hpp"
 #include "lang/signal.hpp"
 #include "lang/source.hpp"
@@ -62,10 +63,11 @@ struct CaseSettings {
 
 /// A network ready for the kernel: nodes, boundaries and elements in SI.
 struct NetworkSpec {
-  std::string model;                 ///< model name
-  std::vector<NodeSpec> nodes;       ///< nodes and boundaries, in declaration order
-  std::vector<ElementSpec> elements; ///< elements in declaration order
-  CaseSettings settings;             ///< the case
+  std::string model;                         ///< model name
+  std::vector<NodeSpec> nodes;               ///< nodes and boundaries, in declaration order
+  std::vector<ElementSpec> elements;         ///< elements in declaration order
+  CaseSettings settings;                     ///< the case
+  std::vector<RequirementSpec> requirements; ///< the `require` statements that apply to the case
 
   /// Index of a node or boundary by name, or -1.
   int node_index(const std::string& name) const;

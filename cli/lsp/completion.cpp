@@ -148,6 +148,8 @@ nlohmann::json completion(const Document& doc, std::size_t at) {
         items.add(std::string(k), item_keyword, "statement");
       items.add("for", item_keyword, "loop: for VAR in LO .. HI { ... }");
       items.add("submodel", item_keyword, "a reusable part: submodel NAME(TERMINAL, ...) { ... }");
+      items.add("require", item_keyword,
+                "a requirement: require band|gradient|power|energy|margin \"GROUP\" ...");
       add_kinds(items, false);
       add_submodels(items, m);
     }

@@ -45,6 +45,10 @@ std::optional<std::string> keyword_hover(const Word& w, const StatementContext& 
   if (w.text == "submodel" && ctx.tokens.empty())
     return std::string("**submodel** NAME(TERMINAL, ...) { ... } — a reusable part; an instance "
                        "`NAME INSTANCE NODE ... key = value` prefixes its names with `INSTANCE.`");
+  if (w.text == "require" && ctx.tokens.empty())
+    return std::string("**require** band|gradient|power|energy|margin \"GROUP\"... LO .. HI | "
+                       "max VALUE | min VALUE [from TIME] [in CASE, ...] — a requirement every run "
+                       "must meet: checked by `thermnet check`, met by `thermnet design`");
   if (w.text == "time" && !ctx.tokens.empty())
     return std::string("**time** — the simulation time in seconds (in a boundary's T, a source's "
                        "power and their case overrides)");

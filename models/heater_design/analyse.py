@@ -16,7 +16,6 @@ import numpy as np
 R_M = 0.01  # K/W, meter resistors of leak.tnet
 ZONES = [f"zone{i}" for i in range(1, 7)]
 HEATERS = [(f"h{i}", z, p) for i, (z, p) in enumerate(zip(ZONES, [5.8, 2.1, 1.8, 2.8, 3.0, 2.0]), 1)]
-HEATERS.append(("hw", "window", 25.0))  # the window heater of heaters.tnet
 LENS = ["lens1_c", "lens1_e", "lens2_c", "lens2_e", "lens3_c", "lens3_e"]
 T_CLIMB = 2750.0  # s, end of the climb: the flight starts
 
@@ -47,14 +46,20 @@ if "--heated" in sys.argv:
     # Each sample's state holds until the next sample: a switch is placed to within one output step.
     dt = np.diff(t, append=t[-1])
     total = 0.0
-    for name, node, p in HEATERS:
+    # Every heater column NAME@NODE of the flows; its power is the largest value it takes.
+    heaters = [(c.split("@")[0], c.split("@")[1], float(np.max(flows[c])))
+               for c in flows.dtype.names if "@" in c]
+    window_energy = 0.0
+    for name, node, p in heaters:
         on = flows[f"{name}@{node}"] > 0.0
         e = p * float(np.sum(dt[on]))
         total += e
+        if node == "window":
+            window_energy = e
         switches = int(np.count_nonzero(on[1:] != on[:-1]))
         print(f"{name} on {node}, {p:g} W: duty cycle {100 * np.sum(dt[on & late]) / np.sum(dt[late]):.1f} % over the "
               f"flight, {100 * np.sum(dt[on]) / np.sum(dt):.1f} % overall, {switches} on/off changes, energy {e / 3600:.2f} Wh")
-    lens_e = total - HEATERS[-1][2] * float(np.sum(dt[flows["hw@window"] > 0.0]))
+    lens_e = total - window_energy
     print(f"heater energy over {t[-1]:.0f} s: lens barrel {lens_e / 3600:.2f} Wh (mean {lens_e / t[-1]:.2f} W), "
           f"window {(total - lens_e) / 3600:.2f} Wh, total {total / 3600:.2f} Wh (mean {total / t[-1]:.2f} W); "
           f"output step {np.median(np.diff(t)):g} s")

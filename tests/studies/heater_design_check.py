@@ -54,4 +54,15 @@ with tempfile.TemporaryDirectory() as tmp:
     grad = np.max(optics.max(0) - optics.min(0))
     check("largest optics gradient during the flight (study: small, < 2-3 K)", grad < 2.5, f"{grad:.2f} K")
 
+    # The study's requirements (`require` in heaters.tnet): the declared powers have no margin on
+    # the lens zones; the powers chosen by `thermnet design` (designed.tnet) meet every one.
+    declared = subprocess.run([sys.argv[1], "check", os.path.join(MODEL, "heaters.tnet"), "--case", "thermostats"],
+                              capture_output=True, text=True)
+    check("declared powers: check exits 1 naming the lens-zone margin", declared.returncode == 1 and
+          'VIOLATED: require margin "h[1-6]"' in declared.stdout, declared.stdout.splitlines()[-1])
+    designed = subprocess.run([sys.argv[1], "check", os.path.join(MODEL, "designed.tnet")],
+                              capture_output=True, text=True)
+    check("designed powers meet every requirement when simulated again", designed.returncode == 0,
+          designed.stdout.splitlines()[-1])
+
 sys.exit(1 if failures else 0)

@@ -74,6 +74,10 @@ syn match   tnetStatement    "\%(\%(^\|[;{]\)\s*\)\@<=\<\%(include\|plugin\)\>"
 syn match   tnetStatement    "\%(\%(^\|[;{]\)\s*\)\@<=\<\%(model\|const\|param\|node\|boundary\)\>" nextgroup=tnetName skipwhite
 syn match   tnetStatement    "\%(\%(^\|[;{]\)\s*\)\@<=\<\%(series\|parallel\)\>" nextgroup=tnetElementName skipwhite
 syn match   tnetStatement    "\%(\%(^\|[;{]\)\s*\)\@<=\<case\>" nextgroup=tnetCaseName skipwhite
+" require KIND "GROUP"... LO .. HI | max VALUE | min VALUE [from TIME] [in CASE, ...]
+syn match   tnetStatement    "\%(\%(^\|[;{]\)\s*\)\@<=\<require\>\ze\s\+\%(band\|gradient\|power\|energy\|margin\)\>" nextgroup=tnetRequireKind skipwhite
+syn match   tnetRequireKind  "\<\%(band\|gradient\|power\|energy\|margin\)\>" contained
+syn match   tnetRequireWord  "\%(\<require\>.*\)\@<=\<\%(max\|min\|from\|in\)\>"
 syn match   tnetStatement    "\%(\%(^\|[;{]\)\s*\)\@<=\<submodel\>\ze\s\+\h\w*\s*(" nextgroup=tnetSubmodelName skipwhite
 syn match   tnetSubmodelName "\<\h\w*\>" contained nextgroup=tnetTerminals skipwhite
 syn region  tnetTerminals    matchgroup=tnetDelimiter start="(" end=")" oneline contained contains=tnetTerminal,tnetDelimiter
@@ -101,6 +105,8 @@ syn match   tnetSteady       "\%(\<initial\s*=\s*\)\@<=\<steady\>" contained
 hi def link tnetComment      Comment
 hi def link tnetTodo         Todo
 hi def link tnetStatement    Statement
+hi def link tnetRequireKind  Type
+hi def link tnetRequireWord  Keyword
 hi def link tnetLoop         Repeat
 hi def link tnetLoopIn       Repeat
 hi def link tnetLoopVar      Identifier

@@ -1,0 +1,85 @@
+// `thermnet check MODEL`: runs every case a requirement applies to (or those given by --case) and
+// reports each requirement: met with its margin, or violated with where, when and by how much.
+
+#include "cli/check_command.hpp"
+
+#include "cli/checked_run.hpp"
+#include "cli/exit_status.hpp"
+#include "cli/model_loading.hpp"
+#include "cli/output_files.hpp"
+#include "cli/param_overrides.hpp"
+#include "cli/requirement_report.hpp"
+#include "cli/run_command.hpp"
+
+#include <fmt/format.h>
+
+#include <iostream>
+
+namespace thermnet::cli {
+namespace {
+
+struct CheckOptions {
+  std::string model;
+  std::vector<std::string> cases;
+  std::vector<std::string> sets;
+  std::string json;
+};
+
+int run_check(const CheckOptions& o, lang::SourceManager& sources) {
+  int status = exit_ok;
+  auto model = load_checked_model(o.model, sources, status);
+  if (!model) return status;
+  check_outputs({{"--json", o.json}}, model_inputs(*model));
+  if (model->requirements().empty()) {
+    std::cerr << fmt::format("thermnet check: error: {} states no requirement (add e.g. `require "
+                             "band \"lens*\" 15 .. 25 [degC]`)\n",
+                             o.model);
+    return exit_failure;
+  }
+  const lang::ParamValues params = parse_param_sets(*model, o.sets);
+  std::vector<std::string> cases = o.cases;
+  if (cases.empty()) cases = model->case_names();
+  if (cases.empty()) cases.push_back(model->resolve_case(""));
+  std::vector<CheckedRun> runs;
+  std::vector<RequirementOutcome> all;
+  for (const auto& c : cases) {
+    runs.push_back(run_checked(*model, model->resolve_case(c), params, SimulationOptions{}));
+    all.insert(all.end(), runs.back().outcomes.begin(), runs.back().outcomes.end());
+  }
+  std::cout << outcomes_text(all, sources);
+  const std::size_t bad = violations(all);
+  std::cout << fmt::format("{} of {} requirement checks over {} case{} violated\n", bad, all.size(),
+                           cases.size(), cases.size() == 1 ? "" : "s");
+  std::cout.flush();
+  if (!o.json.empty())
+    write_output_files({{o.json, nlohmann::json{{"model", model->name()},
+                                                {"met", bad == 0},
+                                                {"violations", bad},
+                                                {"requirements", outcomes_json(all, sources)}}
+                                         .dump(1) +
+                                     "\n"}});
+  return bad == 0 ? exit_ok : exit_failure;
+}
+
+} // namespace
+
+void add_check_command(CLI::App& app, int& status) {
+  auto o = std::make_shared<CheckOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "check", "Run the cases and check the model's requirements (`require ...`); exit 1 when one "
+               "is violated");
+  cmd->add_option("MODEL", o->model, "model file (.tnet)")->required();
+  cmd->add_option("--case", o->cases,
+                  "cases to run (repeat or separate by commas; default: every case)")
+      ->delimiter(',');
+  cmd->add_option("--set", o->sets, "param value NAME=VALUE (repeatable), as for simulate");
+  cmd->add_option("--json", o->json,
+                  "write {model, met, violations, requirements: [{file, line, column, kind, "
+                  "requirement, case, met, unit, worst, slack, time, where[, duty]}]}");
+  cmd->callback([o, &status] {
+    status = run_command("thermnet check",
+                         [&](lang::SourceManager& sources) { return run_check(*o, sources); });
+  });
+}
+
+} // namespace thermnet::cli
