@@ -27,7 +27,7 @@ struct CheckOptions {
 
 int run_check(const CheckOptions& o, lang::SourceManager& sources) {
   int status = exit_ok;
-  auto model = load_checked_model(o.model, sources, status);
+  auto model = load_checked_model(o.model, sources, status, o.sets);
   if (!model) return status;
   check_outputs({{"--json", o.json}}, model_inputs(*model));
   if (model->requirements().empty()) {
@@ -36,14 +36,13 @@ int run_check(const CheckOptions& o, lang::SourceManager& sources) {
                              o.model);
     return exit_failure;
   }
-  const lang::ParamValues params = parse_param_sets(*model, o.sets);
   std::vector<std::string> cases = o.cases;
   if (cases.empty()) cases = model->case_names();
   if (cases.empty()) cases.push_back(model->resolve_case(""));
   std::vector<CheckedRun> runs;
   std::vector<RequirementOutcome> all;
   for (const auto& c : cases) {
-    runs.push_back(run_checked(*model, model->resolve_case(c), params, SimulationOptions{}));
+    runs.push_back(run_checked(*model, model->resolve_case(c), {}, SimulationOptions{}));
     all.insert(all.end(), runs.back().outcomes.begin(), runs.back().outcomes.end());
   }
   std::cout << outcomes_text(all, sources);
@@ -72,7 +71,7 @@ void add_check_command(CLI::App& app, int& status) {
   cmd->add_option("--case", o->cases,
                   "cases to run (repeat or separate by commas; default: every case)")
       ->delimiter(',');
-  cmd->add_option("--set", o->sets, "param value NAME=VALUE (repeatable), as for simulate");
+  add_set_option(cmd, o->sets);
   cmd->add_option("--json", o->json,
                   "write {model, met, violations, requirements: [{file, line, column, kind, "
                   "requirement, case, met, unit, worst, slack, time, where[, duty]}]}");

@@ -10,6 +10,7 @@
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/output_files.hpp"
+#include "cli/param_overrides.hpp"
 #include "cli/requirement_report.hpp"
 #include "cli/result_output.hpp"
 #include "cli/run_command.hpp"
@@ -30,6 +31,7 @@ namespace {
 struct DesignOptions {
   std::string model;
   std::vector<std::string> params;
+  std::vector<std::string> sets;
   std::vector<std::string> cases;
   std::string objective = "energy";
   std::size_t samples = 0;
@@ -154,7 +156,7 @@ std::vector<std::string> controlled_nodes(const lang::Model& model, const std::s
 int run_design(const DesignOptions& o, lang::SourceManager& sources) {
   const char* me = "thermnet design";
   int status = exit_ok;
-  auto model = load_checked_model(o.model, sources, status);
+  auto model = load_checked_model(o.model, sources, status, o.sets);
   if (!model) return status;
   check_outputs({{"-o", o.out}, {"--json", o.json}, {"--plot", o.plot}}, model_inputs(*model));
   if (model->requirements().empty()) {
@@ -240,6 +242,7 @@ int run_design(const DesignOptions& o, lang::SourceManager& sources) {
                                                            best.feasible ? "all requirements met"
                                                                          : "infeasible"))});
   if (best.feasible && !o.out.empty()) {
+    note_sets_not_written(*model, me, o.out);
     std::vector<rewrite::ParamUpdate> updates;
     for (std::size_t j = 0; j < params.size(); ++j)
       updates.push_back({params[j], best.x[j]});
@@ -276,6 +279,8 @@ void add_design_command(CLI::App& app, int& status) {
       ->delimiter(',');
   cmd->add_option("--case", o->cases, "cases the requirements must hold in (default: every case)")
       ->delimiter(',');
+  add_set_option(cmd, o->sets,
+                 "; held for the whole design (a designed param takes its chosen value)");
   cmd->add_option("--objective", o->objective,
                   "what to minimise: energy (heat supplied by all sources over the cases, "
                   "default) or power (installed power: the sum of the sources' P)")

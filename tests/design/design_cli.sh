@@ -30,6 +30,13 @@ check "check --json lists every requirement" python3 -c '
 import json; j = json.load(open("check.json")); assert not j["met"] and len(j["requirements"]) == 3
 b = j["requirements"][0]; assert b["kind"] == "band" and b["line"] == 9 and not b["met"] and b["slack"] < 0'
 
+# check --set: 30 W holds the plate with a 50 % margin over its ~18 W need; a stronger leak does not
+run check plate.tnet --set P=30
+check "check --set P=30: every requirement met" [ "$rc" -eq 0 ]
+run check plate.tnet --set P=30 --set leak.G=1
+check "check --set leak.G=1 (twice the leak): the band is violated again" [ "$rc" -eq 1 ]
+check "... named" grep -q 'requirement VIOLATED: require band "plate"' out.txt
+
 # design: the least installed power meeting the band and the 50 % margin
 run design plate.tnet --objective power --seed 3 -o designed.tnet --json design.json --plot design.svg
 check "design exits 0 when the requirements can be met" [ "$rc" -eq 0 ]

@@ -48,7 +48,8 @@ csv)
 esac
 
 # Compile each source into its own object (two at a time; the X3 grammar is slow to compile),
-# skipping objects newer than their source and every header.
+# skipping objects newer than their source and every header; through ccache when it is installed.
+launcher=$(command -v ccache || true)
 newest_header=$(find "$root/lang" "$root/kernel" -name '*.hpp' -o -name '*.def' | xargs ls -t | head -1)
 objects=()
 pids=()
@@ -57,7 +58,7 @@ for src in "${sources[@]}"; do
   objects+=("$obj")
   if [ -f "$obj" ] && [ "$obj" -nt "$src" ] && [ "$obj" -nt "$newest_header" ]; then continue; fi
   mkdir -p "$work/obj"
-  "$cxx" "${flags[@]}" -c "$src" -o "$obj" &
+  $launcher "$cxx" "${flags[@]}" -c "$src" -o "$obj" &
   pids+=($!)
   if [ "${#pids[@]}" -ge 2 ]; then
     wait "${pids[0]}" || exit 1

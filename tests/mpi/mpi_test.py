@@ -90,12 +90,36 @@ class SameResultTest(unittest.TestCase):
 
 
 class SweepTest(unittest.TestCase):
+    # A param without a range may take any value on the command line; a negative conductance then
+    # fails at its grid point (the camera's params are ranged: out-of-range values are refused
+    # before the grid runs).
+    MODEL = """model bar
+param G = 2 [W/K]
+boundary amb T = 20
+node a C = 100
+node b C = 50 T0 = 60
+conductance g1 a amb G = 1
+conductance g2 a b G = G
+heater h a P = 5
+case c { duration = 600 ; output = 60 }
+"""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.bar = os.path.join(cls.tmp.name, "bar.tnet")
+        with open(cls.bar, "w") as f:
+            f.write(cls.MODEL)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
     def test_sweep(self):
-        # 3 x 2 grid points, every other one failing (a negative resistance): the error column
+        # 3 x 2 grid points, every other one failing (a negative conductance): the error column
         # travels between ranks too. 3 ranks get 2 points each, 2 ranks 3 each.
-        args = ["sweep", CAMERA, "--case", "case01", "--param", "k7=2..15:3", "--param",
-                "k15=-5,50", "--nodes", "lens*", "--band", "15..25", "-o", "table.csv",
-                "--plot", "sweep.svg"]
+        args = ["sweep", self.bar, "--param", "h.P=2..10:3", "--param", "G=-1,3", "--band",
+                "25..40", "-o", "table.csv", "--plot", "sweep.svg"]
         single, done = outputs(args + ["--threads", "2"], 0)
         self.assertEqual(single["table.csv"].count(b"must be > 0"), 3)
         self.assertIn("6 runs, 3 failed", done.stderr)
