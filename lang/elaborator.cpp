@@ -899,6 +899,19 @@ NetworkSpec Elaborator::run() {
   return net;
 }
 
+NetworkSpec Elaborator::run_on(NetworkSpec net, const Elaborator& base) {
+  element_slot_ = base.element_slot_;
+  if (case_) apply_case(net);
+  return net;
+}
+
+bool Elaborator::sets_params(const CaseDecl& c) {
+  return std::any_of(c.stmt->items.begin(), c.stmt->items.end(), [](const ast::CaseItem& item) {
+    const auto* a = std::get_if<ast::CaseAssign>(&item);
+    return a && a->target.path.plain() && !is_case_key(a->target.path.id.name);
+  });
+}
+
 void Elaborator::apply_case(NetworkSpec& net) {
   CaseSettings& s = net.settings;
   s.name = case_->name;
