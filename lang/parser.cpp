@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cstdlib>
 #include <optional>
@@ -69,13 +70,27 @@ private:
            (p + n == end_ || !is_ident_char(p[n]));
   }
 
-  /// Calls f(p, n, state) for each code point of the text with its lexical state (0: code,
-  /// 1: inside a string, 2: inside a comment); stops and returns false on a NUL byte or invalid
-  /// UTF-8 (reported).
-  template <typename F> bool scan(F&& f) {
+  /// Calls f(p) for each bracket ( ) [ ] { } in code (not in a string or a comment); stops and
+  /// returns false on a NUL byte or invalid UTF-8 (reported), or when f returns false.
+  template <typename F> bool scan_brackets(F&& f) {
+    // ASCII bytes that neither change the lexical state nor are brackets are stepped over at once
+    // (most of a netlist).
+    static constexpr auto plain = [] {
+      std::array<bool, 256> t{};
+      for (int c = 1; c < 0x80; ++c)
+        t[static_cast<std::size_t>(c)] = true;
+      for (const char c : std::string_view("\n\"#\\()[]{}"))
+        t[static_cast<unsigned char>(c)] = false;
+      return t;
+    }();
     bool in_comment = false, in_string = false, escaped = false;
     for (It p = base_; p < end_;) {
       char c = *p;
+      if (plain[static_cast<unsigned char>(c)]) {
+        escaped = false;
+        ++p;
+        continue;
+      }
       if (c == '\0') {
         diags_.report(DiagId::nul_byte, span(p, p + 1), std::nullopt);
         return false;
@@ -85,7 +100,7 @@ private:
         diags_.report(DiagId::not_utf8, span(p, p + 1), std::nullopt);
         return false;
       }
-      int state = in_comment ? 2 : in_string ? 1 : 0;
+      const bool code = !in_comment && !in_string;
       if (c == '\n')
         in_comment = in_string = escaped = false;
       else if (in_comment) {
@@ -98,10 +113,10 @@ private:
           in_string = false;
       } else if (c == '#') {
         in_comment = true;
-        state = 2;
       } else if (c == '"')
         in_string = true;
-      if (!f(p, n, state)) return false;
+      const bool bracket = c == '(' || c == ')' || c == '[' || c == ']' || c == '{' || c == '}';
+      if (code && bracket && !f(p)) return false;
       p += n;
     }
     return true;
@@ -116,8 +131,7 @@ private:
     std::vector<std::pair<It, It>> spans; // matched ( ) and [ ]
     std::vector<It> unclosed;             // unmatched '{'
     auto closer_of = [](char c) { return c == '(' ? ')' : c == '[' ? ']' : '}'; };
-    bool ok = scan([&](It p, std::size_t, int state) {
-      if (state != 0) return true;
+    bool ok = scan_brackets([&](It p) {
       char c = *p;
       if (c == '(' || c == '[' || c == '{') {
         if (static_cast<int>(stack.size()) >= max_nesting) {
