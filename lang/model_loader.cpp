@@ -327,6 +327,9 @@ private:
       if (const auto* loop = std::get_if<ast::ForStmt>(stmt)) check_loop(*loop, f, nullptr, vars);
     elaborator_.emplace(
         Elaborator::structural(m_, [this](Diagnostic d) { report(std::move(d), nullptr, true); }));
+    // A flat model declares one name per statement: size the indices once.
+    m_.node_index_.reserve(structure_.size());
+    m_.element_index_.reserve(structure_.size());
     for (const auto& [stmt, f] : structure_) {
       if (stopped_ || diags_.saturated()) break;
       expand(*stmt, f, nullptr);
@@ -465,17 +468,26 @@ private:
   /// Registers an element or instance name in the element namespace; false when taken.
   bool element_name(std::string_view name, int index, bool instance, std::string_view base,
                     Span name_span, Span where, const Scope* scope) {
+    // One hash lookup for the common case, a new element's name: it is entered at once and taken
+    // out again if an instance has it.
     const Span* previous = nullptr;
-    if (auto it = m_.element_index_.find(name); it != m_.element_index_.end())
+    bool entered = false;
+    if (instance) {
+      if (auto it = m_.element_index_.find(name); it != m_.element_index_.end())
+        previous = &m_.elements_[static_cast<std::size_t>(it->second)].name_span;
+    } else if (auto [it, fresh] = m_.element_index_.try_emplace(name, index); !fresh) {
       previous = &m_.elements_[static_cast<std::size_t>(it->second)].name_span;
-    else if (auto i = instance_index_.find(name); i != instance_index_.end())
-      previous = &i->second;
+    } else {
+      entered = true;
+    }
+    if (!previous)
+      if (auto i = instance_index_.find(name); i != instance_index_.end()) previous = &i->second;
     check_name(instance ? "instance" : "element", base, name, name_span, where, previous, scope);
-    if (previous) return false;
-    if (instance)
-      instance_index_.emplace(name, name_span);
-    else
-      m_.element_index_.emplace(name, index);
+    if (previous) {
+      if (entered) m_.element_index_.erase(name);
+      return false;
+    }
+    if (instance) instance_index_.emplace(name, name_span);
     return true;
   }
 
