@@ -630,7 +630,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
     else
       ok = false;
   }
-  std::string kind_word = schema.kind;
+  const std::string& kind_word = schema.kind;
   // Exactly one alternative group (e.g. radiation: GR, or A + eps1 + eps2) must be given in full.
   const auto in_groups = [&](const std::string& name) {
     for (const auto& g : schema.alternatives)
@@ -638,32 +638,39 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
     return false;
   };
   if (!schema.alternatives.empty()) {
-    std::vector<const std::vector<std::string>*> touched;
-    std::string options;
+    const std::vector<std::string>* first_touched = nullptr;
+    std::size_t touched = 0;
     for (const auto& g : schema.alternatives) {
       bool any = false;
-      std::string names;
-      for (std::size_t i = 0; i < g.size(); ++i) {
-        any |= find_given(g[i]) != nullptr;
-        names += (i == 0 ? "" : i + 1 == g.size() ? " and " : ", ") + g[i];
-      }
+      for (const auto& k : g)
+        any |= find_given(k) != nullptr;
       for (const auto& ks : schema.keys) // optional parts of the group (radiation: F)
         any |= !ks.with.empty() && std::find(g.begin(), g.end(), ks.with) != g.end() &&
                find_given(ks.name) != nullptr;
-      options += (options.empty() ? "" : ", or ") + names;
-      if (any) touched.push_back(&g);
+      if (any && touched++ == 0) first_touched = &g;
     }
-    if (touched.empty()) {
+    // "GR, or A, eps1 and eps2": formed only for a message.
+    const auto options = [&] {
+      std::string out;
+      for (const auto& g : schema.alternatives) {
+        std::string names;
+        for (std::size_t i = 0; i < g.size(); ++i)
+          names += (i == 0 ? "" : i + 1 == g.size() ? " and " : ", ") + g[i];
+        out += (out.empty() ? "" : ", or ") + names;
+      }
+      return out;
+    };
+    if (touched == 0) {
       report(DiagnosticEngine::make(DiagId::missing_keys, at, std::nullopt, kind_word, out.name,
-                                    options));
+                                    options()));
       ok = false;
-    } else if (touched.size() > 1) {
+    } else if (touched > 1) {
       report(DiagnosticEngine::make(DiagId::conflicting_keys, at, std::nullopt,
                                     fmt::format("{} '{}' takes either {}, not several of them",
-                                                kind_word, out.name, options)));
+                                                kind_word, out.name, options())));
       ok = false;
     } else {
-      for (const auto& k : *touched.front())
+      for (const auto& k : *first_touched)
         if (!find_given(k)) {
           report(DiagnosticEngine::make(DiagId::missing_key, at, std::nullopt, kind_word, out.name,
                                         k));
