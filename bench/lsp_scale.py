@@ -2,9 +2,11 @@
 """The language server at scale: how long `thermnet lsp` takes to answer on a large document.
 
 Opens a document of N nodes (each isolated, so lint publishes one warning per node, as in
-tests/lsp/lsp_test.py) and prints the wall time of: didOpen until its diagnostics are published
-(parse + lint + publishing), documentSymbol, hover and definition on the last node's name, then
-`thermnet lint` on the same text for comparison, and the CPU time of the server process.
+tests/lsp/lsp_test.py) and prints the wall time from sending each message until the first bytes
+of its answer arrive (the server writes an answer once it has computed it): didOpen until its
+diagnostics are published (parse + lint + publishing), documentSymbol, hover and definition on
+the last node's name; then the CPU time of the server process (start-up included) and
+`thermnet lint` on the same text for comparison.
 
 Usage: lsp_scale.py PATH/TO/thermnet [--nodes 50000]
 """
@@ -23,9 +25,14 @@ def frame(msg):
 
 
 def read_reply(out):
+    """The next message and the time its first header line arrived (the server writes a reply
+    only once it has computed it, so that time excludes this client's JSON decoding)."""
     length = None
+    arrived = None
     while True:
         line = out.readline()
+        if arrived is None:
+            arrived = time.perf_counter()
         if not line:
             raise EOFError("the server closed its output")
         line = line.strip()
@@ -34,7 +41,7 @@ def read_reply(out):
         name, _, value = line.partition(b":")
         if name.lower() == b"content-length":
             length = int(value)
-    return json.loads(out.read(length))
+    return json.loads(out.read(length)), arrived
 
 
 def main():
@@ -57,10 +64,11 @@ def main():
         proc.stdin.flush()
 
     def wait(pred):
+        """The next message satisfying pred, and when it arrived."""
         while True:
-            m = read_reply(proc.stdout)
+            m, arrived = read_reply(proc.stdout)
             if pred(m):
-                return m
+                return m, arrived
 
     send({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {}})
     wait(lambda m: m.get("id") == 1)
@@ -69,8 +77,8 @@ def main():
     send({"jsonrpc": "2.0", "method": "textDocument/didOpen",
           "params": {"textDocument": {"uri": uri, "languageId": "tnet", "version": 1,
                                       "text": text}}})
-    d = wait(lambda m: m.get("method") == "textDocument/publishDiagnostics")
-    timings.append(("didOpen -> diagnostics published", time.perf_counter() - t0,
+    d, arrived = wait(lambda m: m.get("method") == "textDocument/publishDiagnostics")
+    timings.append(("didOpen -> diagnostics published", arrived - t0,
                     f"{len(d['params']['diagnostics'])} diagnostics"))
     last_line = n  # 0-based line of node n{n-1}
     requests = [
@@ -84,10 +92,10 @@ def main():
         params = {"textDocument": {"uri": uri}, **extra}
         t0 = time.perf_counter()
         send({"jsonrpc": "2.0", "id": rid, "method": method, "params": params})
-        r = wait(lambda m, rid=rid: m.get("id") == rid)
+        r, arrived = wait(lambda m, rid=rid: m.get("id") == rid)
         res = r.get("result")
         size = len(res) if isinstance(res, list) else ("an answer" if res else "no answer")
-        timings.append((what, time.perf_counter() - t0, size))
+        timings.append((what, arrived - t0, size))
     send({"jsonrpc": "2.0", "id": 99, "method": "shutdown"})
     wait(lambda m: m.get("id") == 99)
     send({"jsonrpc": "2.0", "method": "exit"})

@@ -72,6 +72,15 @@ std::string declared_name(const std::vector<Decl>& decls, const std::string& wri
 } // namespace
 
 std::string declared_name(const lang::Model& m, const std::string& written) {
+  // A name written in full is looked up in the model's indices; only a partial one (an inner
+  // name of an instance, an indexed family) is searched for among all the declarations.
+  const auto named = [&](const auto& decls) {
+    return std::any_of(decls.begin(), decls.end(),
+                       [&](const auto& d) { return d.name == written; });
+  };
+  if (m.node_index(written) >= 0 || m.element_index(written) >= 0 || named(m.values()) ||
+      named(m.cases()) || m.submodel(written))
+    return written;
   return declared_name(declarations(m), written);
 }
 
