@@ -3,6 +3,8 @@
 #include "lang/csv.hpp"
 #include "lang/time_program.hpp"
 
+#include <boost/container/small_vector.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -566,8 +568,13 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
                            FileId f, Span at, const std::function<std::string()>& owner,
                            ElementSpec& out) {
   bool ok = true;
-  // Keys given so far with their spans (a handful per element: a flat list beats a map).
-  std::vector<std::pair<std::string_view, Span>> given;
+  // Keys given so far with their spans (a handful per element: a flat list beats a map, and
+  // kept inline it costs no allocation).
+  boost::container::small_vector<std::pair<std::string_view, Span>, 8> given;
+  std::size_t defaults = 0; // room for the keys given and the defaults filled in, at most
+  for (const auto& ks : schema.keys)
+    defaults += ks.default_value ? 1 : 0;
+  out.values.reserve(out.values.size() + keys.size() + defaults);
   const auto find_given = [&](std::string_view name) -> const Span* {
     for (const auto& [key, span] : given)
       if (key == name) return &span;
