@@ -498,7 +498,7 @@ private:
     const ElementSchema* schema = nullptr;
     bool valid = true;
     if (e) {
-      schema = m_.catalog().find(e->kind.name);
+      schema = kind_schema(e->kind.name);
       if (!schema) {
         Diagnostic d =
             DiagnosticEngine::make(DiagId::unknown_kind, at(f, s), span(f, e->kind), e->kind.name);
@@ -534,6 +534,18 @@ private:
       if (!element_name(d.name, index, false, name.id.name, d.name_span, at(f, s), scope))
         m_.elements_.pop_back();
     }
+  }
+
+  /// The schema of an element kind, or nullptr; big files name the same kind many times in a row,
+  /// so the last one found is kept (the catalog only gains kinds, never changes one).
+  const ElementSchema* kind_schema(std::string_view kind) {
+    if (last_schema_ && kind == last_kind_) return last_schema_;
+    const ElementSchema* schema = m_.catalog().find(kind);
+    if (schema) {
+      last_kind_ = kind;
+      last_schema_ = schema;
+    }
+    return schema;
   }
 
   /// Checks an instance's keys against its submodel's params (once per statement).
@@ -685,6 +697,8 @@ private:
   std::unordered_map<std::string_view, Span> value_names_, case_names_, submodel_names_;
   std::unordered_map<std::string_view, Span> instance_index_;
   std::vector<std::pair<const ast::Statement*, FileId>> structure_; // top-level, in order
+  std::string_view last_kind_;                 // the kind kind_schema() found last
+  const ElementSchema* last_schema_ = nullptr; // and its schema
   std::optional<Elaborator> elaborator_;
   std::vector<const SubmodelDecl*> active_; // instances being expanded, outermost first
   std::vector<std::string> names_;          // scratch: the names of one declaration

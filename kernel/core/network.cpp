@@ -43,14 +43,33 @@ private:
   const std::vector<int>& unknown_of_;
 };
 
-std::unique_ptr<Element> build(const lang::ElementSpec& e, const ElementRegistry& registry) {
+/// The plugins of the kinds a network names: big networks name the same kind many times in a row,
+/// so the last one found is kept.
+class KindLookup {
+public:
+  explicit KindLookup(const ElementRegistry& registry) : registry_(registry) {}
+  const ElementPlugin* find(const std::string& kind) {
+    if (!last_ || kind != last_kind_) {
+      last_ = registry_.find(kind);
+      last_kind_ = kind;
+    }
+    return last_;
+  }
+
+private:
+  const ElementRegistry& registry_;
+  std::string last_kind_;
+  const ElementPlugin* last_ = nullptr;
+};
+
+std::unique_ptr<Element> build(const lang::ElementSpec& e, KindLookup& kinds) {
   if (e.composite == lang::Composite::series) {
     double R = 0.0;
     for (const auto& part : e.parts)
       R += 1.0 / part.schema->conductance(part.key_values());
     return std::make_unique<LinearLink>(e.nodes.at(0), e.nodes.at(1), 1.0 / R);
   }
-  const ElementPlugin* plugin = registry.find(e.kind);
+  const ElementPlugin* plugin = kinds.find(e.kind);
   if (!plugin) throw NetworkError(fmt::format("no plugin provides element kind '{}'", e.kind));
   return plugin->create(e);
 }
@@ -99,8 +118,9 @@ Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec
     unknown_nodes_.push_back(static_cast<int>(i));
     capacities_.push_back(spec_.nodes[i].C);
   }
+  KindLookup kinds(registry);
   const auto add = [&](const lang::ElementSpec& e, int spec_element) {
-    std::unique_ptr<Element> element = build(e, registry);
+    std::unique_ptr<Element> element = build(e, kinds);
     Piece piece{spec_element};
     if (const auto* link = dynamic_cast<const LinearLink*>(element.get())) {
       piece.batch = static_cast<int>(links_.size());
