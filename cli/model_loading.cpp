@@ -107,8 +107,14 @@ std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceMan
 std::vector<NamedInput> model_inputs(const lang::Model& model) {
   const long root = model.sources().find(model.path());
   if (root < 0) return {{model.path(), "the model"}};
+  // The model's syntax trees are whole unless loading stopped at the error limit (which takes
+  // syntax or load errors): then the files are parsed again.
+  std::vector<const lang::ast::File*> parsed;
+  if (model.syntax_errors() == 0 && !model.load_error())
+    for (const auto& file : model.files())
+      parsed.push_back(file.get());
   std::vector<NamedInput> inputs;
-  for (auto& f : rewrite::files_read(model.sources(), static_cast<lang::FileId>(root)))
+  for (auto& f : rewrite::files_read(model.sources(), static_cast<lang::FileId>(root), parsed))
     inputs.push_back({std::move(f.path), std::move(f.role)});
   return inputs;
 }

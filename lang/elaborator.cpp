@@ -3,6 +3,8 @@
 #include "lang/csv.hpp"
 #include "lang/time_program.hpp"
 
+#include <boost/container/small_vector.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -573,8 +575,13 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
                            FileId f, Span at, const std::function<std::string()>& owner,
                            ElementSpec& out) {
   bool ok = true;
-  // Keys given so far with their spans (a handful per element: a flat list beats a map).
-  std::vector<std::pair<std::string_view, Span>> given;
+  // Keys given so far with their spans (a handful per element: a flat list beats a map, and
+  // kept inline it costs no allocation).
+  boost::container::small_vector<std::pair<std::string_view, Span>, 8> given;
+  std::size_t defaults = 0; // room for the keys given and the defaults filled in, at most
+  for (const auto& ks : schema.keys)
+    defaults += ks.default_value ? 1 : 0;
+  out.values.reserve(out.values.size() + keys.size() + defaults);
   const auto find_given = [&](std::string_view name) -> const Span* {
     for (const auto& [key, span] : given)
       if (key == name) return &span;
@@ -637,7 +644,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
     else
       ok = false;
   }
-  std::string kind_word = schema.kind;
+  const std::string& kind_word = schema.kind;
   // Exactly one alternative group (e.g. radiation: GR, or A + eps1 + eps2) must be given in full.
   const auto in_groups = [&](const std::string& name) {
     for (const auto& g : schema.alternatives)
@@ -645,32 +652,39 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
     return false;
   };
   if (!schema.alternatives.empty()) {
-    std::vector<const std::vector<std::string>*> touched;
-    std::string options;
+    const std::vector<std::string>* first_touched = nullptr;
+    std::size_t touched = 0;
     for (const auto& g : schema.alternatives) {
       bool any = false;
-      std::string names;
-      for (std::size_t i = 0; i < g.size(); ++i) {
-        any |= find_given(g[i]) != nullptr;
-        names += (i == 0 ? "" : i + 1 == g.size() ? " and " : ", ") + g[i];
-      }
+      for (const auto& k : g)
+        any |= find_given(k) != nullptr;
       for (const auto& ks : schema.keys) // optional parts of the group (radiation: F)
         any |= !ks.with.empty() && std::find(g.begin(), g.end(), ks.with) != g.end() &&
                find_given(ks.name) != nullptr;
-      options += (options.empty() ? "" : ", or ") + names;
-      if (any) touched.push_back(&g);
+      if (any && touched++ == 0) first_touched = &g;
     }
-    if (touched.empty()) {
+    // "GR, or A, eps1 and eps2": formed only for a message.
+    const auto options = [&] {
+      std::string out;
+      for (const auto& g : schema.alternatives) {
+        std::string names;
+        for (std::size_t i = 0; i < g.size(); ++i)
+          names += (i == 0 ? "" : i + 1 == g.size() ? " and " : ", ") + g[i];
+        out += (out.empty() ? "" : ", or ") + names;
+      }
+      return out;
+    };
+    if (touched == 0) {
       report(DiagnosticEngine::make(DiagId::missing_keys, at, std::nullopt, kind_word, out.name,
-                                    options));
+                                    options()));
       ok = false;
-    } else if (touched.size() > 1) {
+    } else if (touched > 1) {
       report(DiagnosticEngine::make(DiagId::conflicting_keys, at, std::nullopt,
                                     fmt::format("{} '{}' takes either {}, not several of them",
-                                                kind_word, out.name, options)));
+                                                kind_word, out.name, options())));
       ok = false;
     } else {
-      for (const auto& k : *touched.front())
+      for (const auto& k : *first_touched)
         if (!find_given(k)) {
           report(DiagnosticEngine::make(DiagId::missing_key, at, std::nullopt, kind_word, out.name,
                                         k));
@@ -946,6 +960,22 @@ void Elaborator::apply_key_settings(NetworkSpec& net) {
             DiagId::conflicting_keys, at, std::nullopt,
             fmt::format("{}: {} '{}': {}", s.option, e.kind, e.name, problem.message)));
   }
+}
+
+NetworkSpec Elaborator::run_on(NetworkSpec net, const Elaborator& base) {
+  element_slot_ = base.element_slot_;
+  if (case_) apply_case(net);
+  apply_key_settings(net); // over the case's values, as in run()
+  net.requirements.clear(); // the base's are those of no case
+  add_requirements(net);
+  return net;
+}
+
+bool Elaborator::sets_params(const CaseDecl& c) {
+  return std::any_of(c.stmt->items.begin(), c.stmt->items.end(), [](const ast::CaseItem& item) {
+    const auto* a = std::get_if<ast::CaseAssign>(&item);
+    return a && a->target.path.plain() && !is_case_key(a->target.path.id.name);
+  });
 }
 
 void Elaborator::apply_case(NetworkSpec& net) {

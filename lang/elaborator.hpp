@@ -39,6 +39,12 @@ public:
 
   /// Builds the network; problems go to the reporter (the result is partial after an error).
   NetworkSpec run();
+  /// Applies the case to `net`, the network `base` built without a case (run() on the base
+  /// model): the same as run() when the case sets no param, without elaborating again.
+  NetworkSpec run_on(NetworkSpec net, const Elaborator& base);
+  /// True when a case block sets a param (its nodes and elements may then differ from the base
+  /// model's).
+  static bool sets_params(const CaseDecl& c);
   /// Names of consts and params looked up during run().
   const std::set<std::string, std::less<>>& used_names() const { return used_; }
   /// The value of a top-level const or param (evaluated on first use); throws EvalError.

@@ -103,6 +103,7 @@ void Model::lint(DiagnosticEngine& diags) const {
   };
   Elaborator base(*this, collect, nullptr, {}, true);
   NetworkSpec base_net = base.run();
+  const bool base_failed = failed;
   for (const auto& v : values_) {
     try {
       base.value_of(v.name, v.name_span); // problems in unused declarations are problems too
@@ -120,14 +121,26 @@ void Model::lint(DiagnosticEngine& diags) const {
   if (complete) check_topology(*this, collect);
   std::set<std::string, std::less<>> used = base.used_names();
   used.insert(structurally_used_.begin(), structurally_used_.end());
+  // A case that sets no param has the base model's nodes and elements (and their problems, all
+  // reported by now): it takes the base network instead of elaborating them again.
+  std::size_t reusing = 0;
+  for (const auto& c : cases_)
+    reusing += Elaborator::sets_params(c) ? 0 : 1;
   for (const auto& c : cases_) {
     if (diags.saturated()) {
       diags.stop_early();
       return;
     }
-    failed = false;
     Elaborator ec(*this, collect, &c, {}, true);
-    NetworkSpec net = ec.run();
+    NetworkSpec net;
+    if (Elaborator::sets_params(c)) {
+      failed = false;
+      net = ec.run();
+    } else {
+      failed = base_failed;
+      // The last case to take the base network takes it over; the others take a copy.
+      net = ec.run_on(--reusing == 0 ? std::move(base_net) : base_net, base);
+    }
     if (!failed && !load_error_) remember(c.name, std::move(net));
     used.insert(ec.used_names().begin(), ec.used_names().end());
   }

@@ -331,6 +331,9 @@ private:
       if (const auto* loop = std::get_if<ast::ForStmt>(stmt)) check_loop(*loop, f, nullptr, vars);
     elaborator_.emplace(
         Elaborator::structural(m_, [this](Diagnostic d) { report(std::move(d), nullptr, true); }));
+    // A flat model declares one name per statement: size the indices once.
+    m_.node_index_.reserve(structure_.size());
+    m_.element_index_.reserve(structure_.size());
     for (const auto& [stmt, f] : structure_) {
       if (stopped_ || diags_.saturated()) break;
       expand(*stmt, f, nullptr);
@@ -469,17 +472,26 @@ private:
   /// Registers an element or instance name in the element namespace; false when taken.
   bool element_name(std::string_view name, int index, bool instance, std::string_view base,
                     Span name_span, Span where, const Scope* scope) {
+    // One hash lookup for the common case, a new element's name: it is entered at once and taken
+    // out again if an instance has it.
     const Span* previous = nullptr;
-    if (auto it = m_.element_index_.find(name); it != m_.element_index_.end())
+    bool entered = false;
+    if (instance) {
+      if (auto it = m_.element_index_.find(name); it != m_.element_index_.end())
+        previous = &m_.elements_[static_cast<std::size_t>(it->second)].name_span;
+    } else if (auto [it, fresh] = m_.element_index_.try_emplace(name, index); !fresh) {
       previous = &m_.elements_[static_cast<std::size_t>(it->second)].name_span;
-    else if (auto i = instance_index_.find(name); i != instance_index_.end())
-      previous = &i->second;
+    } else {
+      entered = true;
+    }
+    if (!previous)
+      if (auto i = instance_index_.find(name); i != instance_index_.end()) previous = &i->second;
     check_name(instance ? "instance" : "element", base, name, name_span, where, previous, scope);
-    if (previous) return false;
-    if (instance)
-      instance_index_.emplace(name, name_span);
-    else
-      m_.element_index_.emplace(name, index);
+    if (previous) {
+      if (entered) m_.element_index_.erase(name);
+      return false;
+    }
+    if (instance) instance_index_.emplace(name, name_span);
     return true;
   }
 
@@ -490,7 +502,7 @@ private:
     const ElementSchema* schema = nullptr;
     bool valid = true;
     if (e) {
-      schema = m_.catalog().find(e->kind.name);
+      schema = kind_schema(e->kind.name);
       if (!schema) {
         Diagnostic d =
             DiagnosticEngine::make(DiagId::unknown_kind, at(f, s), span(f, e->kind), e->kind.name);
@@ -526,6 +538,18 @@ private:
       if (!element_name(d.name, index, false, name.id.name, d.name_span, at(f, s), scope))
         m_.elements_.pop_back();
     }
+  }
+
+  /// The schema of an element kind, or nullptr; big files name the same kind many times in a row,
+  /// so the last one found is kept (the catalog only gains kinds, never changes one).
+  const ElementSchema* kind_schema(std::string_view kind) {
+    if (last_schema_ && kind == last_kind_) return last_schema_;
+    const ElementSchema* schema = m_.catalog().find(kind);
+    if (schema) {
+      last_kind_ = kind;
+      last_schema_ = schema;
+    }
+    return schema;
   }
 
   /// Checks an instance's keys against its submodel's params (once per statement).
@@ -677,6 +701,8 @@ private:
   std::unordered_map<std::string_view, Span> value_names_, case_names_, submodel_names_;
   std::unordered_map<std::string_view, Span> instance_index_;
   std::vector<std::pair<const ast::Statement*, FileId>> structure_; // top-level, in order
+  std::string_view last_kind_;                 // the kind kind_schema() found last
+  const ElementSchema* last_schema_ = nullptr; // and its schema
   std::optional<Elaborator> elaborator_;
   std::vector<const SubmodelDecl*> active_; // instances being expanded, outermost first
   std::vector<std::string> names_;          // scratch: the names of one declaration

@@ -1,6 +1,46 @@
 #include "lang/network_spec.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+
 namespace thermnet::lang {
+
+KeySignals::iterator KeySignals::lower_bound(std::string_view key) {
+  return std::lower_bound(
+      items_.begin(), items_.end(), key,
+      [](const value_type& item, std::string_view k) { return item.first < k; });
+}
+
+KeySignals::iterator KeySignals::find(std::string_view key) {
+  auto it = lower_bound(key);
+  return it != items_.end() && it->first == key ? it : items_.end();
+}
+
+KeySignals::const_iterator KeySignals::find(std::string_view key) const {
+  return const_cast<KeySignals*>(this)->find(key);
+}
+
+Signal& KeySignals::at(std::string_view key) {
+  auto it = find(key);
+  if (it == items_.end()) throw std::out_of_range(fmt::format("no key '{}'", key));
+  return it->second;
+}
+
+const Signal& KeySignals::at(std::string_view key) const {
+  return const_cast<KeySignals*>(this)->at(key);
+}
+
+Signal& KeySignals::operator[](std::string_view key) {
+  return emplace(key, Signal{}).first->second;
+}
+
+std::pair<KeySignals::iterator, bool> KeySignals::emplace(std::string_view key, Signal value) {
+  auto it = lower_bound(key);
+  if (it != items_.end() && it->first == key) return {it, false};
+  return {items_.emplace(it, std::string(key), std::move(value)), true};
+}
 
 KeyValues ElementSpec::key_values() const {
   KeyValues kv;

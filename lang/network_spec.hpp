@@ -9,6 +9,8 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace thermnet::lang {
@@ -24,6 +26,52 @@ struct NodeSpec {
   Span where;               ///< declaring statement
 };
 
+/// The values of an element's keys by name, in key order, with the interface of the std::map it
+/// replaces: a sorted flat list (an element has a handful of keys, and a list costs one
+/// allocation where a map costs one per key).
+class KeySignals {
+public:
+  /// A key and its value.
+  using value_type = std::pair<std::string, Signal>;
+  /// Iterators over the keys in order.
+  using iterator = std::vector<value_type>::iterator;
+  /// Read-only iterators over the keys in order.
+  using const_iterator = std::vector<value_type>::const_iterator;
+
+  /// First key.
+  iterator begin() { return items_.begin(); }
+  /// Past the last key.
+  iterator end() { return items_.end(); }
+  /// First key.
+  const_iterator begin() const { return items_.begin(); }
+  /// Past the last key.
+  const_iterator end() const { return items_.end(); }
+  /// Number of keys.
+  std::size_t size() const { return items_.size(); }
+  /// True without keys.
+  bool empty() const { return items_.empty(); }
+  /// Room for n keys without reallocating.
+  void reserve(std::size_t n) { items_.reserve(n); }
+  /// The key's entry, or end().
+  iterator find(std::string_view key);
+  /// The key's entry, or end().
+  const_iterator find(std::string_view key) const;
+  /// 1 if the key has a value, else 0.
+  std::size_t count(std::string_view key) const { return find(key) == end() ? 0 : 1; }
+  /// The value of a key; throws std::out_of_range if absent.
+  Signal& at(std::string_view key);
+  /// The value of a key; throws std::out_of_range if absent.
+  const Signal& at(std::string_view key) const;
+  /// The value of a key, inserted (a constant 0) if absent.
+  Signal& operator[](std::string_view key);
+  /// Inserts a key's value unless the key has one; the entry and whether it was inserted.
+  std::pair<iterator, bool> emplace(std::string_view key, Signal value);
+
+private:
+  iterator lower_bound(std::string_view key);
+  std::vector<value_type> items_;
+};
+
 /// How a series/parallel block combines its parts.
 enum class Composite { none, series, parallel };
 
@@ -33,7 +81,7 @@ struct ElementSpec {
   std::string kind;                      ///< kind name ("series"/"parallel" for composites)
   std::string name;                      ///< element name (empty for composite parts)
   std::vector<int> nodes;                ///< terminal node indices
-  std::map<std::string, Signal> values;  ///< key -> value in SI (numbers as constant signals)
+  KeySignals values;                     ///< key -> value in SI (numbers as constant signals)
   std::map<std::string, int> node_keys;  ///< node-valued keys (e.g. sense) -> node index
   Composite composite = Composite::none; ///< composite mode
   std::vector<ElementSpec> parts;        ///< inner elements of a composite

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cstdlib>
 #include <optional>
@@ -41,8 +42,8 @@ enum class Block { top, loop, submodel, case_items };
 class Driver {
 public:
   Driver(FileId id, const SourceManager& sources, DiagnosticEngine& diags)
-      : id_(id), diags_(diags), copy_(sources.text(id)), original_(sources.text(id)),
-        base_(copy_.data()), end_(base_ + copy_.size()), grammar_(base_, end_, original_, file_) {}
+      : id_(id), diags_(diags), original_(sources.text(id)), base_(original_.data()),
+        end_(base_ + original_.size()) {}
 
   ast::File run() {
     file_.file_id = id_;
@@ -51,6 +52,11 @@ public:
       file_.syntax_errors = diags_.error_count() - errors_before;
       return std::move(file_);
     }
+    if (!copy_.empty()) { // the prescan blanked something: parse the copy
+      base_ = copy_.data();
+      end_ = base_ + copy_.size();
+    }
+    grammar_.emplace(base_, end_, original_, file_);
     It p = base_;
     if (end_ - base_ >= 3 && std::equal(base_, base_ + 3, "\xEF\xBB\xBF")) p += 3; // a UTF-8 BOM
     parse_statements(p, file_.statements, Block::top, nullptr);
@@ -69,13 +75,27 @@ private:
            (p + n == end_ || !is_ident_char(p[n]));
   }
 
-  /// Calls f(p, n, state) for each code point of the text with its lexical state (0: code,
-  /// 1: inside a string, 2: inside a comment); stops and returns false on a NUL byte or invalid
-  /// UTF-8 (reported).
-  template <typename F> bool scan(F&& f) {
+  /// Calls f(p) for each bracket ( ) [ ] { } in code (not in a string or a comment); stops and
+  /// returns false on a NUL byte or invalid UTF-8 (reported), or when f returns false.
+  template <typename F> bool scan_brackets(F&& f) {
+    // ASCII bytes that neither change the lexical state nor are brackets are stepped over at once
+    // (most of a netlist).
+    static constexpr auto plain = [] {
+      std::array<bool, 256> t{};
+      for (int c = 1; c < 0x80; ++c)
+        t[static_cast<std::size_t>(c)] = true;
+      for (const char c : std::string_view("\n\"#\\()[]{}"))
+        t[static_cast<unsigned char>(c)] = false;
+      return t;
+    }();
     bool in_comment = false, in_string = false, escaped = false;
     for (It p = base_; p < end_;) {
       char c = *p;
+      if (plain[static_cast<unsigned char>(c)]) {
+        escaped = false;
+        ++p;
+        continue;
+      }
       if (c == '\0') {
         diags_.report(DiagId::nul_byte, span(p, p + 1), std::nullopt);
         return false;
@@ -85,7 +105,7 @@ private:
         diags_.report(DiagId::not_utf8, span(p, p + 1), std::nullopt);
         return false;
       }
-      int state = in_comment ? 2 : in_string ? 1 : 0;
+      const bool code = !in_comment && !in_string;
       if (c == '\n')
         in_comment = in_string = escaped = false;
       else if (in_comment) {
@@ -98,10 +118,10 @@ private:
           in_string = false;
       } else if (c == '#') {
         in_comment = true;
-        state = 2;
       } else if (c == '"')
         in_string = true;
-      if (!f(p, n, state)) return false;
+      const bool bracket = c == '(' || c == ')' || c == '[' || c == ']' || c == '{' || c == '}';
+      if (code && bracket && !f(p)) return false;
       p += n;
     }
     return true;
@@ -116,8 +136,7 @@ private:
     std::vector<std::pair<It, It>> spans; // matched ( ) and [ ]
     std::vector<It> unclosed;             // unmatched '{'
     auto closer_of = [](char c) { return c == '(' ? ')' : c == '[' ? ']' : '}'; };
-    bool ok = scan([&](It p, std::size_t, int state) {
-      if (state != 0) return true;
+    bool ok = scan_brackets([&](It p) {
       char c = *p;
       if (c == '(' || c == '[' || c == '{') {
         if (static_cast<int>(stack.size()) >= max_nesting) {
@@ -388,7 +407,7 @@ private:
       p = recover(start, in_block);
       return false;
     }
-    p = grammar_.skip(p);
+    p = grammar_->skip(p);
     tag_statement(attr, start, p);
     It q = skip_line_space(p);
     if (q == end_ || *q == '\n' || *q == ';' || (in_block && *q == '}')) {
@@ -476,7 +495,7 @@ private:
       ast::Statement s;
       It start = p;
       if (parse_one(
-              p, [&](It& q) { return grammar_.statement(q, s, place); }, s, block))
+              p, [&](It& q) { return grammar_->statement(q, s, place); }, s, block))
         out.push_back(std::move(s));
       else
         file_.unparsed.push_back(salvage(start));
@@ -488,7 +507,7 @@ private:
     It start = p;
     ast::ForStmt f;
     try {
-      if (!grammar_.loop_header(p, f.ranges)) return false;
+      if (!grammar_->loop_header(p, f.ranges)) return false;
     } catch (const grammar::Expected& e) {
       report_failure(e.where, e.what);
       p = recover(start, block != Block::top);
@@ -507,7 +526,7 @@ private:
     It start = p;
     ast::SubmodelStmt m;
     try {
-      if (!grammar_.submodel_header(p, m)) return false;
+      if (!grammar_->submodel_header(p, m)) return false;
     } catch (const grammar::Expected& e) {
       report_failure(e.where, e.what);
       p = recover(start, block != Block::top);
@@ -525,7 +544,7 @@ private:
     It start = p;
     ast::CaseStmt cs;
     if (!parse_header(
-            p, [&](It& q) { return grammar_.case_header(q, cs.name); }, block))
+            p, [&](It& q) { return grammar_->case_header(q, cs.name); }, block))
       return;
     if (!parse_case_items(p, cs.items, start, "case")) return;
     cs.begin = off(start);
@@ -552,7 +571,7 @@ private:
         ast::CaseFor f;
         bool header = false;
         try {
-          header = grammar_.loop_header(p, f.ranges);
+          header = grammar_->loop_header(p, f.ranges);
         } catch (const grammar::Expected& e) {
           report_failure(e.where, e.what);
           p = recover(start, true);
@@ -568,25 +587,27 @@ private:
       }
       ast::CaseItem item;
       if (parse_one(
-              p, [&](It& q) { return grammar_.case_item(q, item); }, item, Block::case_items))
+              p, [&](It& q) { return grammar_->case_item(q, item); }, item, Block::case_items))
         items.push_back(std::move(item));
     }
   }
 
-  /// Replaces n bytes at p (inside the parse copy) by spaces.
+  /// Replaces n bytes at p (a position in the original text) by spaces in the parse copy, made
+  /// on the first call (a file with nothing to blank is parsed in place).
   void blank(It p, std::size_t n) {
+    if (copy_.empty()) copy_.assign(original_);
     for (std::size_t i = 0; i < n; ++i)
-      copy_[static_cast<std::size_t>(p - base_) + i] = ' ';
+      copy_[static_cast<std::size_t>(p - original_.data()) + i] = ' ';
   }
 
   FileId id_;
   DiagnosticEngine& diags_;
-  std::string copy_;
   std::string_view original_; // names view the text itself; the copy dies with the driver
-  It base_;
+  std::string copy_;          // the text with newlines in brackets blanked, if any were
+  It base_;                   // the text parsed: the original, or the copy
   It end_;
   ast::File file_;
-  grammar::Grammar grammar_;
+  std::optional<grammar::Grammar> grammar_; // made once the prescan has chosen the text
   bool unclosed_braces_ = false;
 };
 

@@ -79,12 +79,12 @@ std::optional<std::string> declaration_hover(const Document& doc, const std::str
   for (const auto& v : m.values())
     if (v.name == name)
       return with_doc(fmt::format("**{}** — {}", name, v.is_param ? "param" : "const"), v.doc);
-  for (const auto& e : m.elements())
-    if (e.name == name) {
-      std::string kind = element_kind(m, name);
-      std::string d = e.element && e.element->doc ? e.element->doc->text : "";
-      return with_doc(fmt::format("**{}** — element of kind `{}`", name, kind), d);
-    }
+  if (const int i = m.element_index(name); i >= 0) {
+    const lang::ElementDecl& e = m.elements()[static_cast<std::size_t>(i)];
+    std::string kind = element_kind(m, name);
+    std::string d = e.element && e.element->doc ? e.element->doc->text : "";
+    return with_doc(fmt::format("**{}** — element of kind `{}`", name, kind), d);
+  }
   for (const auto& c : m.cases())
     if (c.name == name) return fmt::format("**{}** — case", name);
   return std::nullopt;

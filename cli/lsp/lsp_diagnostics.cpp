@@ -1,5 +1,6 @@
 #include "cli/lsp/lsp_diagnostics.hpp"
 
+#include "cli/lsp/json_text.hpp"
 #include "cli/lsp/position.hpp"
 #include "cli/lsp/uri.hpp"
 #include "lang/display_text.hpp"
@@ -29,45 +30,70 @@ nlohmann::json location_json(const Document& doc, const lang::Span& span) {
   return {{"uri", uri}, {"range", range_json(sources.text(span.file), span.begin, span.end)}};
 }
 
-/// One diagnostic in protocol form.
-nlohmann::json diagnostic_json(const Document& doc, const lang::Diagnostic& d) {
+/// Appends one diagnostic in protocol form (its keys in the order json's dump() sorts them).
+void append_diagnostic(std::string& out, const Document& doc, const lang::Diagnostic& d) {
   const auto& sources = doc.sources();
-  nlohmann::json out = {{"severity", severity_code(d.severity)},
-                        {"code", d.code},
-                        {"source", "thermnet"},
-                        {"message", lang::escape_for_display(d.message)}};
+  std::string message = lang::escape_for_display(d.message);
+  std::string range;
   if (d.at && d.at->file == doc.root()) {
     lang::Span s = d.mark && d.mark->file == doc.root() ? *d.mark : *d.at;
-    out["range"] = doc.lines().range(s.begin, s.end);
+    doc.lines().append_range(range, s.begin, s.end);
   } else {
-    out["range"] = doc.lines().range(0, 0);
+    doc.lines().append_range(range, 0, 0);
     if (d.at) {
       lang::LineCol lc = sources.line_col(d.at->file, d.at->begin);
-      out["message"] = lang::escape_for_display(
+      message = lang::escape_for_display(
           fmt::format("{}:{}:{}: {}", sources.path(d.at->file), lc.line, lc.column, d.message));
     } else if (!d.file_hint.empty()) {
-      out["message"] = lang::escape_for_display(fmt::format("{}: {}", d.file_hint, d.message));
+      message = lang::escape_for_display(fmt::format("{}: {}", d.file_hint, d.message));
     }
   }
-  nlohmann::json related = nlohmann::json::array();
+  std::string related;
   for (const auto& n : d.notes)
-    if (n.at)
-      related.push_back({{"location", location_json(doc, *n.at)},
-                         {"message", lang::escape_for_display(n.message)}});
-    else
-      out["message"] =
-          out["message"].get<std::string>() + "\nnote: " + lang::escape_for_display(n.message);
-  if (!related.empty()) out["relatedInformation"] = related;
-  return out;
+    if (n.at) {
+      related += related.empty() ? "{\"location\":" : ",{\"location\":";
+      related +=
+          location_json(doc, *n.at).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+      related += ",\"message\":";
+      append_json_string(related, lang::escape_for_display(n.message));
+      related += '}';
+    } else {
+      message += "\nnote: " + lang::escape_for_display(n.message);
+    }
+  out += "{\"code\":";
+  append_json_string(out, d.code);
+  out += ",\"message\":";
+  append_json_string(out, message);
+  out += ",\"range\":";
+  out += range;
+  if (!related.empty()) {
+    out += ",\"relatedInformation\":[";
+    out += related;
+    out += ']';
+  }
+  out += ",\"severity\":";
+  out += std::to_string(severity_code(d.severity));
+  out += ",\"source\":\"thermnet\"}";
 }
 
 } // namespace
 
-nlohmann::json publish_diagnostics_params(const Document& doc) {
-  nlohmann::json list = nlohmann::json::array();
-  for (const auto& d : doc.diagnostics().all())
-    list.push_back(diagnostic_json(doc, d));
-  return {{"uri", doc.uri()}, {"version", doc.version()}, {"diagnostics", list}};
+std::string publish_diagnostics_message(const Document& doc) {
+  std::string out = R"({"jsonrpc":"2.0","method":"textDocument/publishDiagnostics","params":{)"
+                    R"("diagnostics":[)";
+  out.reserve(doc.diagnostics().all().size() * 250); // a diagnostic takes about 200 bytes
+  bool first = true;
+  for (const auto& d : doc.diagnostics().all()) {
+    if (!first) out += ',';
+    first = false;
+    append_diagnostic(out, doc, d);
+  }
+  out += "],\"uri\":";
+  append_json_string(out, doc.uri());
+  out += ",\"version\":";
+  out += std::to_string(doc.version());
+  out += "}}";
+  return out;
 }
 
 } // namespace thermnet::cli::lsp

@@ -3,12 +3,13 @@
 
 #include "cli/lsp/document.hpp"
 
-#include <nlohmann/json.hpp>
+#include <string>
 
 namespace thermnet::cli::lsp {
 
-/// `{uri, version, diagnostics}` for a document: problems in the document at their ranges,
-/// problems in included files (or without a location) at its first character, named in the text.
-nlohmann::json publish_diagnostics_params(const Document& doc);
+/// The whole `textDocument/publishDiagnostics` notification of a document, as JSON text:
+/// problems in the document at their ranges, problems in included files (or without a location)
+/// at its first character, named in the text.
+std::string publish_diagnostics_message(const Document& doc);
 
 } // namespace thermnet::cli::lsp

@@ -89,6 +89,11 @@ void Server::dispatch_request(const nlohmann::json& id, const std::string& metho
     }
     if (!initialized_) throw RequestError(server_not_initialized, "initialize first");
     if (shutdown_) throw RequestError(invalid_request, "the server is shutting down");
+    if (method == "textDocument/documentSymbol")
+      if (const Document* doc = document(params)) { // one item per declaration: written as text
+        respond_text(id, document_symbols_text(*doc));
+        return;
+      }
     respond(id, request_result(method, params));
   } catch (const RequestError& e) {
     respond_error(id, e.code, e.what());
@@ -109,7 +114,6 @@ nlohmann::json Server::request_result(const std::string& method, const nlohmann:
   if (positional || method == "textDocument/documentSymbol") {
     const Document* doc = document(params);
     if (!doc) return method == "textDocument/completion" ? nlohmann::json::array() : nullptr;
-    if (method == "textDocument/documentSymbol") return document_symbols(*doc);
     std::size_t at = offset_at(doc->text(), position_from_json(params.at("position")));
     if (method == "textDocument/hover") return hover(*doc, at);
     if (method == "textDocument/completion") return completion(*doc, at);
@@ -157,13 +161,21 @@ const Document* Server::document(const nlohmann::json& params) const {
 }
 
 void Server::publish(const Document& doc) {
-  send({{"jsonrpc", "2.0"},
-        {"method", "textDocument/publishDiagnostics"},
-        {"params", publish_diagnostics_params(doc)}});
+  write_frame(out_, publish_diagnostics_message(doc));
 }
 
 void Server::respond(const nlohmann::json& id, nlohmann::json result) {
   send({{"jsonrpc", "2.0"}, {"id", id}, {"result", std::move(result)}});
+}
+
+void Server::respond_text(const nlohmann::json& id, const std::string& result) {
+  std::string message = "{\"id\":";
+  message += id.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  message.reserve(message.size() + result.size() + 32);
+  message += ",\"jsonrpc\":\"2.0\",\"result\":";
+  message += result;
+  message += '}';
+  write_frame(out_, message);
 }
 
 void Server::respond_error(const nlohmann::json& id, int code, const std::string& message) {

@@ -32,6 +32,7 @@ private:
   const Document* document(const nlohmann::json& params) const;
   void publish(const Document& doc);
   void respond(const nlohmann::json& id, nlohmann::json result);
+  void respond_text(const nlohmann::json& id, const std::string& result);
   void respond_error(const nlohmann::json& id, int code, const std::string& message);
   void send(const nlohmann::json& message);
 

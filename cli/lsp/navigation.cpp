@@ -1,5 +1,6 @@
 #include "cli/lsp/navigation.hpp"
 
+#include "cli/lsp/json_text.hpp"
 #include "cli/lsp/position.hpp"
 #include "cli/lsp/text_context.hpp"
 #include "cli/lsp/uri.hpp"
@@ -71,6 +72,15 @@ std::string declared_name(const std::vector<Decl>& decls, const std::string& wri
 } // namespace
 
 std::string declared_name(const lang::Model& m, const std::string& written) {
+  // A name written in full is looked up in the model's indices; only a partial one (an inner
+  // name of an instance, an indexed family) is searched for among all the declarations.
+  const auto named = [&](const auto& decls) {
+    return std::any_of(decls.begin(), decls.end(),
+                       [&](const auto& d) { return d.name == written; });
+  };
+  if (m.node_index(written) >= 0 || m.element_index(written) >= 0 || named(m.values()) ||
+      named(m.cases()) || m.submodel(written))
+    return written;
   return declared_name(declarations(m), written);
 }
 
@@ -110,22 +120,28 @@ nlohmann::json definition(const Document& doc, std::size_t at) {
   return nullptr;
 }
 
-nlohmann::json document_symbols(const Document& doc) {
+std::string document_symbols_text(const Document& doc) {
   std::vector<Decl> decls = declarations(doc.model());
   std::erase_if(decls, [&](const Decl& d) { return d.file != doc.root(); });
   std::stable_sort(decls.begin(), decls.end(),
                    [](const Decl& a, const Decl& b) { return a.where.begin < b.where.begin; });
-  nlohmann::json out = nlohmann::json::array();
+  std::string out = "[";
+  out.reserve(decls.size() * 200); // an item takes about 150 bytes
   const LineIndex& lines = doc.lines();
   for (const auto& d : decls) {
     std::uint32_t begin = std::min(d.where.begin, d.name_span.begin);
     std::uint32_t end = std::max(d.where.end, d.name_span.end);
-    out.push_back({{"name", d.name},
-                   {"detail", d.detail},
-                   {"kind", d.kind},
-                   {"range", lines.range(begin, end)},
-                   {"selectionRange", lines.range(d.name_span.begin, d.name_span.end)}});
+    out += out.size() == 1 ? "{\"detail\":" : ",{\"detail\":";
+    append_json_string(out, d.detail);
+    out += ",\"kind\":" + std::to_string(d.kind) + ",\"name\":";
+    append_json_string(out, d.name);
+    out += ",\"range\":";
+    lines.append_range(out, begin, end);
+    out += ",\"selectionRange\":";
+    lines.append_range(out, d.name_span.begin, d.name_span.end);
+    out += '}';
   }
+  out += ']';
   return out;
 }
 

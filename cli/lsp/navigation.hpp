@@ -19,7 +19,8 @@ std::string declared_name(const lang::Model& m, const std::string& written);
 /// const, element, case; also in included files), or null.
 nlohmann::json definition(const Document& doc, std::size_t at);
 
-/// The DocumentSymbol list of the declarations in the document itself, in text order.
-nlohmann::json document_symbols(const Document& doc);
+/// The DocumentSymbol list of the declarations in the document itself, in text order, as JSON
+/// text.
+std::string document_symbols_text(const Document& doc);
 
 } // namespace thermnet::cli::lsp

@@ -1,6 +1,9 @@
 #include "cli/lsp/position.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <iterator>
 
 namespace thermnet::cli::lsp {
 namespace {
@@ -52,6 +55,14 @@ nlohmann::json LineIndex::range(std::size_t begin, std::size_t end) const {
   const Position e = position(std::max(begin, end));
   return {{"start", {{"line", b.line}, {"character", b.character}}},
           {"end", {{"line", e.line}, {"character", e.character}}}};
+}
+
+void LineIndex::append_range(std::string& out, std::size_t begin, std::size_t end) const {
+  const Position b = position(begin);
+  const Position e = position(std::max(begin, end));
+  fmt::format_to(std::back_inserter(out),
+                 R"({{"end":{{"character":{},"line":{}}},"start":{{"character":{},"line":{}}}}})",
+                 e.character, e.line, b.character, b.line);
 }
 
 std::size_t offset_at(std::string_view text, Position p) {

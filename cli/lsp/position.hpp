@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -34,6 +35,8 @@ public:
   Position position(std::size_t offset) const;
   /// `{"start": ..., "end": ...}` of the byte range [begin, end), like range_json().
   nlohmann::json range(std::size_t begin, std::size_t end) const;
+  /// Appends the JSON text of range() to `out` (no json tree built).
+  void append_range(std::string& out, std::size_t begin, std::size_t end) const;
 
 private:
   std::string_view text_;

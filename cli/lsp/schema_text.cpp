@@ -70,18 +70,17 @@ const std::vector<std::pair<std::string, std::string>>& builtin_keys(std::string
 }
 
 std::string element_kind(const lang::Model& m, std::string_view name) {
-  for (const auto& e : m.elements())
-    if (e.name == name) {
-      if (e.element) return std::string(e.element->kind.name);
-      if (e.composite) return std::string(e.composite->mode.name);
-    }
+  const int i = m.element_index(name);
+  if (i < 0) return {};
+  const lang::ElementDecl& e = m.elements()[static_cast<std::size_t>(i)];
+  if (e.element) return std::string(e.element->kind.name);
+  if (e.composite) return std::string(e.composite->mode.name);
   return {};
 }
 
 const lang::NodeDecl* find_node(const lang::Model& m, std::string_view name) {
-  for (const auto& n : m.nodes())
-    if (n.name == name) return &n;
-  return nullptr;
+  const int i = m.node_index(name);
+  return i < 0 ? nullptr : &m.nodes()[static_cast<std::size_t>(i)];
 }
 
 } // namespace thermnet::cli::lsp

@@ -43,16 +43,61 @@ private:
   const std::vector<int>& unknown_of_;
 };
 
-std::unique_ptr<Element> build(const lang::ElementSpec& e, const ElementRegistry& registry) {
+/// The plugins of the kinds a network names: big networks name the same kind many times in a row,
+/// so the last one found is kept.
+class KindLookup {
+public:
+  explicit KindLookup(const ElementRegistry& registry) : registry_(registry) {}
+  const ElementPlugin* find(const std::string& kind) {
+    if (!last_ || kind != last_kind_) {
+      last_ = registry_.find(kind);
+      last_kind_ = kind;
+    }
+    return last_;
+  }
+
+private:
+  const ElementRegistry& registry_;
+  std::string last_kind_;
+  const ElementPlugin* last_ = nullptr;
+};
+
+std::unique_ptr<Element> build(const lang::ElementSpec& e, KindLookup& kinds) {
   if (e.composite == lang::Composite::series) {
     double R = 0.0;
     for (const auto& part : e.parts)
       R += 1.0 / part.schema->conductance(part.key_values());
     return std::make_unique<LinearLink>(e.nodes.at(0), e.nodes.at(1), 1.0 / R);
   }
-  const ElementPlugin* plugin = registry.find(e.kind);
+  const ElementPlugin* plugin = kinds.find(e.kind);
   if (!plugin) throw NetworkError(fmt::format("no plugin provides element kind '{}'", e.kind));
   return plugin->create(e);
+}
+
+/// The CSR pattern of `n` rows holding the (row, col) pairs: the pairs are bucketed by row, and
+/// only each row's few columns are sorted (a sort of all pairs costs more at 100,000 unknowns).
+SparsityPattern pattern_of(int n, const std::vector<std::pair<int, int>>& pairs) {
+  const auto rows = static_cast<std::size_t>(n);
+  std::vector<int> start(rows + 1, 0);
+  for (const auto& pair : pairs)
+    ++start[static_cast<std::size_t>(pair.first) + 1];
+  for (std::size_t r = 0; r < rows; ++r)
+    start[r + 1] += start[r];
+  std::vector<int> cols(pairs.size());
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (const auto& [r, c] : pairs)
+    cols[static_cast<std::size_t>(fill[static_cast<std::size_t>(r)]++)] = c;
+  SparsityPattern p;
+  p.n = n;
+  p.row_ptr.assign(rows + 1, 0);
+  p.col_idx.reserve(pairs.size());
+  for (std::size_t r = 0; r < rows; ++r) {
+    const auto begin = cols.begin() + start[r], end = cols.begin() + start[r + 1];
+    std::sort(begin, end);
+    p.col_idx.insert(p.col_idx.end(), begin, std::unique(begin, end));
+    p.row_ptr[r + 1] = static_cast<int>(p.col_idx.size());
+  }
+  return p;
 }
 
 /// Elements ahead of the one being stamped whose memory is requested early: element objects are
@@ -73,8 +118,9 @@ Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec
     unknown_nodes_.push_back(static_cast<int>(i));
     capacities_.push_back(spec_.nodes[i].C);
   }
+  KindLookup kinds(registry);
   const auto add = [&](const lang::ElementSpec& e, int spec_element) {
-    std::unique_ptr<Element> element = build(e, registry);
+    std::unique_ptr<Element> element = build(e, kinds);
     Piece piece{spec_element};
     if (const auto* link = dynamic_cast<const LinearLink*>(element.get())) {
       piece.batch = static_cast<int>(links_.size());
@@ -116,17 +162,7 @@ Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec
     e->declare(recorder);
   for (int u = 0; u < size(); ++u)
     pairs.emplace_back(u, u);
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  pattern_.n = size();
-  pattern_.row_ptr.assign(static_cast<std::size_t>(size()) + 1, 0);
-  pattern_.col_idx.reserve(pairs.size());
-  for (const auto& [r, c] : pairs) {
-    ++pattern_.row_ptr[static_cast<std::size_t>(r) + 1];
-    pattern_.col_idx.push_back(c);
-  }
-  for (std::size_t r = 0; r + 1 < pattern_.row_ptr.size(); ++r)
-    pattern_.row_ptr[r + 1] += pattern_.row_ptr[r];
+  pattern_ = pattern_of(size(), pairs);
   SlotLayout slots(pattern_, unknown_of_);
   links_.declare(slots);
   for (auto& e : elements_) {

@@ -11,8 +11,9 @@
 /// Version of the plugin ABI: bumped whenever a type a plugin sees (ElementPlugin, Element,
 /// ElementSchema, OptimizerPlugin, EstimatorPlugin, HypothesisPlugin, ...) changes layout or
 /// meaning. 2: hypotheses join the plugin families; one Registry template. 3: Hypothesis gains
-/// mechanisms(), recalibrates() and rewrites().
-#define THERMNET_PLUGIN_ABI 3
+/// mechanisms(), recalibrates() and rewrites(). 4: ElementSpec::values is a KeySignals (a sorted
+/// flat list with a map's interface) instead of a std::map.
+#define THERMNET_PLUGIN_ABI 4
 
 namespace thermnet {
 

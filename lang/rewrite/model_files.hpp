@@ -31,8 +31,10 @@ struct InputFile {
 };
 
 /// Every file the model rooted at `root` reads: its own files (root first), then the files its
-/// include, data, table and plugin statements name.
-std::vector<InputFile> files_read(const lang::SourceManager& sources, lang::FileId root);
+/// include, data, table and plugin statements name. `parsed` are syntax trees of its files already
+/// at hand (a loaded model's): those files are not parsed again.
+std::vector<InputFile> files_read(const lang::SourceManager& sources, lang::FileId root,
+                                  const std::vector<const lang::ast::File*>& parsed = {});
 
 /// The files of the model rooted at `root` with the params set to their new values, root first.
 /// The root goes to `out`; every other file that changes goes beside `out` as `OUTSTEM.NAME`

@@ -112,6 +112,26 @@ TEST_CASE("require: limits in SI, units of reports as written, members resolved"
   CHECK(net->requirements[4].lo == doctest::Approx(0.5));
 }
 
+TEST_CASE("require: `in CASE` applies to that case only, whether or not the case sets a param") {
+  // `a` sets no param (its network is the base model's, taken over), `b` sets one (elaborated).
+  Loaded m("param P = 4 [W]\n"
+           "require band \"lens*\" 15 .. 25 [degC] in a\n"
+           "require power \"h*\" max 30 [W] in b\n"
+           "require gradient \"lens*\" max 5 [K]\n"
+           "case a { duration = 10 ; h2.P = 3 }\n"
+           "case b { duration = 10 ; P = 5 }\n");
+  INFO(render_text(m.diags));
+  REQUIRE(m.diags.error_count() == 0);
+  const auto kinds = [&](const std::string& c) {
+    std::vector<RequirementKind> out;
+    for (const auto& r : m.model->network(c)->requirements)
+      out.push_back(r.kind);
+    return out;
+  };
+  CHECK(kinds("a") == std::vector{RequirementKind::band, RequirementKind::gradient});
+  CHECK(kinds("b") == std::vector{RequirementKind::power, RequirementKind::gradient});
+}
+
 TEST_CASE("require: unknown names, wrong forms and units are errors at the statement") {
   Loaded m("require band \"lense*\" 15 .. 25\n"
            "require power \"g1\" max 3 [W]\n"

@@ -186,6 +186,19 @@ TEST_CASE("files_read: the model, its includes, then its data, each with its rol
   CHECK(role("lib/params.tnet") == "the included file");
   CHECK(role("geometry.tnet") == "the included file");
   CHECK(role("heat.csv") == "the data file");
+
+  // Given the loaded model's syntax trees (as the CLI does), the same files in the same order.
+  std::vector<const lang::ast::File*> parsed;
+  for (const auto& file : m.model->files())
+    parsed.push_back(file.get());
+  REQUIRE(parsed.size() == 4);
+  const auto fresh = rewrite::files_read(m.sources, m.root());
+  const auto reused = rewrite::files_read(m.sources, m.root(), parsed);
+  REQUIRE(reused.size() == fresh.size());
+  for (std::size_t i = 0; i < fresh.size(); ++i) {
+    CHECK(reused[i].path == fresh[i].path);
+    CHECK(reused[i].role == fresh[i].role);
+  }
 }
 
 TEST_CASE("write_output_files: all or nothing") {

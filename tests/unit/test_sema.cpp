@@ -219,6 +219,34 @@ TEST_CASE("sema: case overrides of elements, boundaries, nodes and fixed params"
   CHECK(hot.settings.initial_steady);
 }
 
+TEST_CASE("sema: lint's networks of cases are those instantiate builds (base network shared)") {
+  // Two cases set no param (they take the network lint built for the base model, the first a
+  // copy, the last the original), one sets a param (elaborated on its own).
+  const std::string text = "param h_fix = 2 [W/(m^2*K)]\nboundary ambient T = 20\n"
+                           "node plate C = 450 T0 = 10\n"
+                           "convection loss plate ambient h = h_fix A = 0.5\n"
+                           "heater film plate P = 10\n"
+                           "case a { duration = 10\n  loss.A = 0.25\n  plate.T0 = 30 }\n"
+                           "case b { duration = 20\n  film.P = step(0: 10, 5: 0) }\n"
+                           "case c { duration = 30\n  h_fix = 3 }\n";
+  auto linted = load(text);
+  CHECK(linted->lint().empty());
+  auto fresh = load(text); // never linted: instantiate() elaborates each case itself
+  for (const std::string c : {"a", "b", "c"}) {
+    CAPTURE(c);
+    const NetworkSpec cached = *linted->model->network(c);
+    const NetworkSpec own = fresh->model->instantiate(c);
+    CHECK(cached.settings.duration == own.settings.duration);
+    CHECK(node(cached, "plate").T0 == node(own, "plate").T0);
+    for (const char* key : {"h", "A"})
+      CHECK(element(cached, "loss").number(key) == element(own, "loss").number(key));
+    CHECK(element(cached, "film").values.at("P").kind == element(own, "film").values.at("P").kind);
+  }
+  CHECK(element(*linted->model->network("a"), "loss").number("A") == 0.25);
+  CHECK(element(*linted->model->network("b"), "loss").number("A") == 0.5);
+  CHECK(element(*linted->model->network("c"), "loss").number("h") == 3);
+}
+
 TEST_CASE("sema: parallel blocks, radiation by GR, thermostat sense, table signals") {
   TempDir dir;
   dir.write("p.csv", "time,P\n0,10\n100,\n200,0\n");
