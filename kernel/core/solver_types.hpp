@@ -30,7 +30,7 @@ struct SolverOptions {
 
 /// Counters of a solve (printed by --stats).
 struct SolverStats {
-  std::string integrator;    ///< "cvode-bdf", "ida" or "kinsol"
+  std::string integrator;    ///< "cvode-bdf", "ida", "kinsol" or "kinsol+pseudo-transient"
   std::string linear_solver; ///< "dense", "klu" or "spgmr"
   long steps = 0;            ///< internal steps (Newton iterations for KINSOL)
   long rhs_evals = 0;        ///< right-hand side / residual evaluations

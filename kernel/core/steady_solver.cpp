@@ -1,10 +1,12 @@
-// solve_steady(): F(t, T) = 0 by KINSOL's Newton method with line search and the analytic Jacobian.
+// solve_steady(): F(t, T) = 0 by KINSOL's Newton method with line search and the analytic Jacobian,
+// from a pseudo-transient walk when Newton cannot get there from the guess.
 
 #include "kernel/core/integrator.hpp"
 
 #include "kernel/core/absolute_zero.hpp"
 #include "kernel/core/fast_kernels.hpp"
 #include "kernel/core/linear_solver_choice.hpp"
+#include "kernel/core/pseudo_transient.hpp"
 #include "kernel/core/sundials_check.hpp"
 #include "kernel/core/system_evaluator.hpp"
 
@@ -261,8 +263,26 @@ SolverStats solve_steady(ThermalSystem& sys, std::vector<double>& T, double t,
   stats.linear_solver = detail::linear_solver_name(kind);
   if (n == 0) return stats;
   SteadyProblem problem(ev, t, T, kind, opt);
-  problem.solve(T, opt);
-  problem.collect(stats);
+  try {
+    problem.solve(T, opt);
+    problem.collect(stats);
+  } catch (const SolverError&) {
+    // Newton finds no way from the guess (a steady state far from it, couplings of very different
+    // strengths): walk toward it in pseudo-time and let Newton finish from there. When that fails
+    // too, the first failure is the one reported.
+    const std::exception_ptr first = std::current_exception();
+    std::vector<double> walked = T;
+    if (!detail::pseudo_transient(sys, walked, t, opt)) std::rethrow_exception(first);
+    try {
+      SteadyProblem polish(ev, t, walked, kind, opt);
+      polish.solve(walked, opt);
+      polish.collect(stats);
+    } catch (const SolverError&) {
+      std::rethrow_exception(first);
+    }
+    T = std::move(walked);
+    stats.integrator = "kinsol+pseudo-transient";
+  }
   return stats;
 }
 

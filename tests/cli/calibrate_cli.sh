@@ -202,10 +202,21 @@ check "  ... with a clear message" grep -q 'no case .* has measured data' err.tx
 run calibrate cal.tnet --case nope
 check "unknown --case: a usage error (exit 2)" test "$rc" -eq 2
 
-# Ctrl-C: a long run interrupted by SIGINT still writes the best result, exit 1
+# Ctrl-C: a long run interrupted by SIGINT still writes the best result, exit 1. The signal is sent
+# once the run has used 2 s of CPU (samples evaluated, whatever the machine's load), at the latest
+# after 300 s of waiting.
 rm -f int.json int.tnet
-timeout --preserve-status -s INT 2 "$TN" calibrate long.tnet --method mc --samples 1000000 \
-  --tolerance 100 --json int.json -o int.tnet >out.txt 2>err.txt
+"$TN" calibrate long.tnet --method mc --samples 1000000 --tolerance 100 --json int.json \
+  -o int.tnet >out.txt 2>err.txt &
+pid=$!
+ticks=$(getconf CLK_TCK)
+for _ in $(seq 3000); do
+  cpu=$(awk '{print $14 + $15}' "/proc/$pid/stat" 2>/dev/null) || break
+  [ "$cpu" -ge $((2 * ticks)) ] && break
+  sleep 0.1
+done
+kill -INT "$pid" 2>/dev/null
+wait "$pid"
 rc=$?
 check "SIGINT: exit 1" test "$rc" -eq 1
 check "SIGINT: says the best result was written" grep -q 'interrupted; best result so far written' err.txt

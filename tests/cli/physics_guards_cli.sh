@@ -74,6 +74,39 @@ check "steady state below 0 K: exit 1 naming node n and its -9706.85 K (293.15 -
   eval 'test "$rc" -eq 1 && grep -q "node n falls below absolute zero in the steady state" err.txt &&
         grep -q -- "-9706.85 K" err.txt && test ! -e negsteady.csv'
 
+# ------------------------------------------------ a steady state far from the guess
+# Three massless nodes: 100 kW into s, which radiates weakly to space and strongly to p; p reaches q
+# only through 1e-6 W/K; q radiates to space. Newton's line search fails from the 20 degC guess; the
+# steady solve walks there in pseudo-time and Newton finishes: every node balance closes.
+cat >far.tnet <<'EOF'
+model far
+boundary space T = -270
+node s C = 0
+node p C = 0
+node q C = 0
+radiation r1 s space A = 1e-4 eps1 = 0.05 eps2 = 1
+radiation r2 s p A = 1 eps1 = 0.9 eps2 = 0.9
+conductance g p q G = 1e-6
+radiation r3 q space A = 10 eps1 = 0.9 eps2 = 1
+heater h s P = 1e5
+heater h2 q P = 1e-3
+EOF
+run simulate far.tnet --steady --stats -o far.csv
+check "steady state far from the guess: exit 0, found through the pseudo-transient walk" \
+  eval 'test "$rc" -eq 0 && grep -q "kinsol+pseudo-transient" err.txt'
+check "  ... temperatures of the closed form: s radiates 100 kW less what g carries, q radiates 1 mW plus it" python3 - <<'PY'
+import csv
+row = next(csv.DictReader(open("far.csv")))
+K = {k: float(v) + 273.15 for k, v in row.items() if k != "time"}
+sigma = 5.670374419e-8
+gr1 = 1e-4 / (1 / 0.05 + 1 / 1 - 1)
+gr3 = 10 / (1 / 0.9 + 1 / 1 - 1)
+qg = 1e-6 * (K["p"] - K["q"])  # s and p are held together by r2 (2.7 MW/K): g carries s's rest
+s = ((1e5 - qg) / (sigma * gr1) + K["space"] ** 4) ** 0.25
+q = ((1e-3 + qg) / (sigma * gr3) + K["space"] ** 4) ** 0.25
+assert abs(K["s"] - s) < 1e-5 and abs(K["p"] - s) < 1e-5 and abs(K["q"] - q) < 1e-6, (K, s, q)
+PY
+
 # ------------------------------------------------ a massless node pulled below 0 K at the start
 cat >massneg.tnet <<'EOF'
 model massneg
