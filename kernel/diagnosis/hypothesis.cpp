@@ -17,6 +17,26 @@ std::string netlist_number(double v) {
   return fmt::format("{:.5g}", v + 0.0); // + 0.0: no "-0"
 }
 
+std::string signal_text(const lang::Signal& s, const std::string& unit) {
+  const std::string u = unit.empty() ? "" : " [" + unit + "]";
+  if (s.is_constant()) return netlist_number(s.constant) + u;
+  std::string out = s.kind == lang::Signal::Kind::step ? "step(" : "pwl(";
+  for (std::size_t i = 0; i < s.t.size(); ++i)
+    out += fmt::format("{}{}: {}{}", i ? ", " : "", s.t[i], netlist_number(s.v[i]), u);
+  return out + ")";
+}
+
+bool same_signal(const lang::Signal& a, const lang::Signal& b) {
+  return a.kind == b.kind &&
+         (a.is_constant() ? a.constant == b.constant : a.t == b.t && a.v == b.v);
+}
+
+const lang::Signal& heater_power(const DeclaredSpec& d, const std::string& element) {
+  for (const auto& el : d.spec.elements)
+    if (el.name == element && el.has("P")) return el.values.at("P");
+  throw std::logic_error("no heater '" + element + "' with a power in the declared network");
+}
+
 void merge_case_lines(CaseLines& lines, const CaseLines& more) {
   for (const auto& [name, text] : more) {
     std::string& to = lines[name];

@@ -5,25 +5,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <stdexcept>
 
 namespace thermnet {
 namespace {
-
-/// The signal as netlist text, in watts (corner times exact, in seconds).
-std::string signal_text(const lang::Signal& s) {
-  if (s.is_constant()) return netlist_number(s.constant) + " [W]";
-  std::string out = s.kind == lang::Signal::Kind::step ? "step(" : "pwl(";
-  for (std::size_t i = 0; i < s.t.size(); ++i)
-    out += fmt::format("{}{}: {} [W]", i ? ", " : "", s.t[i], netlist_number(s.v[i]));
-  return out + ")";
-}
-
-/// True when two signals have the same shape and values.
-bool same_signal(const lang::Signal& a, const lang::Signal& b) {
-  return a.kind == b.kind &&
-         (a.is_constant() ? a.constant == b.constant : a.t == b.t && a.v == b.v);
-}
 
 class HeaterGain final : public Hypothesis {
 public:
@@ -70,28 +54,23 @@ public:
   std::string statement(const Candidate& c, const std::vector<double>& p,
                         const Evidence& ev) const override {
     return fmt::format("heater {} {} P = {}", name_of(c, ev), c.nodes[0],
-                       signal_text(power(ev.declared, c).scaled(p[0] - 1.0)));
+                       signal_text(heater_power(ev.declared, c.element).scaled(p[0] - 1.0), "W"));
   }
 
   CaseLines case_statements(const Candidate& c, const std::vector<double>& p,
                             const Evidence& ev) const override {
     CaseLines out;
-    const lang::Signal& declared = power(ev.declared, c);
+    const lang::Signal& declared = heater_power(ev.declared, c.element);
     for (const auto& d : ev.declared_cases) {
-      const lang::Signal& P = power(d, c);
+      const lang::Signal& P = heater_power(d, c.element);
       if (!same_signal(P, declared))
         out[d.case_name] =
-            fmt::format("{}.P = {}", name_of(c, ev), signal_text(P.scaled(p[0] - 1.0)));
+            fmt::format("{}.P = {}", name_of(c, ev), signal_text(P.scaled(p[0] - 1.0), "W"));
     }
     return out;
   }
 
 private:
-  static const lang::Signal& power(const DeclaredSpec& d, const Candidate& c) {
-    for (const auto& el : d.spec.elements)
-      if (el.name == c.element) return el.values.at("P");
-    throw std::logic_error("heater_gain: no element '" + c.element + "'");
-  }
   static std::string name_of(const Candidate& c, const Evidence& ev) {
     return unique_name(ev.declared.spec, "diag_gain_" + c.element);
   }
