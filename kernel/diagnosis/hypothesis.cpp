@@ -109,4 +109,8 @@ bool Evidence::measured(int node) const {
   return false;
 }
 
+bool Evidence::unobserved(int node) const {
+  return !measured(node) && !cases.front().spec.nodes.at(static_cast<std::size_t>(node)).boundary;
+}
+
 } // namespace thermnet

@@ -64,19 +64,24 @@ struct Evidence {
   int node_index(const std::string& name) const;
   /// True when a spec node is measured (has q) in some case.
   bool measured(int node) const;
+  /// True when a spec node is neither measured nor a boundary (a candidate there is unobserved).
+  bool unobserved(int node) const;
 };
 
 /// A proposed extension: kind, where, its extra parameters and the screen's score.
 struct Candidate {
-  std::string kind;                 ///< finding kind (the plugin's name)
-  std::vector<std::string> nodes;   ///< nodes it concerns
-  std::string element;              ///< element it concerns (heater_gain)
-  std::string mechanism;            ///< one of the kind's mechanisms (missing_link: "linear"...)
-  std::vector<std::string> names;   ///< names of the extra parameters (e.g. "G")
-  std::vector<double> start;        ///< starting values
-  std::vector<double> lo;           ///< lower bounds
-  std::vector<double> hi;           ///< upper bounds
-  bool measurement_side = false;    ///< acts on the simulated series, not the model
+  std::string kind;               ///< finding kind (the plugin's name)
+  std::vector<std::string> nodes; ///< nodes it concerns
+  std::string element;            ///< element it concerns (heater_gain)
+  std::string mechanism;          ///< one of the kind's mechanisms (missing_link: "linear"...)
+  std::vector<std::string> names; ///< names of the extra parameters (e.g. "G")
+  std::vector<double> start;      ///< starting values
+  std::vector<double> lo;         ///< lower bounds
+  std::vector<double> hi;         ///< upper bounds
+  bool measurement_side = false;  ///< acts on the simulated series, not the model
+  /// On unmeasured nodes only, so the screen cannot score it (screen 0): refitted when a
+  /// shortlisted candidate of its kind names a measured neighbour in its place.
+  bool unobserved = false;
   double screen = 0.0;              ///< screen score (larger is better; model-side comparable)
   std::string evidence;             ///< what the screen saw, in words
   std::vector<int> index;           ///< resolved spec indices (nodes, element) for the plugin

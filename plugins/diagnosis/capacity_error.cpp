@@ -17,7 +17,23 @@ public:
     const auto& nodes = ev.cases.front().spec.nodes;
     for (int a = 0; a < static_cast<int>(nodes.size()); ++a) {
       const auto& nd = nodes[static_cast<std::size_t>(a)];
-      if (nd.boundary || nd.C <= 0.0 || !ev.measured(a)) continue;
+      if (nd.boundary || nd.C <= 0.0) continue;
+      if (ev.unobserved(a)) { // refitted only beside a measured neighbour's capacity error
+        Candidate c;
+        c.kind = "capacity_error";
+        c.nodes = {nd.name};
+        c.names = {"factor"};
+        c.lo = {0.02};
+        c.hi = {50.0};
+        c.start = {1.0};
+        c.index = {a};
+        c.unobserved = true;
+        c.evidence = fmt::format("{} is not measured; its capacity shows at its measured "
+                                 "neighbours",
+                                 nd.name);
+        out.push_back(std::move(c));
+        continue;
+      }
       const ScreenFit f = ev.regress([&](std::size_t c, int node, std::size_t k) {
         if (node != a) return 0.0;
         return -ev.cases[c].spec.nodes[static_cast<std::size_t>(a)].C *

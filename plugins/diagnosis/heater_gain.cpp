@@ -19,13 +19,16 @@ public:
       const auto& el = spec.elements[static_cast<std::size_t>(e)];
       if (el.kind != "heater" || !el.has("P") || el.name.empty()) continue;
       const int node = el.nodes.at(0);
-      if (!ev.measured(node)) continue;
-      const ScreenFit f = ev.regress([&](std::size_t c, int row, std::size_t k) {
-        if (row != node) return 0.0;
-        const auto& ce = ev.cases[c];
-        return ce.spec.elements[static_cast<std::size_t>(e)].values.at("P").at(ce.times()[k]);
-      });
+      const bool unobserved = ev.unobserved(node);
+      if (!ev.measured(node) && !unobserved) continue;
+      const ScreenFit f =
+          unobserved ? ScreenFit{} : ev.regress([&](std::size_t c, int row, std::size_t k) {
+            if (row != node) return 0.0;
+            const auto& ce = ev.cases[c];
+            return ce.spec.elements[static_cast<std::size_t>(e)].values.at("P").at(ce.times()[k]);
+          });
       Candidate c;
+      c.unobserved = unobserved;
       c.kind = "heater_gain";
       c.element = el.name;
       c.nodes = {spec.nodes[static_cast<std::size_t>(node)].name};
@@ -35,9 +38,14 @@ public:
       c.start = {std::clamp(1.0 + f.coefficient, 0.2, 5.0)};
       c.screen = f.reduction;
       c.index = {e, node};
-      c.evidence = fmt::format("the unexplained heat flow of {} follows the power of {} "
-                               "(correlation {:.2f}): it looks {:.3g} times the modelled power",
-                               c.nodes[0], el.name, f.correlation, 1.0 + f.coefficient);
+      c.evidence = unobserved
+                       ? fmt::format("{} is not measured; the power of {} shows at its measured "
+                                     "neighbours",
+                                     c.nodes[0], el.name)
+                       : fmt::format("the unexplained heat flow of {} follows the power of {} "
+                                     "(correlation {:.2f}): it looks {:.3g} times the modelled "
+                                     "power",
+                                     c.nodes[0], el.name, f.correlation, 1.0 + f.coefficient);
       out.push_back(std::move(c));
     }
     return out;

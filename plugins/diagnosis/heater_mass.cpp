@@ -1,7 +1,9 @@
 // Hypothesis 'heater_mass': a heater heats its node through a thermal mass of its own (a missing
-// intermediate node with its capacity C and a conductance G to the node). Screen: the unexplained
-// heat flow of the heater's node regressed on lowpass_tau(P) - P, the power delayed by the mass's
-// time constant tau = C / G, for a few tau; the best tau starts the refit of C and G.
+// intermediate node with its capacity C and a conductance G = C / tau to the node). Screen: the
+// unexplained heat flow of the heater's node regressed on lowpass_tau(P) - P, the power delayed by
+// the mass's time constant tau, for a few tau; the best tau starts the refit of C and tau. tau is
+// at least two sampling intervals: a shorter lag is not seen in the data, and a mass without a
+// lag is a capacity error of the node (the capacity_error kind), not a heater's mass.
 #include "kernel/diagnosis/hypothesis.hpp"
 
 #include <fmt/format.h>
@@ -12,6 +14,17 @@
 
 namespace thermnet {
 namespace {
+
+/// The median interval between samples over every case, s.
+double sampling_interval(const Evidence& ev) {
+  std::vector<double> dt;
+  for (const auto& ce : ev.cases)
+    for (std::size_t k = 1; k < ce.times().size(); ++k)
+      dt.push_back(ce.times()[k] - ce.times()[k - 1]);
+  if (dt.empty()) return 0.0;
+  std::nth_element(dt.begin(), dt.begin() + static_cast<long>(dt.size() / 2), dt.end());
+  return dt[dt.size() / 2];
+}
 
 /// Time constants the screen tries, s.
 constexpr std::array<double, 6> kTaus = {60.0, 150.0, 300.0, 600.0, 1200.0, 2400.0};
@@ -49,9 +62,11 @@ public:
       const int node = el.nodes.at(0);
       const double C_node = spec.nodes[static_cast<std::size_t>(node)].C;
       if (!ev.measured(node) || !(C_node > 0.0)) continue;
+      const double min_tau = std::max(1.0, 2.0 * sampling_interval(ev));
       ScreenFit best;
-      double best_tau = kTaus.front();
+      double best_tau = std::max(kTaus.front(), min_tau);
       for (double tau : kTaus) {
+        if (tau < min_tau) continue;
         std::vector<std::vector<double>> term;
         for (const auto& ce : ev.cases) {
           const auto& P = ce.spec.elements[static_cast<std::size_t>(e)].values.at("P");
@@ -71,10 +86,10 @@ public:
       c.kind = "heater_mass";
       c.element = el.name;
       c.nodes = {spec.nodes[static_cast<std::size_t>(node)].name};
-      c.names = {"C", "G"};
-      c.lo = {1e-3 * C_node, 1e-6};
-      c.hi = {1e2 * C_node, 1e4};
-      c.start = {0.5 * C_node, 0.5 * C_node / best_tau};
+      c.names = {"C", "tau"};
+      c.lo = {1e-3 * C_node, min_tau};
+      c.hi = {1e2 * C_node, std::max(1e6, 10.0 * min_tau)};
+      c.start = {0.5 * C_node, best_tau};
       c.screen = best.reduction;
       c.index = {e, node};
       c.evidence = fmt::format("the unexplained heat flow of {} follows the power of {} delayed by "
@@ -98,7 +113,7 @@ public:
     m.doc = "the heater's own mass (thermnet diagnose)";
     spec.nodes.push_back(std::move(m));
     spec.elements.push_back(make_element("conductance", unique_name(spec, mass_name(c) + "_g"),
-                                         {mass, node}, {{"G", p[1]}}));
+                                         {mass, node}, {{"G", p[0] / p[1]}}));
     spec.elements.at(static_cast<std::size_t>(c.index[0])).nodes.at(0) = mass;
   }
 
@@ -116,7 +131,7 @@ public:
         "heater {} {} P = {}\n"
         "heater {} {} P = {}",
         m, netlist_number(p[0]), node.T0 ? " T0 = " + netlist_number(*node.T0 - 273.15) : "",
-        name(ev, mass_name(c) + "_g"), m, c.nodes[0], netlist_number(p[1]),
+        name(ev, mass_name(c) + "_g"), m, c.nodes[0], netlist_number(p[0] / p[1]),
         name(ev, mass_name(c) + "_in"), m, signal_text(P, "W"), name(ev, mass_name(c) + "_out"),
         c.nodes[0], signal_text(P.scaled(-1.0), "W"));
   }
@@ -147,10 +162,11 @@ HypothesisPlugin make_heater_mass() {
           .doc = "a heater heats its node through a thermal mass of its own (a missing node)",
           .create = [] { return std::make_unique<HeaterMass>(); },
           .screen = "lowpass_tau(P) - P at the heater's node, tau from 60 to 2400 s",
-          .fitted = "C [J/K] of the mass, G [W/K] to the node",
-          .writes = "node diag_mass_h C = ..., conductance diag_mass_h_g diag_mass_h a G = ..., "
-                    "and heaters diag_mass_h_in (P(t) into the mass) and diag_mass_h_out (-P(t) "
-                    "out of a), with their P in each case block whose P differs"};
+          .fitted = "C [J/K] of the mass, tau [s] = C / G (at least two sampling intervals)",
+          .writes =
+              "node diag_mass_h C = ..., conductance diag_mass_h_g diag_mass_h a G = C / tau, "
+              "and heaters diag_mass_h_in (P(t) into the mass) and diag_mass_h_out (-P(t) "
+              "out of a), with their P in each case block whose P differs"};
 }
 
 } // namespace

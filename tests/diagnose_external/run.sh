@@ -101,8 +101,8 @@ scenario star_source star missing_source hub
 scenario star_offset star sensor_offset arm3
 scenario rod_mass rod heater_mass a1
 scenario rod_lid rod event_loss a3 sky
-fitted rod_mass "abs(v['C'] / 400 - 1) < 0.1 and abs(v['G'] / 0.8 - 1) < 0.1" \
-  "C within 10 % of 400 J/K and G of 0.8 W/K"
+fitted rod_mass "abs(v['C'] / 400 - 1) < 0.1 and abs(v['C'] / v['tau'] / 0.8 - 1) < 0.1" \
+  "C within 10 % of 400 J/K and G = C / tau of 0.8 W/K"
 fitted rod_lid "abs(v['G'] / 0.5 - 1) < 0.1" "G within 10 % of 0.5 W/K"
 clean rod_clean rod
 clean star_clean star
