@@ -31,6 +31,15 @@ bool same_signal(const lang::Signal& a, const lang::Signal& b) {
          (a.is_constant() ? a.constant == b.constant : a.t == b.t && a.v == b.v);
 }
 
+std::vector<int> named_heaters(const lang::NetworkSpec& spec) {
+  std::vector<int> out;
+  for (std::size_t e = 0; e < spec.elements.size(); ++e) {
+    const auto& el = spec.elements[e];
+    if (el.kind == "heater" && el.has("P") && !el.name.empty()) out.push_back(static_cast<int>(e));
+  }
+  return out;
+}
+
 const lang::Signal& heater_power(const DeclaredSpec& d, const std::string& element) {
   for (const auto& el : d.spec.elements)
     if (el.name == element && el.has("P")) return el.values.at("P");

@@ -15,9 +15,8 @@ public:
     std::vector<Candidate> out;
     if (ev.cases.empty()) return out;
     const auto& spec = ev.cases.front().spec;
-    for (int e = 0; e < static_cast<int>(spec.elements.size()); ++e) {
+    for (int e : named_heaters(spec)) {
       const auto& el = spec.elements[static_cast<std::size_t>(e)];
-      if (el.kind != "heater" || !el.has("P") || el.name.empty()) continue;
       const int node = el.nodes.at(0);
       const bool unobserved = ev.unobserved(node);
       if (!ev.measured(node) && !unobserved) continue;

@@ -56,9 +56,8 @@ public:
     std::vector<Candidate> out;
     if (ev.cases.empty()) return out;
     const auto& spec = ev.cases.front().spec;
-    for (int e = 0; e < static_cast<int>(spec.elements.size()); ++e) {
+    for (int e : named_heaters(spec)) {
       const auto& el = spec.elements[static_cast<std::size_t>(e)];
-      if (el.kind != "heater" || !el.has("P") || el.name.empty()) continue;
       const int node = el.nodes.at(0);
       const double C_node = spec.nodes[static_cast<std::size_t>(node)].C;
       if (!ev.measured(node) || !(C_node > 0.0)) continue;
