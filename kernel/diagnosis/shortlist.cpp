@@ -1,6 +1,6 @@
 // The screen's shortlist: every hypothesis proposes candidates on the evidence, and the model-side
 // ones are refitted by site in the screen's order, widened per kind and per node, and beside each
-// shortlisted candidate by its counterparts on unmeasured neighbours (which the screen cannot
+// shortlisted candidate by its counterparts on unmeasured nodes near it (which the screen cannot
 // score).
 
 #include "kernel/diagnosis/selection.hpp"
