@@ -1,5 +1,5 @@
 // `thermnet diagnose MODEL [--case NAME ...] [--json REPORT.json] [--write EXTENDED.tnet]
-//  [--plot OUT.svg] [--threads N] [--top K]`
+//  [--plot OUT.svg] [--threads N] [--top K] [--events EVENTS.csv]`
 
 #include "cli/diagnose_command.hpp"
 
@@ -30,6 +30,7 @@ struct DiagnoseOptions {
   std::string json;
   std::string write;
   std::string plot;
+  std::string events;
   int threads = 0;
   std::size_t top = 5;
   std::vector<std::string> sets;
@@ -40,9 +41,15 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   int status = exit_ok;
   auto model = load_checked_model(o.model, sources, status, o.sets);
   if (!model) return status;
-  check_outputs({{"--json", o.json}, {"--write", o.write}, {"--plot", o.plot}},
-                model_inputs(*model));
+  auto inputs = model_inputs(*model);
+  if (!o.events.empty()) inputs.push_back({o.events, "the events file"});
+  check_outputs({{"--json", o.json}, {"--write", o.write}, {"--plot", o.plot}}, inputs);
   DiagnosisOptions opt;
+  if (!o.events.empty()) {
+    std::vector<std::string> cases = model->case_names();
+    if (cases.empty()) cases.push_back(model->resolve_case(""));
+    opt.events = read_events(o.events, cases);
+  }
   opt.cases = o.cases;
   opt.threads = o.threads;
   opt.top = o.top;
@@ -162,6 +169,9 @@ void add_diagnose_command(CLI::App& app, int& status) {
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--top", o->top, "most findings reported")->check(CLI::PositiveNumber);
   add_set_option(sub, o->sets, "; the model diagnosed has them (--write does not write them)");
+  sub->add_option("--events", o->events,
+                  "CSV of known events (case,event,start,end in s; empty case: every case): "
+                  "event_loss looks for a loss that exists only while one is on");
   sub->callback([o, &status] {
     status = run_command("thermnet diagnose",
                          [&](lang::SourceManager& sources) { return run_diagnose(*o, sources); });

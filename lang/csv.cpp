@@ -176,6 +176,14 @@ CsvTable parse_csv(const std::string& text, const std::string& path) {
   return t;
 }
 
+std::vector<std::string> csv_fields(std::string_view line) {
+  return split(line);
+}
+
+bool csv_number(const std::string& field, double& out) {
+  return parse_number(field, out);
+}
+
 CsvTable read_csv(const std::string& path) {
   std::string text;
   if (auto error = read_text_file(path, text)) throw CsvError(path, 0, 0, *error);

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace thermnet::lang {
@@ -38,6 +39,11 @@ CsvTable read_csv(const std::string& path);
 /// The number of rows whose time is after `end` (s; beyond its round-off, 1e-9 relative): the
 /// rows a case of that duration does not use.
 std::size_t rows_after(const CsvTable& t, double end);
+/// Splits one CSV row into its fields (trimmed; a quoted field or one in square brackets may hold
+/// commas), as data files are split.
+std::vector<std::string> csv_fields(std::string_view line);
+/// Parses a whole field as a number (a leading '+' allowed); false when it is not one.
+bool csv_number(const std::string& field, double& out);
 /// Checks a table as measured data (no negative time, at least one value); throws CsvError.
 void check_measured(const CsvTable& t);
 

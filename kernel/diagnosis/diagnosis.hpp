@@ -22,6 +22,7 @@ struct DiagnosisOptions {
   std::size_t refits = 6;         ///< model-side candidates refitted by simulation (plus the
                                   ///< best of each kind)
   double holdout = 0.3; ///< with one case: fraction of its time span held back for validation
+  std::vector<EventWindow> events; ///< known events (a lid opened), for event_loss candidates
 };
 
 /// How far the simulation is off for one node (one case or all cases together).

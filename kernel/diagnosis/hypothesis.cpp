@@ -17,6 +17,35 @@ std::string netlist_number(double v) {
   return fmt::format("{:.5g}", v + 0.0); // + 0.0: no "-0"
 }
 
+std::string signal_text(const lang::Signal& s, const std::string& unit) {
+  const std::string u = unit.empty() ? "" : " [" + unit + "]";
+  if (s.is_constant()) return netlist_number(s.constant) + u;
+  std::string out = s.kind == lang::Signal::Kind::step ? "step(" : "pwl(";
+  for (std::size_t i = 0; i < s.t.size(); ++i)
+    out += fmt::format("{}{}: {}{}", i ? ", " : "", s.t[i], netlist_number(s.v[i]), u);
+  return out + ")";
+}
+
+bool same_signal(const lang::Signal& a, const lang::Signal& b) {
+  return a.kind == b.kind &&
+         (a.is_constant() ? a.constant == b.constant : a.t == b.t && a.v == b.v);
+}
+
+std::vector<int> named_heaters(const lang::NetworkSpec& spec) {
+  std::vector<int> out;
+  for (std::size_t e = 0; e < spec.elements.size(); ++e) {
+    const auto& el = spec.elements[e];
+    if (el.kind == "heater" && el.has("P") && !el.name.empty()) out.push_back(static_cast<int>(e));
+  }
+  return out;
+}
+
+const lang::Signal& heater_power(const DeclaredSpec& d, const std::string& element) {
+  for (const auto& el : d.spec.elements)
+    if (el.name == element && el.has("P")) return el.values.at("P");
+  throw std::logic_error("no heater '" + element + "' with a power in the declared network");
+}
+
 void merge_case_lines(CaseLines& lines, const CaseLines& more) {
   for (const auto& [name, text] : more) {
     std::string& to = lines[name];
@@ -87,6 +116,10 @@ bool Evidence::measured(int node) const {
   for (const auto& c : cases)
     if (std::find(c.rows.begin(), c.rows.end(), node) != c.rows.end()) return true;
   return false;
+}
+
+bool Evidence::unobserved(int node) const {
+  return !measured(node) && !cases.front().spec.nodes.at(static_cast<std::size_t>(node)).boundary;
 }
 
 } // namespace thermnet

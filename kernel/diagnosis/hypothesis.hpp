@@ -5,6 +5,7 @@
 
 #include "kernel/core/measured_data.hpp"
 #include "kernel/core/registry.hpp"
+#include "kernel/diagnosis/events.hpp"
 #include "lang/model.hpp"
 #include "lang/network_spec.hpp"
 
@@ -53,6 +54,7 @@ struct Evidence {
   double screen_total = 0.0;                ///< weighted sum of squares of q over every row
   DeclaredSpec declared;                    ///< the declarations without any case
   std::vector<DeclaredSpec> declared_cases; ///< every declared case block, with data or not
+  std::vector<EventWindow> events;          ///< known events (`--events`), for event_loss
 
   /// Fits q ~ c * basis(case, node, k) over every screen row (rows weighted by 1/C, i.e. in K/s);
   /// basis returning 0 contributes nothing.
@@ -62,6 +64,8 @@ struct Evidence {
   int node_index(const std::string& name) const;
   /// True when a spec node is measured (has q) in some case.
   bool measured(int node) const;
+  /// True when a spec node is neither measured nor a boundary (a candidate there is unobserved).
+  bool unobserved(int node) const;
 };
 
 /// A proposed extension: kind, where, its extra parameters and the screen's score.
@@ -75,9 +79,13 @@ struct Candidate {
   std::vector<double> lo;         ///< lower bounds
   std::vector<double> hi;         ///< upper bounds
   bool measurement_side = false;  ///< acts on the simulated series, not the model
-  double screen = 0.0;            ///< screen score (larger is better; model-side comparable)
-  std::string evidence;           ///< what the screen saw, in words
-  std::vector<int> index;         ///< resolved spec indices (nodes, element) for the plugin
+  /// On unmeasured nodes only, so the screen cannot score it (screen 0): refitted when a
+  /// shortlisted candidate of its kind names a measured neighbour in its place.
+  bool unobserved = false;
+  double screen = 0.0;              ///< screen score (larger is better; model-side comparable)
+  std::string evidence;             ///< what the screen saw, in words
+  std::vector<int> index;           ///< resolved spec indices (nodes, element) for the plugin
+  std::vector<EventWindow> windows; ///< when it acts, by case (event_loss: its event's windows)
 };
 
 /// Netlist lines for inside case blocks, by case name.
@@ -143,6 +151,20 @@ using HypothesisRegistry = Registry<HypothesisPlugin>;
 
 /// A number as netlist text (enough digits to round-trip a fitted value usefully).
 std::string netlist_number(double v);
+
+/// A constant or step/pwl signal as netlist text, each value followed by ` [unit]` unless `unit`
+/// is empty (corner times in s).
+std::string signal_text(const lang::Signal& s, const std::string& unit);
+
+/// True when two signals have the same shape and values.
+bool same_signal(const lang::Signal& a, const lang::Signal& b);
+
+/// Indices of the spec's heaters that have a name and a power P (the ones a finding can name).
+std::vector<int> named_heaters(const lang::NetworkSpec& spec);
+
+/// The power P of the heater named `element` in a declared network; throws std::logic_error when
+/// it has none.
+const lang::Signal& heater_power(const DeclaredSpec& d, const std::string& element);
 
 /// A plugin element of `kind` between `nodes` (spec indices) with constant key values (SI);
 /// throws std::invalid_argument when no plugin provides the kind.

@@ -75,9 +75,31 @@ void Selection::rank_first(std::size_t recal) {
       f.holdout_z =
           holdout_gain_z(res_[recal].holdout_r, res_[i].holdout_r, engine_.evidence().noise_floor);
       f.significant = f.significant && f.holdout_z >= significant_gain_z;
+      if (f.significant) against_own_params(i, recal);
     }
   merge_mechanisms(chosen_, res_);
   first_ = ranked(res_);
+}
+
+void Selection::against_own_params(std::size_t i, std::size_t recal) {
+  // A joint refit moves the params too: its gain over the recalibration may come from params the
+  // recalibration's own refit did not reach (on a clean control, a radiative link with GR at its
+  // lower bound passed), not from the candidate. So the candidate must also beat the params it was
+  // fitted with, alone (held-out residuals at those all-data values: that favours the reference,
+  // never the candidate).
+  Finding& f = res_[i].f;
+  const std::size_t own = chosen_[i].own.names.size();
+  if (f.values.size() != own + res_[recal].f.values.size()) return; // not refitted jointly
+  const std::vector<double> params(f.values.begin() + static_cast<long>(own), f.values.end());
+  try {
+    const Base alone = engine_.make_base({Applied{chosen_[recal].h, chosen_[recal].c, params}});
+    const double z =
+        holdout_gain_z(alone.holdout_r, res_[i].holdout_r, engine_.evidence().noise_floor);
+    f.holdout_z = std::min(f.holdout_z, z);
+    f.significant = z >= significant_gain_z;
+  } catch (const std::exception&) {
+    // the params alone cannot be simulated: the comparison with the recalibration stands
+  }
 }
 
 void Selection::finish(DiagnosisReport& rep) {

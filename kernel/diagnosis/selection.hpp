@@ -61,6 +61,9 @@ private:
   void redecide_mechanisms(std::vector<Applied>& applied, const Compose& all, Evaluated& joint,
                            DiagnosisReport& rep) const;
   void finish(DiagnosisReport& rep);
+  /// Marks jointly refitted candidate i not significant unless it beats, on held-out data, its
+  /// own fitted params without it (`recal`: the recalibrating candidate).
+  void against_own_params(std::size_t i, std::size_t recal);
 
   // shortlist.cpp
   std::vector<Entry> propose(const Evidence& ev) const;

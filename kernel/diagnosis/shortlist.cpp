@@ -1,5 +1,7 @@
 // The screen's shortlist: every hypothesis proposes candidates on the evidence, and the model-side
-// ones are refitted by site in the screen's order, widened per kind and per node.
+// ones are refitted by site in the screen's order, widened per kind and per node, and beside each
+// shortlisted candidate by its counterparts on unmeasured nodes near it (which the screen cannot
+// score).
 
 #include "kernel/diagnosis/selection.hpp"
 
@@ -23,6 +25,81 @@ std::vector<std::string> site_order(const std::vector<Entry>& side) {
     if (e.c.screen > 0 && seen.insert(site(e.c)).second) order.push_back(site(e.c));
   return order;
 }
+
+namespace {
+
+/// Most counterparts on unmeasured nodes refitted beside one shortlisted candidate.
+constexpr std::size_t kBeside = 6;
+
+/// A candidate's kind, mechanism and (sorted) nodes: what a counterpart on other nodes shares.
+std::string shape_key(const std::string& kind, const std::string& mechanism,
+                      std::vector<std::string> nodes) {
+  std::sort(nodes.begin(), nodes.end());
+  return fmt::format("{}|{}|{}", kind, mechanism, fmt::join(nodes, ","));
+}
+
+/// Spec node -> the nodes an element links it to, in index order.
+std::vector<std::set<int>> neighbours(const lang::NetworkSpec& spec) {
+  std::vector<std::set<int>> out(spec.nodes.size());
+  for (const auto& e : spec.elements)
+    for (int a : e.nodes)
+      for (int b : e.nodes)
+        if (a != b) out[static_cast<std::size_t>(a)].insert(b);
+  return out;
+}
+
+/// The unmeasured nodes within two links of `node` through unmeasured nodes only (its unmeasured
+/// neighbours first, then theirs): where an effect there shows first.
+std::vector<int> unmeasured_near(const std::vector<std::set<int>>& near, const Evidence& ev,
+                                 int node) {
+  std::vector<int> ring;
+  for (int u : near[static_cast<std::size_t>(node)])
+    if (ev.unobserved(u)) ring.push_back(u);
+  const std::size_t first = ring.size();
+  for (std::size_t i = 0; i < first; ++i)
+    for (int w : near[static_cast<std::size_t>(ring[i])])
+      if (w != node && ev.unobserved(w) && std::find(ring.begin(), ring.end(), w) == ring.end())
+        ring.push_back(w);
+  return ring;
+}
+
+/// For each shortlisted candidate (`picked`, indices into `side`): the candidates of its kind and
+/// mechanism that name, in place of one of its measured nodes, an unmeasured node near it
+/// (unmeasured_near). Where an effect sits on an unmeasured node, the screen can only see it
+/// through the measured nodes nearby, and their candidate is its proxy. Pairs (counterpart,
+/// picked).
+std::vector<std::pair<std::size_t, std::size_t>>
+counterparts(const std::vector<Entry>& side, const Evidence& ev,
+             const std::vector<std::size_t>& picked) {
+  std::map<std::string, std::vector<std::size_t>> by_shape;
+  for (std::size_t j = 0; j < side.size(); ++j)
+    by_shape[shape_key(side[j].c.kind, side[j].c.mechanism, side[j].c.nodes)].push_back(j);
+  const auto& spec = ev.cases.front().spec;
+  const auto near = neighbours(spec);
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  for (std::size_t i : picked) {
+    const Candidate& c = side[i].c;
+    std::size_t found = 0;
+    for (std::size_t n = 0; n < c.nodes.size() && found < kBeside; ++n) {
+      const int node = spec.node_index(c.nodes[n]);
+      if (node < 0 || !ev.measured(node)) continue;
+      for (int u : unmeasured_near(near, ev, node)) {
+        std::vector<std::string> nodes = c.nodes;
+        nodes[n] = spec.nodes[static_cast<std::size_t>(u)].name;
+        auto it = by_shape.find(shape_key(c.kind, c.mechanism, nodes));
+        if (it == by_shape.end()) continue;
+        for (std::size_t j : it->second)
+          if (found < kBeside && j != i) {
+            out.emplace_back(j, i);
+            ++found;
+          }
+      }
+    }
+  }
+  return out;
+}
+
+} // namespace
 
 bool model_side(const Entry& e) {
   return !e.c.measurement_side && !e.own_h->recalibrates();
@@ -99,9 +176,21 @@ std::vector<std::size_t> Selection::shortlist(const std::vector<Entry>& side, co
 
 std::vector<Entry> Selection::shortlisted(const std::vector<Entry>& side, const Evidence& ev,
                                           std::size_t sites, std::set<std::size_t>* taken) const {
+  std::set<std::size_t> local;
+  if (!taken) taken = &local;
   std::vector<Entry> fresh;
-  for (std::size_t i : shortlist(side, ev, sites))
-    if (!taken || taken->insert(i).second) fresh.push_back(side[i]);
+  const std::vector<std::size_t> picked = shortlist(side, ev, sites);
+  for (std::size_t i : picked)
+    if (taken->insert(i).second) fresh.push_back(side[i]);
+  for (const auto& [j, seed] : counterparts(side, ev, picked)) {
+    if (!taken->insert(j).second) continue;
+    Entry e = side[j];
+    if (e.c.unobserved) // no screen estimate of its own: start where its measured proxy starts
+      for (std::size_t k = 0; k < e.c.start.size() && k < side[seed].c.start.size(); ++k)
+        e.c.start[k] = std::clamp(side[seed].c.start[k], e.c.lo[k], e.c.hi[k]);
+    e.own.start = e.c.start;
+    fresh.push_back(std::move(e));
+  }
   return fresh;
 }
 

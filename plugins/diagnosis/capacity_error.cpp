@@ -17,21 +17,30 @@ public:
     const auto& nodes = ev.cases.front().spec.nodes;
     for (int a = 0; a < static_cast<int>(nodes.size()); ++a) {
       const auto& nd = nodes[static_cast<std::size_t>(a)];
-      if (nd.boundary || nd.C <= 0.0 || !ev.measured(a)) continue;
-      const ScreenFit f = ev.regress([&](std::size_t c, int node, std::size_t k) {
-        if (node != a) return 0.0;
-        return -ev.cases[c].spec.nodes[static_cast<std::size_t>(a)].C *
-               ev.cases[c].dTdt[k][static_cast<std::size_t>(a)];
-      });
+      if (nd.boundary || nd.C <= 0.0) continue;
       Candidate c;
       c.kind = "capacity_error";
       c.nodes = {nd.name};
       c.names = {"factor"};
       c.lo = {0.02};
       c.hi = {50.0};
+      c.index = {a};
+      if (ev.unobserved(a)) { // refitted only beside a measured neighbour's capacity error
+        c.start = {1.0};
+        c.unobserved = true;
+        c.evidence = fmt::format("{} is not measured; its capacity shows at its measured "
+                                 "neighbours",
+                                 nd.name);
+        out.push_back(std::move(c));
+        continue;
+      }
+      const ScreenFit f = ev.regress([&](std::size_t k_case, int node, std::size_t k) {
+        if (node != a) return 0.0;
+        return -ev.cases[k_case].spec.nodes[static_cast<std::size_t>(a)].C *
+               ev.cases[k_case].dTdt[k][static_cast<std::size_t>(a)];
+      });
       c.start = {std::clamp(1.0 + f.coefficient, 0.2, 5.0)};
       c.screen = f.reduction;
-      c.index = {a};
       c.evidence = fmt::format("the unexplained heat flow of {} follows C dT/dt (correlation "
                                "{:.2f}): its capacity looks {} by a factor of about {:.3g}",
                                nd.name, f.correlation,

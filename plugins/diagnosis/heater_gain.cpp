@@ -5,25 +5,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <stdexcept>
 
 namespace thermnet {
 namespace {
-
-/// The signal as netlist text, in watts (corner times exact, in seconds).
-std::string signal_text(const lang::Signal& s) {
-  if (s.is_constant()) return netlist_number(s.constant) + " [W]";
-  std::string out = s.kind == lang::Signal::Kind::step ? "step(" : "pwl(";
-  for (std::size_t i = 0; i < s.t.size(); ++i)
-    out += fmt::format("{}{}: {} [W]", i ? ", " : "", s.t[i], netlist_number(s.v[i]));
-  return out + ")";
-}
-
-/// True when two signals have the same shape and values.
-bool same_signal(const lang::Signal& a, const lang::Signal& b) {
-  return a.kind == b.kind &&
-         (a.is_constant() ? a.constant == b.constant : a.t == b.t && a.v == b.v);
-}
 
 class HeaterGain final : public Hypothesis {
 public:
@@ -31,17 +15,19 @@ public:
     std::vector<Candidate> out;
     if (ev.cases.empty()) return out;
     const auto& spec = ev.cases.front().spec;
-    for (int e = 0; e < static_cast<int>(spec.elements.size()); ++e) {
+    for (int e : named_heaters(spec)) {
       const auto& el = spec.elements[static_cast<std::size_t>(e)];
-      if (el.kind != "heater" || !el.has("P") || el.name.empty()) continue;
       const int node = el.nodes.at(0);
-      if (!ev.measured(node)) continue;
-      const ScreenFit f = ev.regress([&](std::size_t c, int row, std::size_t k) {
-        if (row != node) return 0.0;
-        const auto& ce = ev.cases[c];
-        return ce.spec.elements[static_cast<std::size_t>(e)].values.at("P").at(ce.times()[k]);
-      });
+      const bool unobserved = ev.unobserved(node);
+      if (!ev.measured(node) && !unobserved) continue;
+      const ScreenFit f =
+          unobserved ? ScreenFit{} : ev.regress([&](std::size_t c, int row, std::size_t k) {
+            if (row != node) return 0.0;
+            const auto& ce = ev.cases[c];
+            return ce.spec.elements[static_cast<std::size_t>(e)].values.at("P").at(ce.times()[k]);
+          });
       Candidate c;
+      c.unobserved = unobserved;
       c.kind = "heater_gain";
       c.element = el.name;
       c.nodes = {spec.nodes[static_cast<std::size_t>(node)].name};
@@ -51,9 +37,14 @@ public:
       c.start = {std::clamp(1.0 + f.coefficient, 0.2, 5.0)};
       c.screen = f.reduction;
       c.index = {e, node};
-      c.evidence = fmt::format("the unexplained heat flow of {} follows the power of {} "
-                               "(correlation {:.2f}): it looks {:.3g} times the modelled power",
-                               c.nodes[0], el.name, f.correlation, 1.0 + f.coefficient);
+      c.evidence = unobserved
+                       ? fmt::format("{} is not measured; the power of {} shows at its measured "
+                                     "neighbours",
+                                     c.nodes[0], el.name)
+                       : fmt::format("the unexplained heat flow of {} follows the power of {} "
+                                     "(correlation {:.2f}): it looks {:.3g} times the modelled "
+                                     "power",
+                                     c.nodes[0], el.name, f.correlation, 1.0 + f.coefficient);
       out.push_back(std::move(c));
     }
     return out;
@@ -70,28 +61,23 @@ public:
   std::string statement(const Candidate& c, const std::vector<double>& p,
                         const Evidence& ev) const override {
     return fmt::format("heater {} {} P = {}", name_of(c, ev), c.nodes[0],
-                       signal_text(power(ev.declared, c).scaled(p[0] - 1.0)));
+                       signal_text(heater_power(ev.declared, c.element).scaled(p[0] - 1.0), "W"));
   }
 
   CaseLines case_statements(const Candidate& c, const std::vector<double>& p,
                             const Evidence& ev) const override {
     CaseLines out;
-    const lang::Signal& declared = power(ev.declared, c);
+    const lang::Signal& declared = heater_power(ev.declared, c.element);
     for (const auto& d : ev.declared_cases) {
-      const lang::Signal& P = power(d, c);
+      const lang::Signal& P = heater_power(d, c.element);
       if (!same_signal(P, declared))
         out[d.case_name] =
-            fmt::format("{}.P = {}", name_of(c, ev), signal_text(P.scaled(p[0] - 1.0)));
+            fmt::format("{}.P = {}", name_of(c, ev), signal_text(P.scaled(p[0] - 1.0), "W"));
     }
     return out;
   }
 
 private:
-  static const lang::Signal& power(const DeclaredSpec& d, const Candidate& c) {
-    for (const auto& el : d.spec.elements)
-      if (el.name == c.element) return el.values.at("P");
-    throw std::logic_error("heater_gain: no element '" + c.element + "'");
-  }
   static std::string name_of(const Candidate& c, const Evidence& ev) {
     return unique_name(ev.declared.spec, "diag_gain_" + c.element);
   }

@@ -34,7 +34,15 @@ public:
         if (nodes[static_cast<std::size_t>(a)].boundary &&
             nodes[static_cast<std::size_t>(b)].boundary)
           continue;
-        if (!ev.measured(a) && !ev.measured(b)) continue;
+        if (!ev.measured(a) && !ev.measured(b)) {
+          const auto free = [&](int i) {
+            return ev.unobserved(i) || nodes[static_cast<std::size_t>(i)].boundary;
+          };
+          if (free(a) && free(b))
+            for (bool rad : {false, true})
+              out.push_back(unobserved(nodes, a, b, rad));
+          continue;
+        }
         for (bool rad : {false, true}) {
           const ScreenFit f = ev.regress([&](std::size_t c, int node, std::size_t k) {
             const auto& T = ev.cases[c].T[k];
@@ -83,6 +91,24 @@ public:
   }
 
 private:
+  /// A link between two unmeasured nodes: refitted only beside a shortlisted link of a measured
+  /// neighbour.
+  static Candidate unobserved(const std::vector<lang::NodeSpec>& nodes, int a, int b, bool rad) {
+    Candidate c;
+    c.kind = "missing_link";
+    c.nodes = {nodes[static_cast<std::size_t>(a)].name, nodes[static_cast<std::size_t>(b)].name};
+    c.mechanism = rad ? "radiation" : "linear";
+    c.names = {rad ? "GR" : "G"};
+    c.lo = {rad ? 1e-8 : 1e-6};
+    c.hi = {rad ? 100.0 : 1e4};
+    c.start = {rad ? 1e-3 : 0.1};
+    c.index = {a, b};
+    c.unobserved = true;
+    c.evidence = fmt::format("{} and {} are not measured; a path between them shows at their "
+                             "measured neighbours",
+                             c.nodes[0], c.nodes[1]);
+    return c;
+  }
   static std::string name_of(const Candidate& c) {
     return fmt::format("diag_{}_{}", c.nodes[0], c.nodes[1]);
   }

@@ -14,18 +14,27 @@ public:
     if (ev.cases.empty()) return out;
     const auto& nodes = ev.cases.front().spec.nodes;
     for (int a = 0; a < static_cast<int>(nodes.size()); ++a) {
-      if (!ev.measured(a)) continue;
-      const ScreenFit f =
-          ev.regress([&](std::size_t, int node, std::size_t) { return node == a ? 1.0 : 0.0; });
       Candidate c;
       c.kind = "missing_source";
       c.nodes = {nodes[static_cast<std::size_t>(a)].name};
       c.names = {"P"};
       c.lo = {-1e5};
       c.hi = {1e5};
+      c.index = {a};
+      if (ev.unobserved(a)) { // refitted only beside a measured neighbour's source
+        c.unobserved = true;
+        c.start = {0.0};
+        c.evidence = fmt::format("{} is not measured; a steady heat there shows at its measured "
+                                 "neighbours",
+                                 c.nodes[0]);
+        out.push_back(std::move(c));
+        continue;
+      }
+      if (!ev.measured(a)) continue;
+      const ScreenFit f =
+          ev.regress([&](std::size_t, int node, std::size_t) { return node == a ? 1.0 : 0.0; });
       c.start = {f.coefficient};
       c.screen = f.reduction;
-      c.index = {a};
       c.evidence = fmt::format("{} has a steady unexplained heat {} of about {:.3g} W", c.nodes[0],
                                f.coefficient >= 0 ? "gain" : "loss", std::abs(f.coefficient));
       out.push_back(std::move(c));

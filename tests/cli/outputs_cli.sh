@@ -97,6 +97,16 @@ check "sensitivity --json onto the data: exit 2" test "$rc" -eq 2
 run diagnose m.tnet --write m.tnet
 check "diagnose --write onto the model: exit 2 before diagnosing" \
   eval 'test "$rc" -eq 2 && grep -q "would overwrite the model" err.txt'
+printf 'case,start,end\nc,0,10\nnope,20,30\n' >events.csv
+run diagnose m.tnet --events events.csv
+check "diagnose --events naming an unknown case: exit 1 at its file:row:column" \
+  eval 'test "$rc" -eq 1 && grep -q "events.csv:3:1: the model has no case .nope. (its cases: c)" err.txt'
+run diagnose m.tnet --events no_such_events.csv
+check "diagnose --events on a missing file: exit 2 naming it" \
+  eval 'test "$rc" -eq 2 && grep -q "no_such_events.csv" err.txt'
+run diagnose m.tnet --events events.csv --json events.csv
+check "diagnose --json onto the events file: exit 2 naming it" \
+  eval 'test "$rc" -eq 2 && grep -q "would overwrite the events file" err.txt'
 run simulate m.tnet -o x.csv --plot x.csv
 check "-o x.csv --plot x.csv: exit 2 naming both" \
   eval "test \"\$rc\" -eq 2 && grep -q \"\\-o 'x.csv' and --plot 'x.csv' are the same file\" err.txt"

@@ -8,6 +8,8 @@ file does not describe -- is added to the network or to the sensors first.
 
 Usage: make_data.py OUTDIR EFFECT [SEED]
   EFFECT: rod_clean | rod_radiation (a3 radiates to the sky, GR = 0.01 m^2)
+          rod_mass (the film heats a1 through a mass of its own: 400 J/K, 0.8 W/K to a1)
+          rod_lid (a3 loses 0.5 W/K to the sky only while the lid is open; events.csv)
           star_clean | star_source (hub gains 4 W) | star_offset (arm3 sensor reads +0.7 K)
 """
 import sys
@@ -16,6 +18,9 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 SIGMA = 0.05  # K, sensor noise
+# When the rod's lid was open, as a user would list it for `thermnet diagnose --events`: per case,
+# and (empty case) in every case.
+LID = [("slow", 1500, 2700), ("pulse", 3000, 4200), ("", 7000, 7600)]
 SB = 5.670374419e-8
 ZERO_C = 273.15
 
@@ -42,9 +47,16 @@ def rod(case, hidden):
         film = step([(0, 0.0), (1200, 40.0), (2400, 0.0), (5400, 15.0)])
         corners = [1200, 2400, 5400]
     rad_a3 = 0.01 if hidden == "radiation" else 0.0
+    lid_g = 0.5 if hidden == "lid" else 0.0
+    lid = [(a, b) for c, a, b in LID if c in ("", case)]
+    corners = sorted(corners + [t for w in lid for t in w])
+    heated = 5 if hidden == "mass" else 0  # the film heats a mass node (index 5) linked to a1
+    if heated:
+        C = C + [400.0]
+        links = links + [(5, 0, 0.8)]
 
     def rhs(t, T):
-        q = np.zeros(5)
+        q = np.zeros(len(C))
         for a, b, g in links:
             f = g * (T[b] - T[a])
             q[a] += f
@@ -52,10 +64,12 @@ def rod(case, hidden):
         q[4] += 0.9 * (wall - T[4])
         q[4] += 0.004 * SB * ((sky + ZERO_C) ** 4 - (T[4] + ZERO_C) ** 4)
         q[2] += rad_a3 * SB * ((sky + ZERO_C) ** 4 - (T[2] + ZERO_C) ** 4)
-        q[0] += film(t)
+        if any(a <= t < b for a, b in lid):
+            q[2] += lid_g * (sky - T[2])
+        q[heated] += film(t)
         return q / np.array(C)
 
-    return nodes, [15.0] * 5, rhs, corners, 9000.0, 60.0
+    return nodes, [15.0] * len(C), rhs, corners, 9000.0, 60.0
 
 
 def star(hidden):
@@ -93,7 +107,7 @@ def simulate(net):
         assert sol.success, sol.message
         out.append(sol.y.T)
         T = solve_ivp(rhs, (a, b), T, method="BDF", rtol=1e-10, atol=1e-10).y[:, -1]
-    return nodes, times, np.vstack(out)
+    return nodes, times, np.vstack(out)[:, : len(nodes)]  # hidden nodes are not measured
 
 
 def write(path, nodes, times, temps, rng, offsets=None):
@@ -113,6 +127,9 @@ def main():
     if net == "rod":
         for case in ("slow", "pulse"):
             write(f"{outdir}/rod_{case}.csv", *simulate(rod(case, hidden)), rng)
+        with open(f"{outdir}/events.csv", "w") as f:  # the lid was opened in every rod effect
+            f.write("case,event,start,end\n")
+            f.writelines(f"{c},lid,{a},{b}\n" for c, a, b in LID)
     else:
         offsets = {3: 0.7} if hidden == "offset" else None
         write(f"{outdir}/star_run.csv", *simulate(star(hidden)), rng, offsets)

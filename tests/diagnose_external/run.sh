@@ -7,6 +7,9 @@
 # the gain (held-out error below the baseline's, near the noise), and --write an extended model
 # that lints clean (and, for a model-side cause, fits the data to the noise); the same data
 # without the effect must give no finding.
+# The rod's effects come with the events file a user would write (when its lid was open); the rod's
+# diagnoses read it with --events (EVENTS below), so an event loss can be found and a clean rod with
+# events must still give no finding.
 # Usage: run.sh PATH/TO/thermnet
 . "$(dirname "$0")/../lib/harness.sh" "$@"
 
@@ -14,6 +17,12 @@ PY=/usr/bin/python3
 
 # py FILE EXPR: evaluates a Python expression on the JSON report `r` (true: exit 0)
 py() { "$PY" -c "import json,sys; r=json.load(open('$1')); sys.exit(0 if ($2) else 1)"; }
+
+# options for the rod's diagnoses: the lid's events
+EVENTS=(--events events.csv)
+
+# extra EFFECT: the options that diagnosis of that effect's data takes
+extra() { case $1 in rod_*) echo "${EVENTS[@]}" ;; esac; }
 
 # scenario EFFECT MODEL KIND NODES...: diagnose data with a hidden effect
 scenario() {
@@ -26,8 +35,9 @@ scenario() {
     bad "$effect: make_data.py" "$(cat err.txt)"
     return
   fi
+  # shellcheck disable=SC2046
   if ! "$TN" diagnose "$model.tnet" --threads 2 --json "$effect.json" --write "${effect}_ext.tnet" \
-    >"$effect.txt" 2>err.txt; then
+    $(extra "$effect") >"$effect.txt" 2>err.txt; then
     bad "$effect: diagnose runs" "$(cat err.txt)"
     return
   fi
@@ -63,12 +73,22 @@ print(f\"RMSE {f['rmse_before']:.3g} -> {f['rmse_after']:.3g} K, held-out {f['va
   fi
 }
 
+# fitted EFFECT EXPR WHAT: the top finding's fitted values v satisfy EXPR (the truth's size)
+fitted() {
+  if py "$1.json" "(lambda v: $2)(r['findings'][0]['values'])"; then
+    ok "$1: fitted $3"
+  else
+    bad "$1: fitted $3" "$("$PY" -c "import json; print(json.load(open('$1.json'))['findings'][0]['values'])")"
+  fi
+}
+
 # clean EFFECT MODEL: the same data without a hidden effect gives no finding
 clean() {
   rm -f ./*.csv
   cp "$HERE/$2.tnet" .
+  # shellcheck disable=SC2046
   "$PY" "$HERE/make_data.py" . "$1" >err.txt 2>&1 &&
-    "$TN" diagnose "$2.tnet" --threads 2 --json "$1.json" >"$1.txt" 2>>err.txt
+    "$TN" diagnose "$2.tnet" --threads 2 --json "$1.json" $(extra "$1") >"$1.txt" 2>>err.txt
   if py "$1.json" "r['findings'] == []"; then
     ok "$1: no finding"
   else
@@ -79,6 +99,11 @@ clean() {
 scenario rod_radiation rod missing_link a3 sky
 scenario star_source star missing_source hub
 scenario star_offset star sensor_offset arm3
+scenario rod_mass rod heater_mass a1
+scenario rod_lid rod event_loss a3 sky
+fitted rod_mass "abs(v['C'] / 400 - 1) < 0.1 and abs(v['C'] / v['tau'] / 0.8 - 1) < 0.1" \
+  "C within 10 % of 400 J/K and G = C / tau of 0.8 W/K"
+fitted rod_lid "abs(v['G'] / 0.5 - 1) < 0.1" "G within 10 % of 0.5 W/K"
 clean rod_clean rod
 clean star_clean star
 
