@@ -7,6 +7,7 @@
 // Prints one line per stage (wall and CPU seconds, peak RSS so far) and a summary line
 // `front end: N MB in W s wall (R MB/s), peak RSS P MB (X times the file)` read by bench/run.py.
 // The heap is set up as `thermnet` sets it up (cli/huge_page_heap.hpp).
+
 #include "cli/huge_page_heap.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "kernel/core/network.hpp"
