@@ -6,6 +6,9 @@
 // Usage: thermnet_bench_front_end MODEL.tnet [CASE]
 // Prints one line per stage (wall and CPU seconds, peak RSS so far) and a summary line
 // `front end: N MB in W s wall (R MB/s), peak RSS P MB (X times the file)` read by bench/run.py.
+// The heap is set up as `thermnet` sets it up (cli/huge_page_heap.hpp).
+
+#include "cli/huge_page_heap.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "kernel/core/network.hpp"
 #include "lang/model.hpp"
@@ -43,6 +46,7 @@ double peak_rss_mb() {
 } // namespace
 
 int main(int argc, char** argv) {
+  thermnet::cli::reserve_huge_page_heap(std::size_t{1} << 30);
   if (argc < 2) {
     std::fprintf(stderr, "usage: thermnet_bench_front_end MODEL.tnet [CASE]\n");
     return 2;

@@ -7,6 +7,7 @@
 #include "cli/diagnose_command.hpp"
 #include "cli/estimate_command.hpp"
 #include "cli/exit_status.hpp"
+#include "cli/huge_page_heap.hpp"
 #include "cli/kinds_command.hpp"
 #include "cli/lint_command.hpp"
 #include "cli/lsp_command.hpp"
@@ -92,6 +93,7 @@ int run_main(int argc, char** argv) {
 } // namespace
 
 int main(int argc, char** argv) {
+  thermnet::cli::reserve_huge_page_heap(std::size_t{1} << 30);
   // Under mpirun the ranks share the work; a rank that fails ends the job (cli/mpi_session.hpp).
   thermnet::cli::MpiSession mpi(argc, argv);
   thermnet::cli::route_standard_output();

@@ -1,14 +1,13 @@
 // Optimizer plugin 'ga': pagmo2's simple genetic algorithm (pagmo::sga) on the calibration
-// problem.
+// problem. pagmo itself is reached through libthermnet_pagmo_sga, loaded the first time 'ga' runs
+// (plugins/optimizer/pagmo_sga.hpp, plugins/pagmo_sga/pagmo_sga.cpp).
 //
 // Coordinates. pagmo sees the unit box u in [0, 1]^p, x = lo + u (hi - lo), so its mutation
 // and crossover act alike on every param whatever its unit. Fitness is the SSE over all cases
 // (a failed simulation gets 1e30, so it is never the champion).
 //
-// Operators. Simulated binary crossover (probability 0.9, distribution index 10), polynomial
-// mutation (probability 1/p per gene, distribution index 20), tournament selection of size 2
-// and sga's pure elitism (the best of parents and children survive): the champion never gets
-// worse.
+// Operators. Simulated binary crossover, polynomial mutation, tournament selection and sga's
+// pure elitism (plugins/pagmo_sga/pagmo_sga.cpp): the champion never gets worse.
 //
 // Budget. `samples` evaluations (default 20 (p + 1) x 21, at least 200): a population of
 // 10 (p + 1) capped at 100 (at least 8, even), and samples / population - 1 generations.
@@ -21,11 +20,9 @@
 
 #include "kernel/calibration/optimizer.hpp"
 #include "kernel/core/parallel.hpp"
+#include "plugins/optimizer/pagmo_sga.hpp"
 
 #include <fmt/format.h>
-#include <pagmo/algorithms/sga.hpp>
-#include <pagmo/population.hpp>
-#include <pagmo/problem.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -33,13 +30,15 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <utility>
+#include <vector>
 
 namespace thermnet {
 namespace {
 
 constexpr double kFailedFitness = 1e30;
 
-/// Counting and progress shared by the copies pagmo makes of the problem.
+/// The problem in the unit box, with counting and progress.
 struct GaState {
   const CalibrationProblem* problem = nullptr;
   const OptimizerSettings* settings = nullptr;
@@ -71,17 +70,6 @@ struct GaState {
   }
 };
 
-/// The pagmo user-defined problem: the unit box, fitness = SSE.
-struct PagmoProblem {
-  std::shared_ptr<GaState> state;
-  pagmo::vector_double fitness(const pagmo::vector_double& u) const { return {state->sse(u)}; }
-  std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
-    return {pagmo::vector_double(state->lo.size(), 0.0),
-            pagmo::vector_double(state->lo.size(), 1.0)};
-  }
-  std::string get_name() const { return "thermnet calibration"; }
-};
-
 class GeneticAlgorithm final : public Optimizer {
 public:
   OptimizerResult run(const CalibrationProblem& problem, const OptimizerSettings& s) override;
@@ -97,21 +85,21 @@ OptimizerResult GeneticAlgorithm::run(const CalibrationProblem& problem,
     r.notes.push_back("ga: the model has no ranged param");
     return r;
   }
-  auto state = std::make_shared<GaState>();
-  state->problem = &problem;
-  state->settings = &s;
-  state->lo = problem.lower();
-  state->width = problem.upper();
+  GaState state;
+  state.problem = &problem;
+  state.settings = &s;
+  state.lo = problem.lower();
+  state.width = problem.upper();
   for (std::size_t j = 0; j < p; ++j)
-    state->width[j] -= state->lo[j];
-  state->options.solver = s.solver;
+    state.width[j] -= state.lo[j];
+  state.options.solver = s.solver;
 
   std::size_t pop_size = std::clamp<std::size_t>(10 * (p + 1), 8, 100);
   const std::size_t budget = s.samples > 0 ? s.samples : std::max<std::size_t>(200, pop_size * 21);
   pop_size = std::max<std::size_t>(2, std::min(pop_size, budget));
   pop_size += pop_size % 2;
   const std::size_t generations = budget > pop_size ? budget / pop_size - 1 : 0;
-  state->total = pop_size * (generations + 1);
+  state.total = pop_size * (generations + 1);
 
   // Initial population: reproducible draws, evaluated in parallel, stored by index.
   std::vector<std::vector<double>> initial(pop_size, std::vector<double>(p));
@@ -120,38 +108,34 @@ OptimizerResult GeneticAlgorithm::run(const CalibrationProblem& problem,
       initial[i][j] = uniform01(s.seed, j, i);
   std::vector<double> fit(pop_size, kFailedFitness);
   parallel_for(
-      pop_size, s.threads, [&](std::size_t i) { fit[i] = state->sse(initial[i]); }, s.cancel);
+      pop_size, s.threads, [&](std::size_t i) { fit[i] = state.sse(initial[i]); }, s.cancel);
   const double initial_best = *std::min_element(fit.begin(), fit.end());
 
-  const auto seed32 = static_cast<unsigned>((s.seed ^ (s.seed >> 32)) & 0xffffffffu);
-  pagmo::problem prob{PagmoProblem{state}};
-  pagmo::population pop{prob, 0u, seed32};
-  for (std::size_t i = 0; i < pop_size; ++i)
-    pop.push_back(initial[i], {fit[i]});
-  pagmo::sga algo{1u,           0.9,          10.0,  1.0 / static_cast<double>(p), 20.0, 2u, "sbx",
-                  "polynomial", "tournament", seed32};
-  std::size_t done_generations = 0;
-  for (; done_generations < generations; ++done_generations) {
-    if (s.cancel && s.cancel->load()) break;
-    pop = algo.evolve(pop);
-  }
+  SgaRequest request;
+  request.initial = std::move(initial);
+  request.initial_fitness = std::move(fit);
+  request.generations = generations;
+  request.seed = static_cast<unsigned>((s.seed ^ (s.seed >> 32)) & 0xffffffffu);
+  request.fitness = [&state](const std::vector<double>& u) { return state.sse(u); };
+  request.cancelled = [&s] { return s.cancel && s.cancel->load(); };
+  const SgaOutcome evolved = load_pagmo_sga()(request);
+  const std::size_t done_generations = evolved.generations;
 
   r.samples = pop_size * (done_generations + 1);
-  r.evaluations = state->evaluations.load();
+  r.evaluations = state.evaluations.load();
   r.simulations = r.evaluations * problem.cases().size();
   r.cancelled = s.cancel && s.cancel->load();
-  const double best = pop.champion_f()[0];
+  const double best = evolved.champion_fitness;
   if (best < kFailedFitness) {
     r.found = true;
-    const auto u = pop.champion_x();
-    r.best = state->to_x(u);
+    r.best = state.to_x(evolved.champion_x);
     // The champion's RMSE and R^2 (sga keeps only its fitness): one more evaluation.
-    Evaluation e = problem.evaluate(r.best, state->options);
+    Evaluation e = problem.evaluate(r.best, state.options);
     ++r.evaluations;
     r.simulations += problem.cases().size();
     r.rmse = e.ok ? e.rmse : std::sqrt(best / static_cast<double>(problem.points()));
     r.r2 = e.ok ? e.r2 : 1.0 - best / problem.total_variance();
-    r.accepted = state->ok.load();
+    r.accepted = state.ok.load();
     const auto n = static_cast<double>(problem.points());
     r.notes.push_back(fmt::format(
         "ga: pagmo sga, population {}, {} generations; best RMSE of the initial population "

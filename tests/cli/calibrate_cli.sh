@@ -166,6 +166,12 @@ run calibrate cal.tnet --method lhs --samples 400 --seed 9 --threads 2 --json l2
 check "lhs --threads 1 vs 2: identical JSON values" test "$(json l1.json "$strip")" = "$(json l2.json "$strip")"
 check "lhs reports its method" test "$(json l1.json "j['method']")" = lhs
 
+# ga reaches pagmo through libthermnet_pagmo_sga, which the executable loads on first use.
+run calibrate cal.tnet --method ga --samples 200 --seed 3 --json ga.json
+check "ga runs from the executable (its pagmo library is found and loaded)" test "$rc" -eq 0
+check "ga improves the fit: RMSE < 0.3 K, G and h within their ranges" \
+  test "$(json ga.json "j['method'] == 'ga' and j['rmse'] < 0.3 and 0.5 <= j['params']['G'] <= 5 and 2 <= j['params']['h'] <= 15")" = True
+
 run calibrate cal.tnet --method mc --samples 50 --tolerance 0.01 --json none.json
 check "no sample within the tolerance: exit 1" test "$rc" -eq 1
 check "  ... with a clear message" grep -q 'no sample was within the tolerance' err.txt
