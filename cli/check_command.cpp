@@ -37,8 +37,7 @@ int run_check(const CheckOptions& o, lang::SourceManager& sources) {
     return exit_failure;
   }
   std::vector<std::string> cases = o.cases;
-  if (cases.empty()) cases = model->case_names();
-  if (cases.empty()) cases.push_back(model->resolve_case(""));
+  if (cases.empty()) cases = model->run_case_names();
   std::vector<CheckedRun> runs;
   std::vector<RequirementOutcome> all;
   for (const auto& c : cases) {

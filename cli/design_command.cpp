@@ -173,9 +173,8 @@ int run_design(const DesignOptions& o, lang::SourceManager& sources) {
     return exit_failure;
   }
   std::vector<std::string> cases;
-  for (const auto& c : o.cases.empty() ? model->case_names() : o.cases)
+  for (const auto& c : o.cases.empty() ? model->run_case_names() : o.cases)
     cases.push_back(model->resolve_case(c));
-  if (cases.empty()) cases.push_back(model->resolve_case(""));
   const DesignObjective objective =
       o.objective == "power" ? DesignObjective::power : DesignObjective::energy;
   DesignProblem problem(*model, params, cases, objective, SimulationOptions{});

@@ -46,9 +46,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   check_outputs({{"--json", o.json}, {"--write", o.write}, {"--plot", o.plot}}, inputs);
   DiagnosisOptions opt;
   if (!o.events.empty()) {
-    std::vector<std::string> cases = model->case_names();
-    if (cases.empty()) cases.push_back(model->resolve_case(""));
-    opt.events = read_events(o.events, cases);
+    opt.events = read_events(o.events, model->run_case_names());
   }
   opt.cases = o.cases;
   opt.threads = o.threads;

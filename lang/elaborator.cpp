@@ -916,10 +916,16 @@ NetworkSpec Elaborator::run() {
     element_slot_[i] = static_cast<int>(net.elements.size());
     net.elements.push_back(std::move(*e));
   }
+  finish(net);
+  return net;
+}
+
+// The case's settings, the values set from outside the model over them, and the requirements that
+// apply to the case.
+void Elaborator::finish(NetworkSpec& net) {
   if (case_) apply_case(net);
   apply_key_settings(net);
   add_requirements(net);
-  return net;
 }
 
 // Keys set from outside the model come last, over the model's and the case's values; the objects
@@ -964,10 +970,7 @@ void Elaborator::apply_key_settings(NetworkSpec& net) {
 
 NetworkSpec Elaborator::run_on(NetworkSpec net, const Elaborator& base) {
   element_slot_ = base.element_slot_;
-  if (case_) apply_case(net);
-  apply_key_settings(net); // over the case's values, as in run()
-  net.requirements.clear(); // the base's are those of no case
-  add_requirements(net);
+  finish(net); // the base's requirements are those of no case: replaced
   return net;
 }
 

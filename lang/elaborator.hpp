@@ -62,8 +62,8 @@ public:
   /// The full name a reference denotes inside `scope` (indices evaluated, the instance's prefix
   /// not applied): `p[3]`, `w.x`; throws EvalError.
   std::string reference_text(const ast::Ref& r, FileId file, const Scope* scope);
-  /// Adds the model's `require` statements that apply to the case to `net` (groups resolved,
-  /// limits in SI); problems go to the reporter (lang/requirements.cpp).
+  /// Sets `net`'s requirements to the model's `require` statements that apply to the case (groups
+  /// resolved, limits in SI); problems go to the reporter (lang/requirements.cpp).
   void add_requirements(NetworkSpec& net);
   /// The node a reference denotes inside `scope`, or -1; reports nothing.
   int find_node(const ast::Ref& r, FileId file, const Scope* scope);
@@ -103,6 +103,7 @@ private:
   std::optional<ElementSpec> elaborate_composite(const ElementDecl& d);
   void apply_param_overrides();
   void apply_key_settings(NetworkSpec& net);
+  void finish(NetworkSpec& net);
   void apply_case(NetworkSpec& net);
   void apply_case_items(NetworkSpec& net, const std::vector<ast::CaseItem>& items,
                         const Scope* scope, std::set<std::string>& seen);

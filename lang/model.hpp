@@ -233,6 +233,8 @@ public:
 
   /// Names of the declared cases, in order (empty when the model has none).
   std::vector<std::string> case_names() const;
+  /// The cases a run over the whole model covers: the declared ones, or "default" without any.
+  std::vector<std::string> run_case_names() const;
   /// The case to use for an optional name: the named one, the only one, or "default"; throws
   /// ModelError.
   std::string resolve_case(const std::string& name) const;

@@ -761,6 +761,12 @@ std::vector<std::string> Model::case_names() const {
   return names;
 }
 
+std::vector<std::string> Model::run_case_names() const {
+  std::vector<std::string> names = case_names();
+  if (names.empty()) names.push_back("default");
+  return names;
+}
+
 std::string Model::resolve_case(const std::string& name) const {
   if (name.empty()) {
     if (cases_.size() == 1) return cases_[0].name;

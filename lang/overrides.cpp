@@ -69,9 +69,7 @@ void Model::set_overrides(Overrides overrides) {
   overrides_ = std::move(overrides);
   if (overrides_.empty()) return;
   // Every case takes them, as a model edited to these values would have to.
-  std::vector<std::string> names = case_names();
-  if (names.empty()) names.push_back("");
-  for (const auto& name : names) {
+  for (const auto& name : run_case_names()) {
     try {
       NetworkSpec net = instantiate(name);
       remember(resolve_case(name), std::move(net));

@@ -89,6 +89,7 @@ std::vector<int> select(const std::vector<std::string>& names, const std::string
 } // namespace
 
 void Elaborator::add_requirements(NetworkSpec& net) {
+  net.requirements.clear();
   std::vector<std::string> node_names, element_names;
   for (const auto& n : net.nodes)
     node_names.push_back(n.name);

@@ -52,10 +52,7 @@ CalibrationProblem::CalibrationProblem(const lang::Model& model, std::vector<std
   for (auto& p : model.params())
     if (p.ranged()) params_.push_back(std::move(p));
   const bool all = cases.empty();
-  if (all) {
-    cases = model.case_names();
-    if (cases.empty()) cases.push_back(model.resolve_case(""));
-  }
+  if (all) cases = model.run_case_names();
   for (const auto& requested : cases) {
     std::string name = model.resolve_case(requested);
     if (std::find(cases_.begin(), cases_.end(), name) != cases_.end()) continue; // listed twice

@@ -128,9 +128,7 @@ std::vector<std::string> compared_cases(const lang::Model& model, const Sensitiv
   for (const std::string& name : model.case_names())
     if (!model.instantiate(name).settings.data_path.empty()) cases.push_back(name);
   if (!cases.empty()) return cases;
-  cases = model.case_names();
-  if (cases.empty()) cases.push_back(model.resolve_case(""));
-  return cases;
+  return model.run_case_names();
 }
 
 /// Per task: sum of squared scaled differences per case output, and the sides that failed.

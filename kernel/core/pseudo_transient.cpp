@@ -4,6 +4,7 @@
 #include "kernel/core/pseudo_transient.hpp"
 
 #include "kernel/core/integrator.hpp"
+#include "kernel/core/system_evaluator.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -39,20 +40,15 @@ private:
   std::vector<double> capacities_;
 };
 
-/// |dF_i/dT_i| * 1 s at T, floored so that an unknown without conductance still has a capacity.
-std::vector<double> unit_time_capacities(ThermalSystem& sys, double t,
+/// |dF_i/dT_i| * 1 s at T, floored so that an unknown without conductance still has a capacity;
+/// empty when the Jacobian cannot be evaluated there.
+std::vector<double> unit_time_capacities(SystemEvaluator& ev, double t,
                                          const std::vector<double>& T) {
-  const SparsityPattern& p = sys.jacobian_pattern();
-  std::vector<double> values(static_cast<std::size_t>(p.nnz()));
-  sys.jacobian(t, T.data(), values.data());
-  std::vector<double> c(static_cast<std::size_t>(p.n), 0.0);
-  double largest = 0.0;
-  for (int i = 0; i < p.n; ++i)
-    for (int k = p.row_ptr[i]; k < p.row_ptr[i + 1]; ++k)
-      if (p.col_idx[k] == i && std::isfinite(values[k])) {
-        c[i] = std::abs(values[k]);
-        largest = std::max(largest, c[i]);
-      }
+  if (ev.jacobian(t, T.data()) != 0) return {};
+  std::vector<double> c(static_cast<std::size_t>(ev.size()));
+  for (int i = 0; i < ev.size(); ++i)
+    c[static_cast<std::size_t>(i)] = std::abs(ev.jacobian_storage().diagonal(i));
+  const double largest = *std::max_element(c.begin(), c.end());
   const double floor = largest > 0.0 ? 1e-9 * largest : 1.0;
   for (double& x : c)
     x = std::max(x, floor);
@@ -61,11 +57,13 @@ std::vector<double> unit_time_capacities(ThermalSystem& sys, double t,
 
 } // namespace
 
-bool pseudo_transient(ThermalSystem& sys, std::vector<double>& T, double t,
+bool pseudo_transient(SystemEvaluator& ev, std::vector<double>& T, double t,
                       const SolverOptions& opt) {
+  std::vector<double> capacities = unit_time_capacities(ev, t, T);
+  if (capacities.empty()) return false;
   std::vector<double> walked = T;
   try {
-    HeldInputs held(sys, t, unit_time_capacities(sys, t, T));
+    HeldInputs held(ev.system(), t, std::move(capacities));
     SolverOptions o = opt;
     o.max_step = 0.0;
     o.max_steps = kMaxPseudoSteps;

@@ -9,11 +9,14 @@
 
 namespace thermnet::detail {
 
-/// Integrates c_i dT_i/dtau = F_i(t, T) with the inputs held at time t and pseudo-capacities
-/// c_i = |dF_i/dT_i| at the guess times 1 s (every unknown relaxes in about a second, massless
-/// ones included) until the unknowns settle; T is the guess on entry and the end point on exit.
+class SystemEvaluator;
+
+/// Integrates c_i dT_i/dtau = F_i(t, T) of the evaluator's system with the inputs held at time t
+/// and pseudo-capacities c_i = |dF_i/dT_i| at the guess times 1 s (every unknown relaxes in about
+/// a second, massless ones included) until the unknowns settle; T is the guess on entry and the
+/// end point on exit.
 /// Returns false (T unchanged) when the walk fails (no steady state, or one below 0 K).
-bool pseudo_transient(ThermalSystem& sys, std::vector<double>& T, double t,
+bool pseudo_transient(SystemEvaluator& ev, std::vector<double>& T, double t,
                       const SolverOptions& opt);
 
 } // namespace thermnet::detail

@@ -272,7 +272,7 @@ SolverStats solve_steady(ThermalSystem& sys, std::vector<double>& T, double t,
     // too, the first failure is the one reported.
     const std::exception_ptr first = std::current_exception();
     std::vector<double> walked = T;
-    if (!detail::pseudo_transient(sys, walked, t, opt)) std::rethrow_exception(first);
+    if (!detail::pseudo_transient(ev, walked, t, opt)) std::rethrow_exception(first);
     try {
       SteadyProblem polish(ev, t, walked, kind, opt);
       polish.solve(walked, opt);

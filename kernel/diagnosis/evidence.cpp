@@ -26,10 +26,7 @@ void Engine::load_cases() {
     ev_.declared_cases.push_back({name, model_.instantiate(name)});
   std::vector<std::string> names = opt_.cases;
   const bool all = names.empty();
-  if (all) {
-    names = model_.case_names();
-    if (names.empty()) names.push_back(model_.resolve_case(""));
-  }
+  if (all) names = model_.run_case_names();
   std::set<std::string> seen;
   for (const auto& requested : names) {
     const std::string name = model_.resolve_case(requested);
