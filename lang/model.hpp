@@ -3,6 +3,7 @@
 
 #include "lang/ast.hpp"
 #include "lang/diagnostics.hpp"
+#include "lang/name_index.hpp"
 #include "lang/network_spec.hpp"
 #include "lang/schema.hpp"
 #include "lang/units.hpp"
@@ -321,8 +322,8 @@ private:
   std::set<std::string, std::less<>> structurally_used_; // consts used by loops and indices
   // Name -> declaration index, filled while loading and shared by every elaboration; the keys
   // view the declarations' names (a deque never moves them).
-  std::unordered_map<std::string_view, int> node_index_;
-  std::unordered_map<std::string_view, int> element_index_;
+  NameIndex node_index_;
+  NameIndex element_index_;
   std::unordered_map<std::string_view, int> submodel_index_;
   // Networks of cases without param overrides, elaborated once per run and shared.
   mutable std::mutex cache_mutex_;
