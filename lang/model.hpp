@@ -8,6 +8,8 @@
 #include "lang/schema.hpp"
 #include "lang/units.hpp"
 
+#include <boost/container/small_vector.hpp>
+
 #include <deque>
 #include <functional>
 #include <map>
@@ -113,7 +115,7 @@ struct ElementDecl {
   Span name_span;                                ///< the name
   const Scope* scope = nullptr;                  ///< loop iteration or instance, if any
   const ElementSchema* schema = nullptr;         ///< the kind's schema (plugin elements)
-  std::vector<int> nodes;                        ///< resolved terminals (-1: unresolved)
+  boost::container::small_vector<int, 2> nodes;  ///< resolved terminals (-1: unresolved), inline
   bool valid = true; ///< false when its kind, terminals or names are wrong (reported at load)
 };
 /// A case declaration.
