@@ -8,7 +8,6 @@
 /// recursion to destroy.
 
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <optional>
 #include <span>
@@ -291,14 +290,14 @@ struct Unparsed : Tagged {
 
 /// The statements of one file, in order, with the tables their expressions refer to.
 struct File {
-  std::uint32_t file_id = 0;        ///< SourceManager id
-  std::deque<Statement> statements; ///< parsed statements (those with syntax errors skipped)
-  std::vector<Unparsed> unparsed;   ///< statements skipped because of a syntax error
-  std::size_t syntax_errors = 0;    ///< number of syntax errors reported for this file
-  std::vector<ExprNode> exprs;      ///< every expression node of the file
-  std::vector<Identifier> names;    ///< names used in expressions (ExprNode::name, call)
-  std::vector<UnitText> units;      ///< units of quantity literals
-  std::vector<Index> args;          ///< roots of call arguments (ExprNode::call)
+  std::uint32_t file_id = 0;         ///< SourceManager id
+  std::vector<Statement> statements; ///< parsed statements (those with syntax errors skipped)
+  std::vector<Unparsed> unparsed;    ///< statements skipped because of a syntax error
+  std::size_t syntax_errors = 0;     ///< number of syntax errors reported for this file
+  std::vector<ExprNode> exprs;       ///< every expression node of the file
+  std::vector<Identifier> names;     ///< names used in expressions (ExprNode::name, call)
+  std::vector<UnitText> units;       ///< units of quantity literals
+  std::vector<Index> args;           ///< roots of call arguments (ExprNode::call)
 
   /// The node at an index.
   const ExprNode& node(Index i) const { return exprs[i]; }

@@ -745,7 +745,7 @@ std::optional<ElementSpec> Elaborator::elaborate_element(const ElementDecl& d) {
   e.kind = s.kind.name;
   e.name = d.name;
   e.where = d.where;
-  e.nodes = d.nodes;
+  e.nodes.assign(d.nodes.begin(), d.nodes.end());
   bool ok = std::find(e.nodes.begin(), e.nodes.end(), -1) == e.nodes.end();
   ok &= fill_keys(
       *d.schema, s.keys, f, at, [&] { return fmt::format("{} '{}'", e.kind, e.name); }, e);
@@ -780,7 +780,7 @@ std::optional<ElementSpec> Elaborator::elaborate_composite(const ElementDecl& d)
   e.name = d.name;
   e.where = d.where;
   e.composite = s.mode.name == "series" ? Composite::series : Composite::parallel;
-  e.nodes = d.nodes;
+  e.nodes.assign(d.nodes.begin(), d.nodes.end());
   bool ok = std::find(e.nodes.begin(), e.nodes.end(), -1) == e.nodes.end();
   if (s.parts.empty()) {
     report(DiagnosticEngine::make(DiagId::composite_kind, at, span_of(f, s.name),

@@ -3,9 +3,12 @@
 
 #include "lang/ast.hpp"
 #include "lang/diagnostics.hpp"
+#include "lang/name_index.hpp"
 #include "lang/network_spec.hpp"
 #include "lang/schema.hpp"
 #include "lang/units.hpp"
+
+#include <boost/container/small_vector.hpp>
 
 #include <deque>
 #include <functional>
@@ -112,7 +115,7 @@ struct ElementDecl {
   Span name_span;                                ///< the name
   const Scope* scope = nullptr;                  ///< loop iteration or instance, if any
   const ElementSchema* schema = nullptr;         ///< the kind's schema (plugin elements)
-  std::vector<int> nodes;                        ///< resolved terminals (-1: unresolved)
+  boost::container::small_vector<int, 2> nodes;  ///< resolved terminals (-1: unresolved), inline
   bool valid = true; ///< false when its kind, terminals or names are wrong (reported at load)
 };
 /// A case declaration.
@@ -321,8 +324,8 @@ private:
   std::set<std::string, std::less<>> structurally_used_; // consts used by loops and indices
   // Name -> declaration index, filled while loading and shared by every elaboration; the keys
   // view the declarations' names (a deque never moves them).
-  std::unordered_map<std::string_view, int> node_index_;
-  std::unordered_map<std::string_view, int> element_index_;
+  NameIndex node_index_;
+  NameIndex element_index_;
   std::unordered_map<std::string_view, int> submodel_index_;
   // Networks of cases without param overrides, elaborated once per run and shared.
   mutable std::mutex cache_mutex_;

@@ -331,9 +331,19 @@ private:
       if (const auto* loop = std::get_if<ast::ForStmt>(stmt)) check_loop(*loop, f, nullptr, vars);
     elaborator_.emplace(
         Elaborator::structural(m_, [this](Diagnostic d) { report(std::move(d), nullptr, true); }));
-    // A flat model declares one name per statement: size the indices once.
-    m_.node_index_.reserve(structure_.size());
-    m_.element_index_.reserve(structure_.size());
+    // A flat model declares one name per statement: size the indices once (robin-hood hashing
+    // stays fast well above the default load factor of 0.5, and a bucket costs 32 bytes).
+    std::size_t nodes = 0, elements = 0;
+    for (const auto& [stmt, f] : structure_) {
+      nodes += std::holds_alternative<ast::NodeStmt>(*stmt);
+      elements += std::holds_alternative<ast::ElementStmt>(*stmt) ||
+                  std::holds_alternative<ast::CompositeStmt>(*stmt);
+    }
+    for (auto [index, count] :
+         {std::pair{&m_.node_index_, nodes}, {&m_.element_index_, elements}}) {
+      index->max_load_factor(0.8f);
+      index->reserve(count);
+    }
     for (const auto& [stmt, f] : structure_) {
       if (stopped_ || diags_.saturated()) break;
       expand(*stmt, f, nullptr);
@@ -484,7 +494,7 @@ private:
     } else {
       entered = true;
     }
-    if (!previous)
+    if (!previous && !instance_index_.empty())
       if (auto i = instance_index_.find(name); i != instance_index_.end()) previous = &i->second;
     check_name(instance ? "instance" : "element", base, name, name_span, where, previous, scope);
     if (previous) {

@@ -57,6 +57,11 @@ public:
       end_ = base_ + copy_.size();
     }
     grammar_.emplace(base_, end_, original_, file_);
+    // A statement takes a line (of 16 bytes or more in a real model): one allocation for them
+    // all in a generated file of one per line.
+    const auto size = static_cast<std::size_t>(end_ - base_);
+    file_.statements.reserve(
+        std::min(static_cast<std::size_t>(std::count(base_, end_, '\n')) + 1, size / 16 + 1));
     It p = base_;
     if (end_ - base_ >= 3 && std::equal(base_, base_ + 3, "\xEF\xBB\xBF")) p += 3; // a UTF-8 BOM
     parse_statements(p, file_.statements, Block::top, nullptr);

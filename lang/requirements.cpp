@@ -90,6 +90,7 @@ std::vector<int> select(const std::vector<std::string>& names, const std::string
 
 void Elaborator::add_requirements(NetworkSpec& net) {
   net.requirements.clear();
+  if (m_.requirements().empty()) return;
   std::vector<std::string> node_names, element_names;
   for (const auto& n : net.nodes)
     node_names.push_back(n.name);

@@ -89,9 +89,10 @@ std::optional<std::string> read_text_file(const std::string& path, std::string& 
   int fd = -1;
   std::size_t size = 0;
   if (auto problem = open_model_file(path, max_file_bytes, fd, size)) return problem;
-  // A regular file whose size fstat knows: read that much (and stop at the limit should it grow).
+  // A regular file whose size fstat knows: read that much and one byte more, which finds the end
+  // without growing the string (and stop at the limit should the file grow).
   text.clear();
-  text.resize(size);
+  text.resize(size + 1);
   std::size_t got = 0;
   for (;;) {
     if (got == text.size()) {
