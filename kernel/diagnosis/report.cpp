@@ -143,6 +143,16 @@ nlohmann::json diagnosis_json(const DiagnosisReport& r) {
   j["screened"] = r.screened;
   j["refitted"] = r.refitted;
   j["wall_s"] = r.wall_s;
+  j["cpu_s"] = r.cpu_s;
+  nlohmann::json t = {{"setup_wall_s", r.setup_wall_s}, {"batches", nlohmann::json::array()}};
+  for (const RefitBatch& b : r.batches)
+    t["batches"].push_back({{"given", b.given},
+                            {"joint", b.joint},
+                            {"refits", b.refits},
+                            {"simulations", b.simulations},
+                            {"wall_s", b.wall_s},
+                            {"cpu_s", b.cpu_s}});
+  j["timing"] = t;
   return j;
 }
 
