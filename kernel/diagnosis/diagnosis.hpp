@@ -86,9 +86,12 @@ struct Finding {
   std::string separate_by;             ///< what measurement would separate it from its rivals
 };
 
-/// Where a diagnosis spent its time: one batch of candidate refits (the costly part).
+/// Where a diagnosis spent its time: a batch of candidate refits (the costly part); consecutive
+/// batches of the same kind on the same base are merged.
 struct RefitBatch {
-  std::size_t given = 0;  ///< findings applied below the candidates (0: the declared model)
+  /// findings applied to the base model the candidates are fitted on (a joint refit of a later
+  /// step carries the applied findings in its candidate and fits on the declared model: 0)
+  std::size_t base_findings = 0;
   bool joint = false;     ///< refitted jointly with the ranged params
   std::size_t refits = 0; ///< candidates refitted (each on all data plus every validation fold)
   std::size_t simulations = 0; ///< case simulations the refits ran

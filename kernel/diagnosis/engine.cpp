@@ -76,13 +76,14 @@ void Engine::timed(const Base& base, bool joint, std::size_t refits, Work&& work
   const std::size_t sims0 = simulations_.load();
   work();
   RefitBatch b;
-  b.given = base.applied.size();
+  b.base_findings = base.applied.size();
   b.joint = joint;
   b.refits = refits;
   b.simulations = simulations_.load() - sims0;
   b.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   b.cpu_s = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
-  if (!batches_.empty() && batches_.back().given == b.given && batches_.back().joint == joint) {
+  if (!batches_.empty() && batches_.back().base_findings == b.base_findings &&
+      batches_.back().joint == joint) {
     RefitBatch& last = batches_.back();
     last.refits += b.refits;
     last.simulations += b.simulations;

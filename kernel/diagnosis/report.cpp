@@ -143,17 +143,22 @@ nlohmann::json diagnosis_json(const DiagnosisReport& r) {
   j["screened"] = r.screened;
   j["refitted"] = r.refitted;
   j["wall_s"] = r.wall_s;
-  j["cpu_s"] = r.cpu_s;
-  nlohmann::json t = {{"setup_wall_s", r.setup_wall_s}, {"batches", nlohmann::json::array()}};
-  for (const RefitBatch& b : r.batches)
-    t["batches"].push_back({{"given", b.given},
-                            {"joint", b.joint},
-                            {"refits", b.refits},
-                            {"simulations", b.simulations},
-                            {"wall_s", b.wall_s},
-                            {"cpu_s", b.cpu_s}});
-  j["timing"] = t;
   return j;
+}
+
+std::string diagnosis_timing_text(const DiagnosisReport& r) {
+  std::string s = fmt::format("thermnet diagnose: {:.1f} s wall, {:.1f} s CPU; setup (data, "
+                              "baseline, screen) {:.2f} s wall; {} screened, {} refitted\n",
+                              r.wall_s, r.cpu_s, r.setup_wall_s, r.screened, r.refitted);
+  for (std::size_t i = 0; i < r.batches.size(); ++i) {
+    const RefitBatch& b = r.batches[i];
+    s += fmt::format("  refits {}: {} {}on {} finding{}: {} simulations, {:.1f} s wall, {:.1f} s "
+                     "CPU\n",
+                     i + 1, b.refits, b.joint ? "jointly with the ranged params " : "",
+                     b.base_findings, b.base_findings == 1 ? "" : "s", b.simulations, b.wall_s,
+                     b.cpu_s);
+  }
+  return s;
 }
 
 std::string diagnosis_text(const DiagnosisReport& r) {
