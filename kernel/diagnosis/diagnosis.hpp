@@ -94,7 +94,7 @@ struct RefitBatch {
   std::size_t base_findings = 0;
   bool joint = false;     ///< refitted jointly with the ranged params
   std::size_t refits = 0; ///< candidates refitted (each on all data plus every validation fold)
-  std::size_t simulations = 0; ///< case simulations the refits ran
+  std::size_t simulations = 0; ///< case simulations the refits ran (in this process)
   double wall_s = 0.0;         ///< wall time, s
   double cpu_s = 0.0;          ///< CPU time of the process (every thread), s
 };
