@@ -115,7 +115,7 @@ struct DiagnosisReport {
   std::size_t folds = 0;             ///< validation folds
   double wall_s = 0.0;               ///< wall time, s
   double cpu_s = 0.0;                ///< CPU time of the process (every thread), s
-  double setup_wall_s = 0.0; ///< wall time of loading the data, the baseline and the screen, s
+  double setup_wall_s = 0.0; ///< wall time of loading the data, the baseline and the heat flows, s
   std::vector<RefitBatch> batches; ///< the refit batches, in order
   /// Per case: times, and per measured node: measured, baseline and best-finding series (K).
   struct Curves {

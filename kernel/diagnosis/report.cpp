@@ -148,7 +148,7 @@ nlohmann::json diagnosis_json(const DiagnosisReport& r) {
 
 std::string diagnosis_timing_text(const DiagnosisReport& r) {
   std::string s = fmt::format("thermnet diagnose: {:.1f} s wall, {:.1f} s CPU; setup (data, "
-                              "baseline, screen) {:.2f} s wall; {} screened, {} refitted\n",
+                              "baseline, heat flows) {:.2f} s wall; {} screened, {} refitted\n",
                               r.wall_s, r.cpu_s, r.setup_wall_s, r.screened, r.refitted);
   for (std::size_t i = 0; i < r.batches.size(); ++i) {
     const RefitBatch& b = r.batches[i];
