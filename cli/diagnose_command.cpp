@@ -1,5 +1,5 @@
 // `thermnet diagnose MODEL [--case NAME ...] [--json REPORT.json] [--write EXTENDED.tnet]
-//  [--plot OUT.svg] [--threads N] [--top K] [--events EVENTS.csv]`
+//  [--plot OUT.svg] [--threads N] [--top K] [--events EVENTS.csv] [--stats]`
 
 #include "cli/diagnose_command.hpp"
 
@@ -34,6 +34,7 @@ struct DiagnoseOptions {
   int threads = 0;
   std::size_t top = 5;
   std::vector<std::string> sets;
+  bool stats = false;
 };
 
 int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
@@ -54,6 +55,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   const DiagnosisReport rep = diagnose(*model, opt);
   std::cout << diagnosis_text(rep);
   std::cout.flush();
+  if (o.stats) std::cerr << diagnosis_timing_text(rep);
   std::vector<OutputFile> files;
   if (!o.json.empty()) files.push_back({o.json, diagnosis_json(rep).dump(2) + "\n"});
   if (!o.write.empty()) {
@@ -170,6 +172,8 @@ void add_diagnose_command(CLI::App& app, int& status) {
   sub->add_option("--events", o->events,
                   "CSV of known events (case,event,start,end in s; empty case: every case): "
                   "event_loss looks for a loss that exists only while one is on");
+  sub->add_flag("--stats", o->stats,
+                "print where the time went (setup, each batch of refits) to standard error");
   sub->callback([o, &status] {
     status = run_command("thermnet diagnose",
                          [&](lang::SourceManager& sources) { return run_diagnose(*o, sources); });

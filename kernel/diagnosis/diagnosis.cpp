@@ -7,13 +7,16 @@
 #include "kernel/diagnosis/selection.hpp"
 
 #include <chrono>
+#include <ctime>
 
 namespace thermnet {
 
 DiagnosisReport diagnose(const lang::Model& model, const DiagnosisOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t cpu0 = std::clock();
   const detail::Engine engine(model, options);
   DiagnosisReport rep;
+  rep.setup_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   rep.model = model.path();
   for (const auto& ce : engine.evidence().cases)
     rep.cases.push_back(ce.name);
@@ -25,7 +28,9 @@ DiagnosisReport diagnose(const lang::Model& model, const DiagnosisOptions& optio
   const detail::Base best =
       rep.at_noise_floor ? engine.declared() : detail::Selection(engine, options).run(rep);
   rep.curves = engine.curves(best);
+  rep.batches = engine.batches();
   rep.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  rep.cpu_s = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   return rep;
 }
 

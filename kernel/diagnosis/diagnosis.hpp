@@ -86,6 +86,19 @@ struct Finding {
   std::string separate_by;             ///< what measurement would separate it from its rivals
 };
 
+/// Where a diagnosis spent its time: a batch of candidate refits (the costly part); consecutive
+/// batches of the same kind on the same base are merged.
+struct RefitBatch {
+  /// findings applied to the base model the candidates are fitted on (a joint refit of a later
+  /// step carries the applied findings in its candidate and fits on the declared model: 0)
+  std::size_t base_findings = 0;
+  bool joint = false;     ///< refitted jointly with the ranged params
+  std::size_t refits = 0; ///< candidates refitted (each on all data plus every validation fold)
+  std::size_t simulations = 0; ///< case simulations the refits ran (in this process)
+  double wall_s = 0.0;         ///< wall time, s
+  double cpu_s = 0.0;          ///< CPU time of the process (every thread), s
+};
+
 /// The outcome of a diagnosis.
 struct DiagnosisReport {
   std::string model;                 ///< model path
@@ -101,6 +114,9 @@ struct DiagnosisReport {
   std::string validation;            ///< "leave_one_case_out" or "held_back_time"
   std::size_t folds = 0;             ///< validation folds
   double wall_s = 0.0;               ///< wall time, s
+  double cpu_s = 0.0;                ///< CPU time of the process (every thread), s
+  double setup_wall_s = 0.0; ///< wall time of loading the data, the baseline and the heat flows, s
+  std::vector<RefitBatch> batches; ///< the refit batches, in order
   /// Per case: times, and per measured node: measured, baseline and best-finding series (K).
   struct Curves {
     std::string case_name;                               ///< case

@@ -8,7 +8,9 @@
 #include "kernel/core/process_group.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <ctime>
 #include <utility>
 
 namespace thermnet::detail {
@@ -67,8 +69,35 @@ Base Engine::make_base(std::vector<Applied> applied) const {
   return b;
 }
 
+template <class Work>
+void Engine::timed(const Base& base, bool joint, std::size_t refits, Work&& work) const {
+  const auto wall0 = std::chrono::steady_clock::now();
+  const std::clock_t cpu0 = std::clock();
+  const std::size_t sims0 = simulations_.load();
+  work();
+  RefitBatch b;
+  b.base_findings = base.applied.size();
+  b.joint = joint;
+  b.refits = refits;
+  b.simulations = simulations_.load() - sims0;
+  b.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  b.cpu_s = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+  if (!batches_.empty() && batches_.back().base_findings == b.base_findings &&
+      batches_.back().joint == joint) {
+    RefitBatch& last = batches_.back();
+    last.refits += b.refits;
+    last.simulations += b.simulations;
+    last.wall_s += b.wall_s;
+    last.cpu_s += b.cpu_s;
+  } else {
+    batches_.push_back(b);
+  }
+}
+
 Evaluated Engine::evaluate(const Entry& e, const Base& base, bool joint) const {
-  return evaluated(e, base, refit(e, base, joint));
+  Refit r;
+  timed(base, joint, 1, [&] { r = refit(e, base, joint); });
+  return evaluated(e, base, std::move(r));
 }
 
 Refit Engine::refit(const Entry& e, const Base& base, bool joint) const {
@@ -155,11 +184,13 @@ std::vector<Evaluated> Engine::evaluate_all(const std::vector<Entry>& entries, c
   // Each process refits its share of the entries; the refits are exchanged, and every process
   // makes the same findings from all of them.
   std::vector<Refit> refits(entries.size());
-  distributed_for(
-      entries.size(), opt_.threads,
-      [&](std::size_t i) { refits[i] = refit(entries[i], base, joint); },
-      [&](std::size_t i) { return pack_refit(refits[i]); },
-      [&](std::size_t i, std::string_view bytes) { refits[i] = unpack_refit(bytes); });
+  timed(base, joint, entries.size(), [&] {
+    distributed_for(
+        entries.size(), opt_.threads,
+        [&](std::size_t i) { refits[i] = refit(entries[i], base, joint); },
+        [&](std::size_t i) { return pack_refit(refits[i]); },
+        [&](std::size_t i, std::string_view bytes) { refits[i] = unpack_refit(bytes); });
+  });
   std::vector<Evaluated> res(entries.size());
   for (std::size_t i = 0; i < entries.size(); ++i)
     res[i] = evaluated(entries[i], base, std::move(refits[i]));

@@ -9,6 +9,7 @@
 
 #include <Eigen/Dense>
 
+#include <atomic>
 #include <set>
 #include <string>
 #include <string_view>
@@ -111,6 +112,8 @@ public:
   std::string trend_words(const FitMetrics& m, const std::vector<std::string>& nodes) const;
   /// Per case: measured, baseline and `after` (if it applies findings) series of every node.
   std::vector<DiagnosisReport::Curves> curves(const Base& after) const;
+  /// The refit batches so far (consecutive ones on the same base kind merged), for the report.
+  const std::vector<RefitBatch>& batches() const { return batches_; }
 
 private:
   struct Fit {
@@ -148,6 +151,8 @@ private:
   bool validate(const Hypothesis& h, const Candidate& c, const Fit& all, const Base& base,
                 int max_iter, double rtol, std::vector<double>& holdout_r) const;
   void measure_gain(Finding& f, const Base& base, double sse, double holdout_sse) const;
+  template <class Work>
+  void timed(const Base& base, bool joint, std::size_t refits, Work&& work) const;
   // fit_metrics.cpp
   FitMetrics metrics(const CaseSims& sims) const;
   bool at_floor(const FitMetrics& m) const;
@@ -158,7 +163,9 @@ private:
   std::vector<double> split_; // per case: first held-back time (time-split validation)
   bool loco_ = false;         // leave one case out (>= 2 cases)
   std::size_t n_all_ = 0, n_test_ = 0;
-  Base base0_; // the declared model
+  Base base0_;                                      // the declared model
+  mutable std::atomic<std::size_t> simulations_{0}; // case simulations run (every thread)
+  mutable std::vector<RefitBatch> batches_;         // timing of the refits (main thread only)
 };
 
 /// Simulates a case at the measured times: temperatures of every node (spec order), K.

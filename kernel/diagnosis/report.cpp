@@ -146,6 +146,21 @@ nlohmann::json diagnosis_json(const DiagnosisReport& r) {
   return j;
 }
 
+std::string diagnosis_timing_text(const DiagnosisReport& r) {
+  std::string s = fmt::format("thermnet diagnose: {:.1f} s wall, {:.1f} s CPU; setup (data, "
+                              "baseline, heat flows) {:.2f} s wall; {} screened, {} refitted\n",
+                              r.wall_s, r.cpu_s, r.setup_wall_s, r.screened, r.refitted);
+  for (std::size_t i = 0; i < r.batches.size(); ++i) {
+    const RefitBatch& b = r.batches[i];
+    s += fmt::format("  refits {}: {} {}on {} finding{}: {} simulations, {:.1f} s wall, {:.1f} s "
+                     "CPU\n",
+                     i + 1, b.refits, b.joint ? "jointly with the ranged params " : "",
+                     b.base_findings, b.base_findings == 1 ? "" : "s", b.simulations, b.wall_s,
+                     b.cpu_s);
+  }
+  return s;
+}
+
 std::string diagnosis_text(const DiagnosisReport& r) {
   std::string s;
   s += fmt::format("Diagnosis of {} ({} case{}: {})\n", r.model, r.cases.size(),

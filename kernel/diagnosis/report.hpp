@@ -16,6 +16,9 @@ nlohmann::json diagnosis_json(const DiagnosisReport& report);
 /// The report for a person: worst nodes, evidence in words, ranked findings, the gain.
 std::string diagnosis_text(const DiagnosisReport& report);
 
+/// Where the time went (for --stats): wall and CPU time in all, the setup, and each refit batch.
+std::string diagnosis_timing_text(const DiagnosisReport& report);
+
 /// The fitted values of a finding by name (e.g. {"G": 0.5}).
 std::map<std::string, double> finding_values(const Finding& f);
 

@@ -568,6 +568,12 @@ TEST_CASE("diagnose plate: 20 nodes, 2 cases, hidden link to a boundary") {
   CHECK(f.candidate.kind == "missing_link");
   CHECK_MESSAGE(same_pair(f, "p7", "sink"), explain(r));
   CHECK(value(f, "G") == doctest::Approx(0.4).epsilon(0.1));
+  // The timing accounts for every refit, and the refits simulated the cases.
+  std::size_t refits = 0, simulations = 0;
+  for (const RefitBatch& b : r.batches)
+    refits += b.refits, simulations += b.simulations;
+  CHECK(refits == r.refitted);
+  CHECK(simulations > r.refitted);
   // The plot renders before/after curves.
   const std::string svg = cli::diagnosis_svg(r);
   CHECK(svg.find("<svg") != std::string::npos);
