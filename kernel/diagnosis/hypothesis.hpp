@@ -80,7 +80,8 @@ struct Candidate {
   std::vector<double> hi;         ///< upper bounds
   bool measurement_side = false;  ///< acts on the simulated series, not the model
   /// On unmeasured nodes only, so the screen cannot score it (screen 0): refitted when a
-  /// shortlisted candidate of its kind names a measured neighbour in its place.
+  /// shortlisted candidate of its kind names a neighbour in its place, or when its kind has few
+  /// such candidates (one per heater).
   bool unobserved = false;
   double screen = 0.0;              ///< screen score (larger is better; model-side comparable)
   std::string evidence;             ///< what the screen saw, in words

@@ -63,11 +63,24 @@ std::vector<int> unmeasured_near(const std::vector<std::set<int>>& near, const E
   return ring;
 }
 
+/// The boundaries and unmeasured nodes an element links the unmeasured `node` to: the screen
+/// knows an unmeasured node's temperature only from the simulation, so a candidate naming it
+/// cannot be told by the screen from one naming such a neighbour (a boundary it is tightly
+/// coupled to runs at nearly its temperature).
+std::vector<int> unseen_neighbours(const std::vector<std::set<int>>& near, const Evidence& ev,
+                                   const lang::NetworkSpec& spec, int node) {
+  std::vector<int> out;
+  for (int u : near[static_cast<std::size_t>(node)])
+    if (ev.unobserved(u) || spec.nodes[static_cast<std::size_t>(u)].boundary) out.push_back(u);
+  return out;
+}
+
 /// For each shortlisted candidate (`picked`, indices into `side`): the candidates of its kind and
 /// mechanism that name, in place of one of its measured nodes, an unmeasured node near it
-/// (unmeasured_near). Where an effect sits on an unmeasured node, the screen can only see it
-/// through the measured nodes nearby, and their candidate is its proxy. Pairs (counterpart,
-/// picked).
+/// (unmeasured_near), or in place of one of its unmeasured nodes, a boundary or unmeasured node
+/// linked to it (unseen_neighbours). Where an effect sits on an unmeasured node, the screen can
+/// only see it through the measured nodes nearby, and their candidate is its proxy. Pairs
+/// (counterpart, picked).
 std::vector<std::pair<std::size_t, std::size_t>>
 counterparts(const std::vector<Entry>& side, const Evidence& ev,
              const std::vector<std::size_t>& picked) {
@@ -77,21 +90,36 @@ counterparts(const std::vector<Entry>& side, const Evidence& ev,
   const auto& spec = ev.cases.front().spec;
   const auto near = neighbours(spec);
   std::vector<std::pair<std::size_t, std::size_t>> out;
-  for (std::size_t i : picked) {
+  // (index, its shortlisted root, depth): a counterpart's own unmeasured ends are exchanged once
+  // more for their unseen neighbours (a link found to an unmeasured node beside a measured
+  // proxy may really go to the boundary that node is tied to).
+  struct Todo {
+    std::size_t i, root;
+    int depth;
+  };
+  std::vector<Todo> todo;
+  std::set<std::size_t> seen(picked.begin(), picked.end());
+  for (std::size_t i : picked)
+    todo.push_back({i, i, 0});
+  for (std::size_t t = 0; t < todo.size(); ++t) {
+    const auto [i, root, depth] = todo[t];
     const Candidate& c = side[i].c;
     std::size_t found = 0;
     for (std::size_t n = 0; n < c.nodes.size() && found < kBeside; ++n) {
       const int node = spec.node_index(c.nodes[n]);
-      if (node < 0 || !ev.measured(node)) continue;
-      for (int u : unmeasured_near(near, ev, node)) {
+      if (node < 0 || (!ev.measured(node) && !ev.unobserved(node))) continue;
+      if (depth > 0 && ev.measured(node)) continue;
+      for (int u : ev.measured(node) ? unmeasured_near(near, ev, node)
+                                     : unseen_neighbours(near, ev, spec, node)) {
         std::vector<std::string> nodes = c.nodes;
         nodes[n] = spec.nodes[static_cast<std::size_t>(u)].name;
         auto it = by_shape.find(shape_key(c.kind, c.mechanism, nodes));
         if (it == by_shape.end()) continue;
         for (std::size_t j : it->second)
-          if (found < kBeside && j != i) {
-            out.emplace_back(j, i);
+          if (found < kBeside && seen.insert(j).second) {
+            out.emplace_back(j, root);
             ++found;
+            if (depth == 0) todo.push_back({j, root, 1});
           }
       }
     }

@@ -23,15 +23,21 @@ public:
       for (const auto& ce : ev.cases)
         on.push_back(event_schedule(ev.events, ce.name, names[e]));
       for (int a = 0; a < n; ++a) {
-        if (nodes[static_cast<std::size_t>(a)].boundary || !ev.measured(a)) continue;
+        // (an unmeasured node has no unexplained heat flow: its candidates are refitted only
+        // beside a shortlisted one of a measured neighbour, started at its value)
+        const bool unobserved = ev.unobserved(a);
+        if (!ev.measured(a) && !unobserved) continue;
         for (int b = 0; b < n; ++b) {
           if (!nodes[static_cast<std::size_t>(b)].boundary) continue;
-          const ScreenFit f = ev.regress([&](std::size_t c, int row, std::size_t k) {
-            if (row != a) return 0.0;
-            const auto& T = ev.cases[c].T[k];
-            return on[c].at(ev.cases[c].times()[k]) *
-                   (T[static_cast<std::size_t>(b)] - T[static_cast<std::size_t>(a)]);
-          });
+          const ScreenFit f =
+              unobserved
+                  ? ScreenFit{.coefficient = 1.0}
+                  : ev.regress([&](std::size_t c, int row, std::size_t k) {
+                      if (row != a) return 0.0;
+                      const auto& T = ev.cases[c].T[k];
+                      return on[c].at(ev.cases[c].times()[k]) *
+                             (T[static_cast<std::size_t>(b)] - T[static_cast<std::size_t>(a)]);
+                    });
           if (f.coefficient <= 0.0) continue; // heat would flow against the difference
           Candidate c;
           c.kind = "event_loss";
@@ -43,11 +49,17 @@ public:
           c.start = {std::clamp(f.coefficient, 1e-5, 1e3)};
           c.screen = f.reduction;
           c.index = {a, b};
+          c.unobserved = unobserved;
           for (const auto& w : ev.events)
             if (w.event == names[e]) c.windows.push_back(w);
-          c.evidence = fmt::format("while {} is on, the unexplained heat flow of {} follows its "
-                                   "temperature difference to {} (correlation {:.2f})",
-                                   names[e], c.nodes[0], c.nodes[1], f.correlation);
+          c.evidence =
+              unobserved
+                  ? fmt::format("{} is not measured; a loss to {} while {} is on shows at "
+                                "its measured neighbours",
+                                c.nodes[0], c.nodes[1], names[e])
+                  : fmt::format("while {} is on, the unexplained heat flow of {} follows its "
+                                "temperature difference to {} (correlation {:.2f})",
+                                names[e], c.nodes[0], c.nodes[1], f.correlation);
           out.push_back(std::move(c));
         }
       }

@@ -60,12 +60,14 @@ public:
       const auto& el = spec.elements[static_cast<std::size_t>(e)];
       const int node = el.nodes.at(0);
       const double C_node = spec.nodes[static_cast<std::size_t>(node)].C;
-      if (!ev.measured(node) || !(C_node > 0.0)) continue;
+      const bool unobserved = ev.unobserved(node);
+      if ((!ev.measured(node) && !unobserved) || !(C_node > 0.0)) continue;
       const double min_tau = std::max(1.0, 2.0 * sampling_interval(ev));
       ScreenFit best;
-      double best_tau = std::max(kTaus.front(), min_tau);
+      // (an unmeasured node has no unexplained heat flow to screen: the refit starts mid-range)
+      double best_tau = std::max(unobserved ? kTaus[3] : kTaus.front(), min_tau);
       for (double tau : kTaus) {
-        if (tau < min_tau) continue;
+        if (tau < min_tau || unobserved) continue;
         std::vector<std::vector<double>> term;
         for (const auto& ce : ev.cases) {
           const auto& P = ce.spec.elements[static_cast<std::size_t>(e)].values.at("P");
@@ -91,9 +93,15 @@ public:
       c.start = {0.5 * C_node, best_tau};
       c.screen = best.reduction;
       c.index = {e, node};
-      c.evidence = fmt::format("the unexplained heat flow of {} follows the power of {} delayed by "
-                               "about {:g} s (correlation {:.2f}): it heats through a mass",
-                               c.nodes[0], el.name, best_tau, best.correlation);
+      c.unobserved = unobserved;
+      c.evidence =
+          unobserved
+              ? fmt::format("{} is not measured; the delayed power of {} shows at "
+                            "its measured neighbours",
+                            c.nodes[0], el.name)
+              : fmt::format("the unexplained heat flow of {} follows the power of {} delayed by "
+                            "about {:g} s (correlation {:.2f}): it heats through a mass",
+                            c.nodes[0], el.name, best_tau, best.correlation);
       out.push_back(std::move(c));
     }
     return out;

@@ -294,6 +294,22 @@ TEST_CASE("diagnose chain: heater delivers more than modelled") {
   CHECK(diagnose(*e.model).baseline.rmse < 0.1);
 }
 
+TEST_CASE("diagnose chain: a heater on an unmeasured node delivers more than modelled") {
+  // n1 (the heater's node) has no sensor, and no other heater's candidate sits near it: its
+  // heater_gain has no screen score and is refitted because its kind has few such candidates.
+  TempDir dir;
+  Setup s = chain_setup(600, 15);
+  s.measured = {"n2", "n3", "n4"};
+  const auto r = run(make_case(dir, s, "", chain(600, 20)));
+  const Finding& f = top(r);
+  bool named = f.candidate.kind == "heater_gain" && f.candidate.element == "film";
+  for (const auto& rival : f.rivals)
+    named = named || (rival.candidate.kind == "heater_gain" && rival.candidate.element == "film");
+  CHECK_MESSAGE(named, explain(r));
+  if (f.candidate.kind == "heater_gain")
+    CHECK(value(f, "factor") == doctest::Approx(20.0 / 15.0).epsilon(0.05));
+}
+
 TEST_CASE("diagnose chain: sensor offset on n2") {
   TempDir dir;
   const Setup s = chain_setup();
