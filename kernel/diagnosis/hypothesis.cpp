@@ -35,7 +35,9 @@ std::vector<int> named_heaters(const lang::NetworkSpec& spec) {
   std::vector<int> out;
   for (std::size_t e = 0; e < spec.elements.size(); ++e) {
     const auto& el = spec.elements[e];
-    if (el.kind == "heater" && el.has("P") && !el.name.empty()) out.push_back(static_cast<int>(e));
+    if (el.kind == "heater" && el.has("P") && !el.name.empty() &&
+        !spec.nodes.at(static_cast<std::size_t>(el.nodes.at(0))).boundary)
+      out.push_back(static_cast<int>(e));
   }
   return out;
 }

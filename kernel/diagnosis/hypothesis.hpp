@@ -160,7 +160,8 @@ std::string signal_text(const lang::Signal& s, const std::string& unit);
 /// True when two signals have the same shape and values.
 bool same_signal(const lang::Signal& a, const lang::Signal& b);
 
-/// Indices of the spec's heaters that have a name and a power P (the ones a finding can name).
+/// Indices of the spec's heaters that have a name and a power P and heat a node, not a boundary
+/// (the ones a finding can name).
 std::vector<int> named_heaters(const lang::NetworkSpec& spec);
 
 /// The power P of the heater named `element` in a declared network; throws std::logic_error when

@@ -108,7 +108,7 @@ counterparts(const std::vector<Entry>& side, const Evidence& ev,
     std::size_t found = 0;
     for (std::size_t n = 0; n < c.nodes.size() && found < kBeside; ++n) {
       const int node = spec.node_index(c.nodes[n]);
-      if (node < 0 || (!ev.measured(node) && !ev.unobserved(node))) continue;
+      if (node < 0 || spec.nodes[static_cast<std::size_t>(node)].boundary) continue;
       if (depth > 0 && ev.measured(node)) continue;
       for (int u : ev.measured(node) ? unmeasured_near(near, ev, node)
                                      : boundaries_near(near, spec, node)) {

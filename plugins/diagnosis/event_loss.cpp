@@ -25,8 +25,8 @@ public:
       for (int a = 0; a < n; ++a) {
         // (an unmeasured node has no unexplained heat flow: its candidates are refitted only
         // beside a shortlisted one of a measured neighbour, started at its value)
+        if (nodes[static_cast<std::size_t>(a)].boundary) continue;
         const bool unobserved = ev.unobserved(a);
-        if (!ev.measured(a) && !unobserved) continue;
         for (int b = 0; b < n; ++b) {
           if (!nodes[static_cast<std::size_t>(b)].boundary) continue;
           const ScreenFit f =

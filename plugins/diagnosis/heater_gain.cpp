@@ -19,7 +19,6 @@ public:
       const auto& el = spec.elements[static_cast<std::size_t>(e)];
       const int node = el.nodes.at(0);
       const bool unobserved = ev.unobserved(node);
-      if (!ev.measured(node) && !unobserved) continue;
       const ScreenFit f =
           unobserved ? ScreenFit{} : ev.regress([&](std::size_t c, int row, std::size_t k) {
             if (row != node) return 0.0;

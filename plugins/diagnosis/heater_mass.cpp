@@ -61,7 +61,7 @@ public:
       const int node = el.nodes.at(0);
       const double C_node = spec.nodes[static_cast<std::size_t>(node)].C;
       const bool unobserved = ev.unobserved(node);
-      if ((!ev.measured(node) && !unobserved) || !(C_node > 0.0)) continue;
+      if (!(C_node > 0.0)) continue;
       const double min_tau = std::max(1.0, 2.0 * sampling_interval(ev));
       ScreenFit best;
       // (an unmeasured node has no unexplained heat flow to screen: the refit starts mid-range)
