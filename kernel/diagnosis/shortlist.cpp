@@ -128,6 +128,29 @@ counterparts(const std::vector<Entry>& side, const Evidence& ev,
   return out;
 }
 
+/// The `most` measured nodes with the largest temperature error (measured - simulated, summed
+/// over every case), largest first.
+std::vector<std::string> worst_nodes(const Evidence& ev, std::size_t most) {
+  std::map<std::string, double> ss;
+  for (const auto& ce : ev.cases)
+    for (std::size_t s = 0; s < ce.measured.series.size(); ++s) {
+      const auto& m = ce.measured.series[s].values;
+      for (std::size_t k = 0; k < m.size() && k < ce.simulated[s].size(); ++k)
+        if (std::isfinite(m[k])) {
+          const double d = m[k] - ce.simulated[s][k];
+          ss[ce.measured.series[s].node] += d * d;
+        }
+    }
+  std::vector<std::pair<double, std::string>> by_error;
+  for (const auto& [name, v] : ss)
+    by_error.emplace_back(-v, name);
+  std::sort(by_error.begin(), by_error.end());
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < by_error.size() && i < most; ++i)
+    out.push_back(by_error[i].second);
+  return out;
+}
+
 } // namespace
 
 bool model_side(const Entry& e) {
@@ -136,13 +159,17 @@ bool model_side(const Entry& e) {
 
 std::vector<Entry> Selection::propose(const Evidence& ev) const {
   std::vector<Entry> out;
-  const auto& elements = engine_.evidence().cases.front().spec.elements;
+  const auto& declared = engine_.evidence().cases.front().spec;
   for (const auto& h : hyps_)
     for (auto& c : h->propose(ev)) {
-      // An element added by an applied finding is not a site of the model's own.
+      // An element or node added by an applied finding (a heater's own mass) is not a site of
+      // the model's own.
       if (!c.element.empty() &&
-          std::none_of(elements.begin(), elements.end(),
+          std::none_of(declared.elements.begin(), declared.elements.end(),
                        [&](const lang::ElementSpec& e) { return e.name == c.element; }))
+        continue;
+      if (std::any_of(c.nodes.begin(), c.nodes.end(),
+                      [&](const std::string& n) { return declared.node_index(n) < 0; }))
         continue;
       Entry e;
       e.h = e.own_h = h.get();
@@ -196,6 +223,17 @@ std::vector<std::size_t> Selection::shortlist(const std::vector<Entry>& side, co
           std::find(e.c.nodes.begin(), e.c.nodes.end(), name) != e.c.nodes.end())
         of_node.insert(site(e.c));
     wanted.insert(of_node.begin(), of_node.end());
+  }
+  // The screen weighs heat flows per unit capacity, so a slow node (large C, weak links) whose
+  // small unexplained flow builds up the largest temperature error ranks low by flow; the three
+  // nodes with the largest temperature error keep the best site of each kind naming them.
+  for (const std::string& name : worst_nodes(ev, 3)) {
+    std::set<std::string> kinds_of_node;
+    for (const auto& e : side)
+      if (e.c.screen > 0 &&
+          std::find(e.c.nodes.begin(), e.c.nodes.end(), name) != e.c.nodes.end() &&
+          kinds_of_node.insert(e.c.kind).second)
+        wanted.insert(site(e.c));
   }
   std::vector<std::size_t> idx;
   for (std::size_t i = 0; i < side.size(); ++i)
