@@ -62,8 +62,12 @@ bool Engine::case_used(std::size_t c, Part part) const {
 bool Engine::in_part(std::size_t c, std::size_t k, Part part) const {
   if (part.what == Part::all) return true;
   if (loco_) return case_used(c, part);
-  const bool held = ev_.cases[c].times()[k] > split_[c];
-  return held == (part.what == Part::test);
+  // One case: its time span in folds() equal stretches, the fold's stretch held back.
+  const auto [t0, span] = span_[c];
+  const double x = span > 0 ? (ev_.cases[c].times()[k] - t0) / span : 0.0;
+  const auto stretch = std::min(
+      folds() - 1, static_cast<std::size_t>(std::max(0.0, x * static_cast<double>(folds()))));
+  return (stretch == part.fold) == (part.what == Part::test);
 }
 
 CaseSims Engine::model_sims(const Hypothesis* h, const Candidate* c, const std::vector<double>& p,

@@ -16,12 +16,13 @@ namespace thermnet {
 
 /// How to diagnose.
 struct DiagnosisOptions {
-  std::vector<std::string> cases; ///< cases to use (empty: every case with data)
-  int threads = 0;                ///< worker threads (0: all cores)
-  std::size_t top = 5;            ///< most findings reported
-  std::size_t refits = 6;         ///< model-side candidates refitted by simulation (plus the
-                                  ///< best of each kind)
-  double holdout = 0.3; ///< with one case: fraction of its time span held back for validation
+  std::vector<std::string> cases;  ///< cases to use (empty: every case with data)
+  int threads = 0;                 ///< worker threads (0: all cores)
+  std::size_t top = 5;             ///< most findings reported
+  std::size_t refits = 6;          ///< model-side candidates refitted by simulation (plus the
+                                   ///< best of each kind)
+  std::size_t time_folds = 3;      ///< with one case: equal stretches of its time span, each held
+                                   ///< back once for validation
   std::vector<EventWindow> events; ///< known events (a lid opened), for event_loss candidates
 };
 
@@ -38,6 +39,7 @@ struct NodeMetrics {
   std::string longest_mismatch_case;   ///< its case
   bool measured_rising = false;        ///< over that stretch: measured rises (and simulated falls)
   std::size_t points = 0;              ///< compared points
+  double window_rmse = 0.0;            ///< largest RMS error over consecutive samples, K
 };
 
 /// Fit of a whole model to the data.

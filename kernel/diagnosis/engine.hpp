@@ -9,6 +9,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <atomic>
 #include <set>
 #include <string>
@@ -86,7 +87,9 @@ public:
   /// The declared model as a base (the baseline).
   const Base& declared() const { return base0_; }
   /// Validation folds: the cases (leave one case out), or 1 (held-back time).
-  std::size_t folds() const { return loco_ ? ev_.cases.size() : 1; }
+  std::size_t folds() const {
+    return loco_ ? ev_.cases.size() : std::max<std::size_t>(1, opt_.time_folds);
+  }
   /// True when the validation leaves one case out (two cases or more).
   bool leave_one_case_out() const { return loco_; }
   /// Measured points, all data.
@@ -160,8 +163,8 @@ private:
   const lang::Model& model_;
   DiagnosisOptions opt_;
   Evidence ev_;
-  std::vector<double> split_; // per case: first held-back time (time-split validation)
-  bool loco_ = false;         // leave one case out (>= 2 cases)
+  std::vector<std::pair<double, double>> span_; // per case: first time and time span, s
+  bool loco_ = false;                           // leave one case out (>= 2 cases)
   std::size_t n_all_ = 0, n_test_ = 0;
   Base base0_;                                      // the declared model
   mutable std::atomic<std::size_t> simulations_{0}; // case simulations run (every thread)

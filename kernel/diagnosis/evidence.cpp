@@ -67,7 +67,7 @@ void Engine::simulate_baseline() {
     }
     build_screen(ce, all_nodes, ev_.screen_total);
     const auto& t = ce.times();
-    split_.push_back(t.front() + (1.0 - opt_.holdout) * (t.back() - t.front()));
+    span_.emplace_back(t.front(), t.back() - t.front());
   }
   double s2 = 0.0;
   for (double s : sigmas)

@@ -3,6 +3,7 @@
 
 #include "kernel/diagnosis/engine.hpp"
 
+#include <boost/math/distributions/chi_squared.hpp>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -11,6 +12,27 @@
 namespace thermnet::detail {
 
 namespace {
+
+/// Consecutive measured samples over which the floor test also looks for a local error.
+constexpr std::size_t kWindow = 10;
+
+/// The largest RMS of sim - meas over kWindow consecutive measured samples (all of them when
+/// fewer): an error confined to a short span (an event, a step) that the whole series' RMSE
+/// dilutes.
+double window_rmse(const std::vector<double>& meas, const std::vector<double>& sim) {
+  std::vector<double> e2;
+  for (std::size_t k = 0; k < meas.size(); ++k)
+    if (!std::isnan(meas[k])) e2.push_back((sim[k] - meas[k]) * (sim[k] - meas[k]));
+  if (e2.empty()) return 0.0;
+  const std::size_t w = std::min(kWindow, e2.size());
+  double sum = 0.0, worst = 0.0;
+  for (std::size_t k = 0; k < e2.size(); ++k) {
+    sum += e2[k];
+    if (k >= w) sum -= e2[k - w];
+    if (k + 1 >= w) worst = std::max(worst, sum);
+  }
+  return std::sqrt(std::max(worst, 0.0) / static_cast<double>(w));
+}
 
 /// Error sums of one series (sim - meas over the measured points) and its largest error.
 NodeMetrics series_errors(const std::vector<double>& t, const std::vector<double>& meas,
@@ -25,6 +47,7 @@ NodeMetrics series_errors(const std::vector<double>& t, const std::vector<double
     if (std::abs(e) > std::abs(nm.max_error)) nm.max_error = e, nm.max_error_time = t[k];
   }
   nm.max_error_case = case_name;
+  nm.window_rmse = window_rmse(meas, sim);
   if (nm.points) {
     nm.rmse = std::sqrt(e2 / static_cast<double>(nm.points));
     nm.bias = e1 / static_cast<double>(nm.points);
@@ -74,6 +97,7 @@ void add_trend_mismatch(NodeMetrics& nm, const std::vector<double>& t,
 /// sums at the end).
 void add_to_total(NodeMetrics& tot, const NodeMetrics& nm, const std::string& case_name) {
   tot.points += nm.points;
+  tot.window_rmse = std::max(tot.window_rmse, nm.window_rmse);
   if (std::abs(nm.max_error) > std::abs(tot.max_error))
     tot.max_error = nm.max_error, tot.max_error_time = nm.max_error_time,
     tot.max_error_case = case_name;
@@ -119,12 +143,23 @@ FitMetrics Engine::metrics(const CaseSims& sims) const {
 }
 
 bool Engine::at_floor(const FitMetrics& m) const {
-  // Nothing is wrong when the whole fit and every node are within the measurement noise.
+  // Nothing is wrong when the whole fit, every node and every span of kWindow samples are within
+  // the measurement noise. A span's sum of squares is sigma^2 chi^2(kWindow) under noise alone;
+  // its limit is that distribution's quantile at 1 % over the number of disjoint spans (a
+  // Bonferroni bound), so noise alone passes a whole diagnosis with 99 % probability.
   const double nf = ev_.noise_floor;
-  double worst = 0.0;
-  for (const auto& [name, nm] : m.nodes)
+  double worst = 0.0, worst_window = 0.0, points = 0.0;
+  for (const auto& [name, nm] : m.nodes) {
     worst = std::max(worst, nm.rmse);
-  return nf > 0 && m.rmse <= 1.25 * nf && worst <= 1.6 * nf;
+    worst_window = std::max(worst_window, nm.window_rmse);
+    points += static_cast<double>(nm.points);
+  }
+  const double spans = std::max(1.0, points / static_cast<double>(kWindow));
+  const boost::math::chi_squared chi2(static_cast<double>(kWindow));
+  const double window_limit =
+      nf * std::sqrt(boost::math::quantile(boost::math::complement(chi2, 0.01 / spans)) /
+                     static_cast<double>(kWindow));
+  return nf > 0 && m.rmse <= 1.25 * nf && worst <= 1.6 * nf && worst_window <= window_limit;
 }
 
 std::string Engine::trend_words(const FitMetrics& m, const std::vector<std::string>& nodes) const {

@@ -18,6 +18,7 @@ nlohmann::json node_json(const NodeMetrics& m) {
   j["max_error"] = m.max_error;
   j["max_error_time"] = m.max_error_time;
   j["trend_mismatch_s"] = m.trend_mismatch_s;
+  j["window_rmse"] = m.window_rmse;
   return j;
 }
 
@@ -190,7 +191,8 @@ std::string diagnosis_text(const DiagnosisReport& r) {
   const std::string validation =
       r.validation == "leave_one_case_out"
           ? fmt::format("each case predicted by a fit to the other {}", r.folds - 1)
-          : "last part of each case held back";
+          : fmt::format("each of {} equal stretches of the case predicted by a fit to the others",
+                        r.folds);
   s += "\nCauses (ranked; each given the ones above):\n";
   for (const auto& f : r.findings) {
     std::string what = f.candidate.kind;

@@ -53,8 +53,9 @@ private:
   void refit_shortlist(DiagnosisReport& rep);
   void widen(std::size_t sites, std::set<std::size_t>& taken);
   std::size_t joint_refit(DiagnosisReport& rep);
-  void add_recalibrated_shortlist(std::size_t recal, const std::vector<double>& ranged);
-  void refit_jointly(std::size_t recal, const std::vector<double>& ranged, DiagnosisReport& rep);
+  void add_recalibrated_shortlist(const Base& recalibrated);
+  void refit_jointly(std::size_t recal, const std::vector<double>& ranged, const Base* recalibrated,
+                     DiagnosisReport& rep);
   void rank_first(std::size_t recal);
   Base select_forward(DiagnosisReport& rep) const;
   std::vector<Entry> next_entries(const Base& base, const std::vector<Applied>& applied,

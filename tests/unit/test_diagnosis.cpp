@@ -644,6 +644,37 @@ TEST_CASE("diagnose chain: two independent causes are found one after the other"
   CHECK(r.findings[1].rmse_before == doctest::Approx(r.findings[0].rmse_after));
   CHECK(r.findings[1].rmse_after < 0.06);
   CHECK(r.validation == "held_back_time");
+  // One case: three equal stretches of it, each held back once.
+  CHECK(r.folds == 3);
+  CHECK(diagnosis_text(r).find("each of 3 equal stretches of the case") != std::string::npos);
+}
+
+TEST_CASE("diagnose chain: an error confined to a few samples is not at the noise floor") {
+  // A 0.25 W burst on n3 for 10 minutes of the 2 h run: about 0.1 K on n3 over a dozen samples.
+  // The whole fit and every node's RMSE stay within the old floor limits (1.25 and 1.6 times the
+  // noise); only the local test sees it.
+  TempDir dir;
+  const Setup s = chain_setup();
+  const auto path =
+      make_case(dir, s, "heater burst n3 P = step(0: 0 [W], 4800: 0.25 [W], 5400: 0 [W])", s.text);
+  const auto r = run(path);
+  const double nf = r.noise_floor;
+  double worst = 0.0;
+  for (const auto& [name, m] : r.baseline.nodes)
+    worst = std::max(worst, m.rmse);
+  REQUIRE(r.baseline.rmse <= 1.25 * nf);
+  REQUIRE(worst <= 1.6 * nf);
+  CHECK(r.baseline.nodes.at("n3").window_rmse > 1.8 * nf);
+  CHECK_MESSAGE(!r.at_noise_floor, diagnosis_text(r));
+  const auto j = diagnosis_json(r);
+  CHECK(j["baseline"]["nodes"]["n3"]["window_rmse"].get<double>() ==
+        doctest::Approx(r.baseline.nodes.at("n3").window_rmse));
+  // Noise alone stays at the floor, with its largest 10-sample window near the noise.
+  TempDir clean_dir;
+  const auto clean = run(make_case(clean_dir, s, "", s.text));
+  CHECK(clean.at_noise_floor);
+  for (const auto& [name, m] : clean.baseline.nodes)
+    CHECK(m.window_rmse < 1.8 * clean.noise_floor);
 }
 
 namespace {
