@@ -632,7 +632,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
         plain.end = id->end;
       }
       if (auto n = resolve_node(ref ? *ref : plain, f, context_, at))
-        out.node_keys[ks->name] = *n;
+        out.node_keys.emplace_back(ks->name, *n);
       else
         ok = false;
       continue;

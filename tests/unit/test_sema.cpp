@@ -268,7 +268,7 @@ TEST_CASE("sema: parallel blocks, radiation by GR, thermostat sense, table signa
   REQUIRE(p.parts.size() == 2);
   CHECK(p.parts[1].number("R") == 2);
   CHECK(element(net, "r").number("GR") == doctest::Approx(1e-3));
-  CHECK(element(net, "t").node_keys.at("sense") == net.node_index("b"));
+  CHECK(element(net, "t").node_key("sense") == net.node_index("b"));
   const Signal& s = element(net, "h").values.at("P");
   CHECK(s.kind == Signal::Kind::pwl);
   CHECK(s.times() == std::vector<double>{0, 200}); // the empty cell is skipped, not zero
