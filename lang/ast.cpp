@@ -21,7 +21,7 @@ Tagged Value::span() const {
 }
 
 const Tagged& tag_of(const Statement& s) {
-  return std::visit([](const auto& stmt) -> const Tagged& { return stmt; }, s);
+  return std::visit([](const auto& stmt) -> const Tagged& { return unboxed(stmt); }, s);
 }
 
 } // namespace thermnet::lang::ast

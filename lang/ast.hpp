@@ -271,10 +271,35 @@ struct RequireStmt : Tagged {
   std::unique_ptr<String> doc;   ///< description
 };
 
+/// A rare statement kept on the heap, so that it does not set the size of every statement (a
+/// `require` is 160 bytes; a node or element statement, of which a netlist has one per line, 88
+/// or 128). Made from the statement the parser built.
+template <typename T> struct Boxed {
+  std::unique_ptr<T> stmt; ///< the statement (never null)
+  /// Moves a parsed statement to the heap.
+  Boxed(T&& s) : stmt(std::make_unique<T>(std::move(s))) {}
+  /// The statement.
+  const T& operator*() const { return *stmt; }
+  /// The statement's members.
+  const T* operator->() const { return stmt.get(); }
+};
+/// A statement held in place (the counterpart of the next overload).
+template <typename T> T& unboxed(T& s) {
+  return s;
+}
+/// A statement held in a box.
+template <typename T> T& unboxed(Boxed<T>& s) {
+  return *s.stmt;
+}
+/// A statement held in a box.
+template <typename T> const T& unboxed(const Boxed<T>& s) {
+  return *s.stmt;
+}
+
 /// Any statement.
 struct Statement
     : std::variant<ModelStmt, IncludeStmt, PluginStmt, ConstStmt, ParamStmt, NodeStmt, ElementStmt,
-                   CompositeStmt, CaseStmt, ForStmt, SubmodelStmt, RequireStmt> {
+                   CompositeStmt, CaseStmt, ForStmt, SubmodelStmt, Boxed<RequireStmt>> {
   using variant::variant;
 };
 

@@ -474,14 +474,14 @@ std::optional<Signal> Elaborator::time_signal(const ast::Expr& e, FileId f, cons
     Signal s;
     s.kind = Signal::Kind::expression;
     const Scope* scope = context_;
-    s.program = compile_time_program(
+    s.shape().program = compile_time_program(
         m_.file(f), e.root, [&](const ast::Identifier& id) { return lookup(id, f, scope).value; });
     if (q.dim && !(*q.dim == p.dim)) {
       report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(f, e), p.what(),
                                     describe(p.dim), describe(*q.dim)));
       return std::nullopt;
     }
-    if (!q.dim && p.absolute_temperature) s.offset = 273.15;
+    if (!q.dim && p.absolute_temperature) s.shape().offset = 273.15;
     if (!check_range(s.at(0.0), p, at, span_of(f, e))) return std::nullopt;
     return s;
   } catch (const EvalError& err) {
@@ -516,15 +516,17 @@ std::optional<Signal> Elaborator::signal(const ast::Value& v, FileId f, const Pl
         ok = false;
         continue;
       }
-      if (!s.t.empty() && !(*t > s.t.back())) {
-        report(DiagnosticEngine::make(
-            DiagId::bad_signal, at, span_of(f, pt.time),
-            fmt::format("signal times must increase: {:g} s follows {:g} s", *t, s.t.back())));
+      Signal::Shape& corners = s.shape();
+      if (!corners.t.empty() && !(*t > corners.t.back())) {
+        report(
+            DiagnosticEngine::make(DiagId::bad_signal, at, span_of(f, pt.time),
+                                   fmt::format("signal times must increase: {:g} s follows {:g} s",
+                                               *t, corners.t.back())));
         ok = false;
         continue;
       }
-      s.t.push_back(*t);
-      s.v.push_back(*x);
+      corners.t.push_back(*t);
+      corners.v.push_back(*x);
     }
     if (!ok) return std::nullopt;
     return s;
@@ -546,19 +548,20 @@ std::optional<Signal> Elaborator::signal(const ast::Value& v, FileId f, const Pl
     }
     Signal s;
     s.kind = Signal::Kind::pwl;
+    Signal::Shape& corners = s.shape();
     for (std::size_t r = 0; r < table.rows(); ++r) {
       double x = table.cells[static_cast<std::size_t>(col)][r];
       if (std::isnan(x)) continue;
-      s.t.push_back(table.time()[r]);
-      s.v.push_back(p.absolute_temperature ? x + 273.15 : x);
+      corners.t.push_back(table.time()[r]);
+      corners.v.push_back(p.absolute_temperature ? x + 273.15 : x);
     }
-    if (s.t.empty()) {
+    if (corners.t.empty()) {
       report(DiagnosticEngine::make(
           DiagId::bad_signal, at, span_of(f, ts.column),
           fmt::format("column '{}' of '{}' has no values", ts.column.text, ts.file.text)));
       return std::nullopt;
     }
-    for (double x : s.v)
+    for (double x : corners.v)
       if (!check_range(x, p, at, span_of(f, ts))) return std::nullopt;
     return s;
   } catch (const CsvError& e) {
@@ -629,7 +632,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::K
         plain.end = id->end;
       }
       if (auto n = resolve_node(ref ? *ref : plain, f, context_, at))
-        out.node_keys[ks->name] = *n;
+        out.node_keys.emplace_back(ks->name, *n);
       else
         ok = false;
       continue;
@@ -1349,9 +1352,9 @@ std::pair<double, double> prescribed_band(const NetworkSpec& net) {
         take(n.T.at(end * k / 10.0));
     } else {
       take(n.T.constant);
-      for (double v : n.T.v)
+      for (double v : n.T.values())
         take(v);
-      if (!n.T.is_constant()) take(n.T.v.empty() ? n.T.constant : n.T.v.front());
+      if (!n.T.is_constant()) take(n.T.values().empty() ? n.T.constant : n.T.values().front());
     }
   }
   return {lo - 273.15, hi - 273.15};

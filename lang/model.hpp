@@ -111,12 +111,12 @@ struct ElementDecl {
   const ast::CompositeStmt* composite = nullptr; ///< a series/parallel block
   std::string name;                              ///< its full name
   FileId file = 0;                               ///< declaring file
-  Span where;                                    ///< statement
-  Span name_span;                                ///< the name
-  const Scope* scope = nullptr;                  ///< loop iteration or instance, if any
-  const ElementSchema* schema = nullptr;         ///< the kind's schema (plugin elements)
-  boost::container::small_vector<int, 2> nodes;  ///< resolved terminals (-1: unresolved), inline
   bool valid = true; ///< false when its kind, terminals or names are wrong (reported at load)
+  Span where;        ///< statement
+  Span name_span;    ///< the name
+  const Scope* scope = nullptr;                 ///< loop iteration or instance, if any
+  const ElementSchema* schema = nullptr;        ///< the kind's schema (plugin elements)
+  boost::container::small_vector<int, 2> nodes; ///< resolved terminals (-1: unresolved), inline
 };
 /// A case declaration.
 struct CaseDecl {

@@ -204,8 +204,8 @@ private:
           CaseDecl{&s, std::string(s.name.name), f, b.span(f, s), b.span(f, s.name)});
     }
     void operator()(const ast::SubmodelStmt& s) const { b.collect_submodel(s, f); }
-    void operator()(const ast::RequireStmt& s) const {
-      b.m_.requirements_.push_back(RequirementDecl{&s, f, b.span(f, s)});
+    void operator()(const ast::Boxed<ast::RequireStmt>& s) const {
+      b.m_.requirements_.push_back(RequirementDecl{&*s, f, b.span(f, *s)});
     }
     // Nodes, elements, instances and loops are expanded once every file is read.
     void operator()(const ast::NodeStmt&) const {}
@@ -272,7 +272,7 @@ private:
             if constexpr (std::is_same_v<T, ast::PluginStmt>) return "plugin";
             if constexpr (std::is_same_v<T, ast::CaseStmt>) return "case";
             if constexpr (std::is_same_v<T, ast::SubmodelStmt>) return "submodel";
-            if constexpr (std::is_same_v<T, ast::RequireStmt>) return "require";
+            if constexpr (std::is_same_v<T, ast::Boxed<ast::RequireStmt>>) return "require";
             if constexpr (std::is_same_v<T, ast::ConstStmt>) return "const";
             if constexpr (std::is_same_v<T, ast::ParamStmt>) return "param";
             return nullptr;

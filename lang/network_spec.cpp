@@ -42,6 +42,12 @@ std::pair<KeySignals::iterator, bool> KeySignals::emplace(std::string_view key, 
   return {items_.emplace(it, std::string(key), std::move(value)), true};
 }
 
+std::optional<int> ElementSpec::node_key(std::string_view key) const {
+  for (const auto& [name, node] : node_keys)
+    if (name == key) return node;
+  return std::nullopt;
+}
+
 KeyValues ElementSpec::key_values() const {
   KeyValues kv;
   for (const auto& [k, s] : values)

@@ -82,7 +82,9 @@ struct ElementSpec {
   std::string name;                      ///< element name (empty for composite parts)
   std::vector<int> nodes;                ///< terminal node indices
   KeySignals values;                     ///< key -> value in SI (numbers as constant signals)
-  std::map<std::string, int> node_keys;  ///< node-valued keys (e.g. sense) -> node index
+  /// Node-valued keys (e.g. sense) and their node indices, in the order given (a flat list: few
+  /// elements have one, and an empty map weighed 48 bytes in every element).
+  std::vector<std::pair<std::string, int>> node_keys;
   Composite composite = Composite::none; ///< composite mode
   std::vector<ElementSpec> parts;        ///< inner elements of a composite
   Span where;                            ///< declaring statement
@@ -91,6 +93,8 @@ struct ElementSpec {
   double number(const std::string& key) const { return values.at(key).constant; }
   /// True if a key has a value.
   bool has(const std::string& key) const { return values.count(key) != 0; }
+  /// The node index of a node-valued key, or nullopt if it was not given.
+  std::optional<int> node_key(std::string_view key) const;
   /// The constant values of all keys, for schema functions.
   KeyValues key_values() const;
 };

@@ -444,8 +444,9 @@ private:
   template <typename Variant> void tag_statement(Variant& v, It begin, It end) {
     std::visit(
         [&](auto& node) {
-          node.begin = off(begin);
-          node.end = off(end);
+          ast::Tagged& tag = ast::unboxed(node);
+          tag.begin = off(begin);
+          tag.end = off(end);
         },
         v);
   }

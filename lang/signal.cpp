@@ -6,8 +6,36 @@
 
 namespace thermnet::lang {
 
+namespace {
+const std::vector<double> no_corners;
+}
+
+Signal::Signal(const Signal& other)
+    : kind(other.kind), constant(other.constant),
+      shape_(other.shape_ ? std::make_unique<Shape>(*other.shape_) : nullptr) {}
+
+Signal& Signal::operator=(const Signal& other) {
+  if (this != &other) *this = Signal(other);
+  return *this;
+}
+
+const std::vector<double>& Signal::times() const {
+  return shape_ ? shape_->t : no_corners;
+}
+
+const std::vector<double>& Signal::values() const {
+  return shape_ ? shape_->v : no_corners;
+}
+
+Signal::Shape& Signal::shape() {
+  if (!shape_) shape_ = std::make_unique<Shape>();
+  return *shape_;
+}
+
 double Signal::at(double time) const {
-  if (kind == Kind::expression) return program->at(time) * scale + offset;
+  if (kind == Kind::expression) return shape_->program->at(time) * shape_->scale + shape_->offset;
+  const std::vector<double>& t = times();
+  const std::vector<double>& v = values();
   if (kind == Kind::constant || t.empty()) return t.empty() ? constant : v.front();
   if (time <= t.front()) return v.front();
   if (time >= t.back()) return v.back();
@@ -22,10 +50,12 @@ double Signal::at(double time) const {
 Signal Signal::scaled(double factor) const {
   Signal s = *this;
   s.constant *= factor;
-  for (auto& x : s.v)
-    x *= factor;
-  s.scale *= factor;
-  s.offset *= factor;
+  if (s.shape_) {
+    for (auto& x : s.shape_->v)
+      x *= factor;
+    s.shape_->scale *= factor;
+    s.shape_->offset *= factor;
+  }
   return s;
 }
 

@@ -2,6 +2,7 @@
 /// Time-dependent values in SI: constant, piecewise constant (step), piecewise linear (pwl,
 /// table), or an expression of the time.
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -10,17 +11,34 @@ namespace thermnet::lang {
 class TimeProgram;
 
 /// A value over time; times in s, values in SI (K for temperatures, W for powers).
+///
+/// Nearly every value of a netlist is a constant, so a signal is a kind and a number (24 bytes);
+/// the corners and the expression of the other kinds are kept on the heap, copied with the signal.
 struct Signal {
   /// The shape of a signal.
-  enum class Kind { constant, step, pwl, expression };
+  enum class Kind : std::uint8_t { constant, step, pwl, expression };
+  /// What a signal other than a constant holds.
+  struct Shape {
+    std::vector<double> t; ///< corner times, increasing (step, pwl)
+    std::vector<double> v; ///< values at the corners (step: held until the next corner)
+    /// The expression of the time (kind == expression): its value is program(t) * scale + offset.
+    std::shared_ptr<const TimeProgram> program;
+    double scale = 1.0;  ///< factor on the program's value (expression)
+    double offset = 0.0; ///< added after the factor (expression; 273.15 for a bare degC value)
+  };
   Kind kind = Kind::constant; ///< shape
   double constant = 0.0;      ///< value when kind == constant
-  std::vector<double> t;      ///< corner times, increasing (step, pwl)
-  std::vector<double> v;      ///< values at the corners (step: held until the next corner)
-  /// The expression of the time (kind == expression): its value is program(t) * scale + offset.
-  std::shared_ptr<const TimeProgram> program;
-  double scale = 1.0;  ///< factor on the program's value (expression)
-  double offset = 0.0; ///< added after the factor (expression; 273.15 for a bare degC value)
+
+  /// A constant 0.
+  Signal() = default;
+  /// A copy with its own corners.
+  Signal(const Signal& other);
+  /// Takes another signal's corners.
+  Signal(Signal&&) noexcept = default;
+  /// Copies another signal and its corners.
+  Signal& operator=(const Signal& other);
+  /// Takes another signal's corners.
+  Signal& operator=(Signal&&) noexcept = default;
 
   /// A constant signal.
   static Signal of(double value) {
@@ -33,10 +51,21 @@ struct Signal {
   double at(double time) const;
   /// True for a constant.
   bool is_constant() const { return kind == Kind::constant; }
+  /// Corner times, increasing (empty for a constant or an expression).
+  const std::vector<double>& times() const;
+  /// Values at the corners (empty for a constant or an expression).
+  const std::vector<double>& values() const;
   /// Times where the signal jumps or bends (where an integrator should restart).
-  const std::vector<double>& corners() const { return t; }
+  const std::vector<double>& corners() const { return times(); }
+  /// The corners and expression, made (empty) on first use, to be filled in.
+  Shape& shape();
+  /// The corners and expression, or nullptr if none were made.
+  const Shape* shape_if() const { return shape_.get(); }
   /// Multiplies every value by a factor.
   Signal scaled(double factor) const;
+
+private:
+  std::unique_ptr<Shape> shape_;
 };
 
 } // namespace thermnet::lang

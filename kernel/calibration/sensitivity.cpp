@@ -49,7 +49,7 @@ lang::ElementSpec& element_at(lang::NetworkSpec& spec, const KeyRef& ref) {
 
 bool nonzero(const lang::Signal& s) {
   if (s.is_constant()) return s.constant != 0.0;
-  return std::any_of(s.v.begin(), s.v.end(), [](double v) { return v != 0.0; });
+  return std::any_of(s.values().begin(), s.values().end(), [](double v) { return v != 0.0; });
 }
 
 /// Adds the numeric keys of one element (or composite part) as factors.
@@ -76,8 +76,9 @@ void add_element_keys(const lang::ElementSpec& e, const std::string& label, std:
         return spec;
       }
       s.constant += sign * rel; // rel K: S = (T+ - T-) / (2 rel) is then per kelvin
-      for (double& v : s.v)
-        v += sign * rel;
+      if (s.shape_if())
+        for (double& v : s.shape().v)
+          v += sign * rel;
       return spec;
     });
   }

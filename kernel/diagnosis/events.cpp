@@ -160,14 +160,15 @@ lang::Signal event_schedule(const std::vector<EventWindow>& events, const std::s
   std::sort(on.begin(), on.end(), [](auto* a, auto* b) { return a->start < b->start; });
   lang::Signal s;
   s.kind = lang::Signal::Kind::step;
+  lang::Signal::Shape& corners = s.shape();
   auto point = [&](double t, double v) {
-    if (!s.t.empty() && s.t.back() == t) { // a window starting where the last one ended
-      s.t.pop_back();
-      s.v.pop_back();
-      if (!s.v.empty() && s.v.back() == v) return;
+    if (!corners.t.empty() && corners.t.back() == t) { // a window starting where the last one ended
+      corners.t.pop_back();
+      corners.v.pop_back();
+      if (!corners.v.empty() && corners.v.back() == v) return;
     }
-    s.t.push_back(t);
-    s.v.push_back(v);
+    corners.t.push_back(t);
+    corners.v.push_back(v);
   };
   if (on.front()->start > 0.0) point(0.0, 0.0);
   for (const auto* w : on) {

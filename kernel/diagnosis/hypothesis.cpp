@@ -21,14 +21,14 @@ std::string signal_text(const lang::Signal& s, const std::string& unit) {
   const std::string u = unit.empty() ? "" : " [" + unit + "]";
   if (s.is_constant()) return netlist_number(s.constant) + u;
   std::string out = s.kind == lang::Signal::Kind::step ? "step(" : "pwl(";
-  for (std::size_t i = 0; i < s.t.size(); ++i)
-    out += fmt::format("{}{}: {}{}", i ? ", " : "", s.t[i], netlist_number(s.v[i]), u);
+  for (std::size_t i = 0; i < s.times().size(); ++i)
+    out += fmt::format("{}{}: {}{}", i ? ", " : "", s.times()[i], netlist_number(s.values()[i]), u);
   return out + ")";
 }
 
 bool same_signal(const lang::Signal& a, const lang::Signal& b) {
-  return a.kind == b.kind &&
-         (a.is_constant() ? a.constant == b.constant : a.t == b.t && a.v == b.v);
+  return a.kind == b.kind && (a.is_constant() ? a.constant == b.constant
+                                              : a.times() == b.times() && a.values() == b.values());
 }
 
 std::vector<int> named_heaters(const lang::NetworkSpec& spec) {

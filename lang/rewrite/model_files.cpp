@@ -73,7 +73,7 @@ struct PathCollector {
   void operator()(const ast::ModelStmt&) const {}
   void operator()(const ast::ConstStmt&) const {}
   void operator()(const ast::ParamStmt&) const {}
-  void operator()(const ast::RequireStmt&) const {}
+  void operator()(const ast::Boxed<ast::RequireStmt>&) const {}
 };
 
 /// A model file's path literals and, for each include, the file it loaded.

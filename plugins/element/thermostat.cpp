@@ -151,8 +151,7 @@ ElementPlugin make_thermostat() {
   return ElementPlugin{std::move(s), [](const lang::ElementSpec& e) -> std::unique_ptr<Element> {
                          ThermostatSettings t;
                          t.node = e.nodes.at(0);
-                         auto it = e.node_keys.find("sense");
-                         t.sense = it == e.node_keys.end() ? t.node : it->second;
+                         t.sense = e.node_key("sense").value_or(t.node);
                          t.P = e.values.at("P");
                          t.on = e.number("on");
                          t.off = e.number("off");

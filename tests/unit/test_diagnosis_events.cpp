@@ -63,8 +63,8 @@ TEST_CASE("events file: per-case and every-case windows, columns in any order") 
 TEST_CASE("events file: touching windows merge; without an event column the event is 'event'") {
   const auto ev = parse_events("start,end\n0,10\n10,20\n30,40\n", "ev.csv", kCases);
   const lang::Signal s = event_schedule(ev, "slow", "event");
-  CHECK(s.t == std::vector<double>{0, 20, 30, 40});
-  CHECK(s.v == std::vector<double>{1, 0, 1, 0});
+  CHECK(s.times() == std::vector<double>{0, 20, 30, 40});
+  CHECK(s.values() == std::vector<double>{1, 0, 1, 0});
 }
 
 TEST_CASE("events file: bad input names the file, row and column") {

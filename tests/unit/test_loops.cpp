@@ -62,8 +62,8 @@ std::string lint_codes(const std::string& text, const LoadOptions& options = {})
 void check_same_signal(const Signal& a, const Signal& b) {
   CHECK(a.kind == b.kind);
   CHECK(a.constant == b.constant);
-  CHECK(a.t == b.t);
-  CHECK(a.v == b.v);
+  CHECK(a.times() == b.times());
+  CHECK(a.values() == b.values());
   for (double t : {0.0, 17.0, 600.0, 3599.0})
     CHECK(a.at(t) == b.at(t));
 }

@@ -50,7 +50,7 @@ TEST_CASE("require: the syntax tree of a band with from, cases and description")
   ast::File f = parse_file(id, sources, diags);
   REQUIRE(diags.error_count() == 0);
   REQUIRE(f.statements.size() == 1);
-  const auto& r = std::get<ast::RequireStmt>(f.statements[0]);
+  const auto& r = *std::get<ast::Boxed<ast::RequireStmt>>(f.statements[0]);
   CHECK(r.kind.name == "band");
   REQUIRE(r.groups.size() == 2);
   CHECK(r.groups[1].text == "zone*");

@@ -106,10 +106,10 @@ TEST_CASE("sema: the spec's example instantiates with every value in SI") {
   const NodeSpec& amb = node(net, "ambient");
   CHECK(amb.boundary);
   CHECK(amb.T.kind == Signal::Kind::pwl);
-  CHECK(amb.T.t == std::vector<double>{0, 2750});
-  REQUIRE(amb.T.v.size() == 2);
-  CHECK(amb.T.v[0] == doctest::Approx(293.15));
-  CHECK(amb.T.v[1] == doctest::Approx(238.15));
+  CHECK(amb.T.times() == std::vector<double>{0, 2750});
+  REQUIRE(amb.T.values().size() == 2);
+  CHECK(amb.T.values()[0] == doctest::Approx(293.15));
+  CHECK(amb.T.values()[1] == doctest::Approx(238.15));
   const NodeSpec& p1 = node(net, "plate1");
   CHECK(p1.C == 450);
   CHECK_FALSE(p1.T0.has_value());
@@ -137,8 +137,8 @@ TEST_CASE("sema: the spec's example instantiates with every value in SI") {
   CHECK(net.settings.duration.value() == doctest::Approx(10800));
   const ElementSpec& film = element(net, "film");
   CHECK(film.values.at("P").kind == Signal::Kind::step);
-  CHECK(film.values.at("P").t == std::vector<double>{0, 2500});
-  CHECK(film.values.at("P").v == std::vector<double>{10, 0});
+  CHECK(film.values.at("P").times() == std::vector<double>{0, 2500});
+  CHECK(film.values.at("P").values() == std::vector<double>{10, 0});
   CHECK(fs::path(net.settings.data_path).filename() == "warmup.csv");
   CHECK(net.default_initial() == doctest::Approx(293.15));
 
@@ -212,8 +212,8 @@ TEST_CASE("sema: case overrides of elements, boundaries, nodes and fixed params"
   CHECK(element(hot, "film").values.at("P").kind == Signal::Kind::step);
   const NodeSpec& amb = node(hot, "ambient");
   CHECK(amb.T.kind == Signal::Kind::pwl);
-  CHECK(amb.T.t == std::vector<double>{0, 600});
-  CHECK(amb.T.v[1] == doctest::Approx(303.15));
+  CHECK(amb.T.times() == std::vector<double>{0, 600});
+  CHECK(amb.T.values()[1] == doctest::Approx(303.15));
   CHECK(node(hot, "plate").T0.value() == doctest::Approx(303.15));
   CHECK(node(hot, "plate").C == 500);
   CHECK(hot.settings.initial_steady);
@@ -268,11 +268,11 @@ TEST_CASE("sema: parallel blocks, radiation by GR, thermostat sense, table signa
   REQUIRE(p.parts.size() == 2);
   CHECK(p.parts[1].number("R") == 2);
   CHECK(element(net, "r").number("GR") == doctest::Approx(1e-3));
-  CHECK(element(net, "t").node_keys.at("sense") == net.node_index("b"));
+  CHECK(element(net, "t").node_key("sense") == net.node_index("b"));
   const Signal& s = element(net, "h").values.at("P");
   CHECK(s.kind == Signal::Kind::pwl);
-  CHECK(s.t == std::vector<double>{0, 200}); // the empty cell is skipped, not zero
-  CHECK(s.v == std::vector<double>{10, 0});
+  CHECK(s.times() == std::vector<double>{0, 200}); // the empty cell is skipped, not zero
+  CHECK(s.values() == std::vector<double>{10, 0});
 }
 
 TEST_CASE("sema: includes are relative to the including file and read once") {
