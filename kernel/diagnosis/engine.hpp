@@ -1,8 +1,9 @@
 #pragma once
 /// The diagnosis's evidence/fit engine (internal to kernel/diagnosis): the data and the baseline,
 /// the screen's evidence, simulation of candidates on top of applied findings, fits with
-/// validation folds (leave one case out, or a held-back stretch of time) and the gain of a
-/// candidate. What to refit and what to report is decided by the selection (selection.hpp).
+/// validation folds (leave one case out, or each stretch of one case held back in turn) and the
+/// gain of a candidate. What to refit and what to report is decided by the selection
+/// (selection.hpp).
 
 #include "kernel/diagnosis/composites.hpp"
 #include "kernel/diagnosis/diagnosis.hpp"
@@ -86,7 +87,7 @@ public:
   const Evidence& evidence() const { return ev_; }
   /// The declared model as a base (the baseline).
   const Base& declared() const { return base0_; }
-  /// Validation folds: the cases (leave one case out), or 1 (held-back time).
+  /// Validation folds: the cases (leave one case out), or the stretches of the one case.
   std::size_t folds() const {
     return loco_ ? ev_.cases.size() : std::max<std::size_t>(1, opt_.time_folds);
   }

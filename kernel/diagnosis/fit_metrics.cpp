@@ -146,7 +146,7 @@ bool Engine::at_floor(const FitMetrics& m) const {
   // Nothing is wrong when the whole fit, every node and every span of kWindow samples are within
   // the measurement noise. A span's sum of squares is sigma^2 chi^2(kWindow) under noise alone;
   // its limit is that distribution's quantile at 1 % over the number of disjoint spans (a
-  // Bonferroni bound), so noise alone passes a whole diagnosis with 99 % probability.
+  // Bonferroni bound), so noise alone passes a whole diagnosis with about 99 % probability.
   const double nf = ev_.noise_floor;
   double worst = 0.0, worst_window = 0.0, points = 0.0;
   for (const auto& [name, nm] : m.nodes) {

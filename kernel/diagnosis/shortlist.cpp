@@ -130,7 +130,7 @@ counterparts(const std::vector<Entry>& side, const Evidence& ev,
 
 /// The `most` measured nodes with the largest temperature error (measured - simulated, summed
 /// over every case), largest first.
-std::vector<std::string> worst_nodes(const Evidence& ev, std::size_t most) {
+std::vector<std::string> largest_error_nodes(const Evidence& ev, std::size_t most) {
   std::map<std::string, double> ss;
   for (const auto& ce : ev.cases)
     for (std::size_t s = 0; s < ce.measured.series.size(); ++s) {
@@ -227,7 +227,7 @@ std::vector<std::size_t> Selection::shortlist(const std::vector<Entry>& side, co
   // The screen weighs heat flows per unit capacity, so a slow node (large C, weak links) whose
   // small unexplained flow builds up the largest temperature error ranks low by flow; the three
   // nodes with the largest temperature error keep the best site of each kind naming them.
-  for (const std::string& name : worst_nodes(ev, 3)) {
+  for (const std::string& name : largest_error_nodes(ev, 3)) {
     std::set<std::string> kinds_of_node;
     for (const auto& e : side)
       if (e.c.screen > 0 &&
