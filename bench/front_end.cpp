@@ -53,7 +53,9 @@ int main(int argc, char** argv) {
   }
   const std::string path = argv[1];
   const std::string case_name = argc > 2 ? argv[2] : "";
-  const double mb = static_cast<double>(std::filesystem::file_size(path)) / 1e6;
+  const auto bytes = std::filesystem::file_size(path);
+  const double mb = static_cast<double>(bytes) / 1e6;
+  thermnet::cli::prefault_heap_for(bytes); // as cli/model_loading.cpp does
   const double w0 = wall_now(), c0 = cpu_now();
   double w = w0, c = c0;
   auto stage = [&](const char* name) {

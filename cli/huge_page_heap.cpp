@@ -13,8 +13,17 @@
 #include <cstdint>
 #include <cstdlib>
 #include <limits>
+#include <system_error>
+#include <thread>
 
 namespace thermnet::cli {
+
+namespace {
+
+/// The reserved heap's huge-page-aligned range [first, top), set by reserve_huge_page_heap.
+std::uintptr_t heap_first = 0, heap_top = 0;
+
+} // namespace
 
 void reserve_huge_page_heap(std::size_t bytes) {
   constexpr std::uintptr_t huge_page = std::uintptr_t{2} << 20;
@@ -38,7 +47,34 @@ void reserve_huge_page_heap(std::size_t bytes) {
   if (end == reinterpret_cast<void*>(-1)) return;
   const auto first = (start + huge_page - 1) & ~(huge_page - 1);
   const auto top = reinterpret_cast<std::uintptr_t>(end) & ~(huge_page - 1);
-  if (first < top) ::madvise(reinterpret_cast<void*>(first), top - first, MADV_HUGEPAGE);
+  if (first < top) {
+    ::madvise(reinterpret_cast<void*>(first), top - first, MADV_HUGEPAGE);
+    heap_first = first, heap_top = top;
+  }
+}
+
+void prefault_heap_for(std::uintmax_t netlist_bytes) {
+#ifdef MADV_POPULATE_WRITE
+  static constexpr std::uintptr_t step = std::uintptr_t{2} << 20;
+  constexpr std::uintmax_t smallest = std::uintmax_t{1} << 20, heap_per_byte = 20;
+  if (heap_first == 0 || netlist_bytes < smallest) return;
+  const std::uintmax_t bytes = heap_per_byte * netlist_bytes;
+  const std::uintptr_t end = heap_first + std::min<std::uintptr_t>(bytes, heap_top - heap_first);
+  try {
+    std::thread([first = heap_first, end] {
+      // Pages already touched by the loading thread are skipped by the kernel; a failure (an
+      // old kernel: EINVAL) ends the thread, the loading thread then faults pages in itself.
+      for (std::uintptr_t p = first; p < end; p += step)
+        if (::madvise(reinterpret_cast<void*>(p), std::min(step, end - p), MADV_POPULATE_WRITE) !=
+            0)
+          return;
+    }).detach();
+  } catch (const std::system_error&) {
+    // no thread: the loading thread faults pages in itself
+  }
+#else
+  (void)netlist_bytes;
+#endif
 }
 
 } // namespace thermnet::cli

@@ -1,6 +1,7 @@
 #include "cli/model_loading.hpp"
 
 #include "cli/exit_status.hpp"
+#include "cli/huge_page_heap.hpp"
 #include "cli/param_overrides.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "kernel/plugin_host/plugin_loader.hpp"
@@ -101,6 +102,8 @@ std::unique_ptr<lang::Model> load_model(const std::string& path, lang::SourceMan
                                         lang::DiagnosticEngine& diags, ModelPlugins plugins,
                                         const std::string& who) {
   lang::set_path_policy(lang::policy_for_model(path));
+  std::error_code ec;
+  if (const auto size = std::filesystem::file_size(path, ec); !ec) prefault_heap_for(size);
   return lang::Model::load(path, element_catalog(), sources, diags, load_options(plugins, who));
 }
 
