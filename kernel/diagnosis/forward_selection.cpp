@@ -104,10 +104,6 @@ std::vector<Entry> Selection::next_entries(const Base& base, const std::vector<A
     if (!(e.own_h->recalibrates() && params_applied)) next.push_back(std::move(e));
   for (auto& e : shortlisted(s.side, ev, opt_.refits, nullptr))
     next.push_back(std::move(e));
-  for (std::size_t i : few_unobserved(s.side, opt_.refits))
-    if (std::none_of(next.begin(), next.end(),
-                     [&](const Entry& x) { return same_candidate(x.c, s.side[i].c); }))
-      next.push_back(s.side[i]);
   for (std::size_t i : first_) {
     Entry e;
     e.h = e.own_h = chosen_[i].own_h;

@@ -5,25 +5,8 @@
 #include "kernel/diagnosis/selection.hpp"
 
 #include <algorithm>
-#include <map>
 
 namespace thermnet::detail {
-
-std::vector<std::size_t> few_unobserved(const std::vector<Entry>& side, std::size_t most) {
-  // The screen cannot score a candidate on unmeasured nodes, and the counterparts (step 4) reach
-  // one only beside a shortlisted candidate of its kind on a measured node nearby. A kind whose
-  // unobserved candidates are few (one per heater: heater_gain, heater_mass) needs no screen to
-  // keep its refits affordable, so all of them are refitted: a heater on an unmeasured node is
-  // otherwise reached only when another heater's candidate happens to sit near it.
-  std::map<std::string, std::vector<std::size_t>> by_kind;
-  for (std::size_t i = 0; i < side.size(); ++i)
-    if (side[i].c.unobserved) by_kind[side[i].c.kind].push_back(i);
-  std::vector<std::size_t> out;
-  for (const auto& [kind, idx] : by_kind)
-    if (idx.size() <= most) out.insert(out.end(), idx.begin(), idx.end());
-  std::sort(out.begin(), out.end());
-  return out;
-}
 
 Selection::Selection(const Engine& engine, const DiagnosisOptions& options)
     : engine_(engine), opt_(options) {
@@ -50,8 +33,6 @@ void Selection::refit_shortlist(DiagnosisReport& rep) {
   std::set<std::size_t> taken;
   for (auto& e : shortlisted(side_, engine_.evidence(), sites, &taken))
     chosen_.push_back(std::move(e));
-  for (std::size_t i : few_unobserved(side_, opt_.refits))
-    if (taken.insert(i).second) chosen_.push_back(side_[i]);
   res_ = engine_.evaluate_all(chosen_, engine_.declared());
   widen(sites, taken);
   rep.refitted = chosen_.size();

@@ -23,10 +23,6 @@ std::vector<std::string> site_order(const std::vector<Entry>& side);
 /// True when a candidate is refitted as a model extension and compared by its screen score.
 bool model_side(const Entry& e);
 
-/// Indices into `side` of every unobserved candidate of each kind that has at most `most` of them
-/// (one per heater): refitted without a screen score.
-std::vector<std::size_t> few_unobserved(const std::vector<Entry>& side, std::size_t most);
-
 /// Records on `keep` how its mechanism compared with the other one (`drop`); `mechanisms` are its
 /// kind's, in order.
 void note_mechanism(Finding& keep, const Finding& drop, const FitComparison& cmp,

@@ -1,7 +1,7 @@
 // The screen's shortlist: every hypothesis proposes candidates on the evidence, and the model-side
 // ones are refitted by site in the screen's order, widened per kind and per node, and beside each
 // shortlisted candidate by its counterparts on unmeasured nodes near it (which the screen cannot
-// score).
+// score), and every unobserved candidate of a kind that has few of them.
 
 #include "kernel/diagnosis/selection.hpp"
 
@@ -151,6 +151,24 @@ std::vector<std::string> largest_error_nodes(const Evidence& ev, std::size_t mos
   return out;
 }
 
+/// Indices into `side` of every unobserved candidate of each kind that has at most `most` of them
+/// (one per heater): refitted without a screen score.
+std::vector<std::size_t> few_unobserved(const std::vector<Entry>& side, std::size_t most) {
+  // The screen cannot score a candidate on unmeasured nodes, and the counterparts (step 4) reach
+  // one only beside a shortlisted candidate of its kind on a measured node nearby. A kind whose
+  // unobserved candidates are few (one per heater: heater_gain, heater_mass) needs no screen to
+  // keep its refits affordable, so all of them are refitted: a heater on an unmeasured node is
+  // otherwise reached only when another heater's candidate happens to sit near it.
+  std::map<std::string, std::vector<std::size_t>> by_kind;
+  for (std::size_t i = 0; i < side.size(); ++i)
+    if (side[i].c.unobserved) by_kind[side[i].c.kind].push_back(i);
+  std::vector<std::size_t> out;
+  for (const auto& [kind, idx] : by_kind)
+    if (idx.size() <= most) out.insert(out.end(), idx.begin(), idx.end());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 } // namespace
 
 bool model_side(const Entry& e) {
@@ -258,6 +276,8 @@ std::vector<Entry> Selection::shortlisted(const std::vector<Entry>& side, const 
     e.own.start = e.c.start;
     fresh.push_back(std::move(e));
   }
+  for (std::size_t i : few_unobserved(side, opt_.refits))
+    if (taken->insert(i).second) fresh.push_back(side[i]);
   return fresh;
 }
 
