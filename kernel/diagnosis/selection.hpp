@@ -23,6 +23,11 @@ std::vector<std::string> site_order(const std::vector<Entry>& side);
 /// True when a candidate is refitted as a model extension and compared by its screen score.
 bool model_side(const Entry& e);
 
+/// Indices into `entries` of the candidates of entries[i]'s kind (either mechanism) that name, in
+/// place of one of its unmeasured nodes, a boundary an element links that node to.
+std::vector<std::size_t> boundary_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
+                                            std::size_t i);
+
 /// Records on `keep` how its mechanism compared with the other one (`drop`); `mechanisms` are its
 /// kind's, in order.
 void note_mechanism(Finding& keep, const Finding& drop, const FitComparison& cmp,

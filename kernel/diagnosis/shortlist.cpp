@@ -171,6 +171,28 @@ std::vector<std::size_t> few_unobserved(const std::vector<Entry>& side, std::siz
 
 } // namespace
 
+std::vector<std::size_t> boundary_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
+                                            std::size_t i) {
+  const auto& spec = ev.cases.front().spec;
+  const Candidate& c = entries[i].c;
+  std::vector<std::size_t> out;
+  std::set<std::string> wanted;
+  const auto near = neighbours(spec);
+  for (std::size_t n = 0; n < c.nodes.size(); ++n) {
+    const int node = spec.node_index(c.nodes[n]);
+    if (node < 0 || !ev.unobserved(node)) continue;
+    for (int b : boundaries_near(near, spec, node)) {
+      std::vector<std::string> nodes = c.nodes;
+      nodes[n] = spec.nodes[static_cast<std::size_t>(b)].name;
+      wanted.insert(shape_key(c.kind, "", nodes));
+    }
+  }
+  for (std::size_t j = 0; j < entries.size(); ++j)
+    if (j != i && wanted.count(shape_key(entries[j].c.kind, "", entries[j].c.nodes)))
+      out.push_back(j);
+  return out;
+}
+
 bool model_side(const Entry& e) {
   return !e.c.measurement_side && !e.own_h->recalibrates();
 }
