@@ -12,6 +12,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <limits>
 #include <optional>
 
 namespace thermnet::detail {
@@ -38,10 +39,17 @@ std::size_t Selection::joint_refit(DiagnosisReport& rep) {
 
 void Selection::add_recalibrated_shortlist(const Base& base) {
   // The screen is repeated at the recalibrated params (the unexplained heat flows change with
-  // them): twice as many sites (a weak guide at wrong params, many near-equal sites after).
+  // them): twice as many sites (a weak guide at wrong params, many near-equal sites after). The
+  // measurement-side candidates proposed there are added too: a sensor's lag is proposed only
+  // where the residual follows the simulated slope, which the params' error can hide (D03 of the
+  // validation table: a 423 s lag, not proposed at the declared params, was named an offset).
   try {
     const Evidence ev = engine_.evidence_at(base);
-    for (auto& e : shortlisted(screen(ev).side, ev, 2 * opt_.refits, nullptr))
+    Screened s = screen(ev);
+    std::vector<Entry> more = shortlisted(s.side, ev, 2 * opt_.refits, nullptr);
+    for (auto& e : s.others)
+      if (e.c.measurement_side) more.push_back(std::move(e));
+    for (auto& e : more)
       if (std::none_of(chosen_.begin(), chosen_.end(),
                        [&](const Entry& x) { return same_candidate(x.c, e.c); })) {
         chosen_.push_back(std::move(e));
@@ -59,12 +67,14 @@ void Selection::refit_jointly(std::size_t recal, const std::vector<double>& rang
   // Their refits on the recalibrated model rank them (they correct its series: no simulation);
   // at the declared params the params' error hides a sensor's (S12: a 61 s lag whose own refit
   // gained 0.3 % at the declared values).
+  // (Those proposed only at the recalibrated params have no own refit: ranked by the second.)
   std::vector<std::size_t> meas;
   for (std::size_t i = 0; i < chosen_.size(); ++i)
-    if (chosen_[i].c.measurement_side && !res_[i].f.values.empty()) meas.push_back(i);
-  std::vector<double> rmse(chosen_.size());
+    if (chosen_[i].c.measurement_side && (!res_[i].f.values.empty() || recalibrated))
+      meas.push_back(i);
+  std::vector<double> rmse(chosen_.size(), std::numeric_limits<double>::infinity());
   for (std::size_t i : meas)
-    rmse[i] = res_[i].f.rmse_after;
+    if (!res_[i].f.values.empty()) rmse[i] = res_[i].f.rmse_after;
   if (recalibrated) {
     std::vector<Entry> on_recal;
     for (std::size_t i : meas)
