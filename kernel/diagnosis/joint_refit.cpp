@@ -91,25 +91,32 @@ void Selection::refit_jointly(std::size_t recal, const std::vector<double>& rang
   std::vector<Entry> entries;
   for (std::size_t i = 0; i < chosen_.size(); ++i) {
     if (!model_side(chosen_[i]) && std::find(meas.begin(), meas.end(), i) == meas.end()) continue;
-    joints_.push_back(
-        std::make_unique<Joint>(chosen_[i].h, chosen_[i].c, chosen_[recal].h, chosen_[recal].c));
     todo.push_back(i);
-    Entry je = chosen_[i];
-    je.h = joints_.back().get();
-    je.c = joints_.back()->candidate(ranged);
-    entries.push_back(std::move(je));
+    entries.push_back(joint_entry(chosen_[i], recal, ranged));
   }
   std::vector<Evaluated> jres = engine_.evaluate_all(entries, engine_.declared(), true);
   rep.refitted += todo.size();
   for (std::size_t j = 0; j < todo.size(); ++j) {
     if (jres[j].f.values.empty()) continue; // the joint fit failed: keep the own refit
     const std::size_t i = todo[j];
-    jres[j].f.evidence += (jres[j].f.evidence.empty() ? "" : "; ") +
-                          fmt::format("refitted jointly with the ranged params ({})",
-                                      fmt::join(chosen_[recal].c.names, ", "));
+    note_joint(jres[j].f, recal);
     res_[i] = std::move(jres[j]);
     chosen_[i] = std::move(entries[j]);
   }
+}
+
+Entry Selection::joint_entry(const Entry& e, std::size_t recal, const std::vector<double>& ranged) {
+  joints_.push_back(std::make_unique<Joint>(e.h, e.c, chosen_[recal].h, chosen_[recal].c));
+  Entry je = e;
+  je.h = joints_.back().get();
+  je.c = joints_.back()->candidate(ranged);
+  return je;
+}
+
+void Selection::note_joint(Finding& f, std::size_t recal) const {
+  f.evidence +=
+      (f.evidence.empty() ? "" : "; ") + fmt::format("refitted jointly with the ranged params ({})",
+                                                     fmt::join(chosen_[recal].c.names, ", "));
 }
 
 } // namespace thermnet::detail
