@@ -15,7 +15,7 @@
 namespace thermnet::lang {
 
 /// Declared name -> index of its declaration in `Decls` (a container of declarations with a
-/// `name`, indexed by int, which must outlive the index and keep the names of the entered
+/// `name`, indexed by position, which must outlive the index and keep the names of the entered
 /// declarations unchanged).
 template <typename Decls> class NameIndex {
 public:
