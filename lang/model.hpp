@@ -286,15 +286,9 @@ public:
   /// Number of syntax errors in the model's files (whole-model warnings are unreliable then).
   std::size_t syntax_errors() const { return syntax_errors_; }
   /// Index in nodes() of the node or boundary with this full name, or -1.
-  int node_index(std::string_view name) const {
-    auto it = node_index_.find(name);
-    return it == node_index_.end() ? -1 : it->second;
-  }
+  int node_index(std::string_view name) const { return node_index_.find(name); }
   /// Index in elements() of the element with this full name, or -1.
-  int element_index(std::string_view name) const {
-    auto it = element_index_.find(name);
-    return it == element_index_.end() ? -1 : it->second;
-  }
+  int element_index(std::string_view name) const { return element_index_.find(name); }
   /// The first error that made a declaration unusable while loading (an unknown kind or node,
   /// wrong terminals, a bad loop or index), which instantiate() throws; empty when there is none.
   const std::optional<Diagnostic>& load_error() const { return load_error_; }
@@ -322,10 +316,10 @@ private:
   std::optional<Diagnostic> load_error_;
   Overrides overrides_; // values set from outside the model (`--set`)
   std::set<std::string, std::less<>> structurally_used_; // consts used by loops and indices
-  // Name -> declaration index, filled while loading and shared by every elaboration; the keys
-  // view the declarations' names (a deque never moves them).
-  NameIndex node_index_;
-  NameIndex element_index_;
+  // Name -> declaration index, filled while loading and shared by every elaboration; the names
+  // are read from the declarations (a deque never moves them).
+  NameIndex<std::deque<NodeDecl>> node_index_{nodes_};
+  NameIndex<std::deque<ElementDecl>> element_index_{elements_};
   std::unordered_map<std::string_view, int> submodel_index_;
   // Networks of cases without param overrides, elaborated once per run and shared.
   mutable std::mutex cache_mutex_;

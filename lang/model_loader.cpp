@@ -332,18 +332,15 @@ private:
     elaborator_.emplace(
         Elaborator::structural(m_, [this](Diagnostic d) { report(std::move(d), nullptr, true); }));
     // A flat model declares one name per statement: size the indices once (robin-hood hashing
-    // stays fast well above the default load factor of 0.5, and a bucket costs 32 bytes).
+    // stays fast well above the default load factor of 0.5, and a bucket costs 12 bytes).
     std::size_t nodes = 0, elements = 0;
     for (const auto& [stmt, f] : structure_) {
       nodes += std::holds_alternative<ast::NodeStmt>(*stmt);
       elements += std::holds_alternative<ast::ElementStmt>(*stmt) ||
                   std::holds_alternative<ast::CompositeStmt>(*stmt);
     }
-    for (auto [index, count] :
-         {std::pair{&m_.node_index_, nodes}, {&m_.element_index_, elements}}) {
-      index->max_load_factor(0.8f);
-      index->reserve(count);
-    }
+    m_.node_index_.reserve(nodes, 0.8f);
+    m_.element_index_.reserve(elements, 0.8f);
     for (const auto& [stmt, f] : structure_) {
       if (stopped_ || diags_.saturated()) break;
       expand(*stmt, f, nullptr);
@@ -471,11 +468,11 @@ private:
       d.name_span = span(f, s.name);
       d.scope = scope;
       const int index = static_cast<int>(m_.nodes_.size() - 1);
-      auto [it, fresh] = m_.node_index_.emplace(d.name, index);
+      const int first = m_.node_index_.insert(index);
       check_name(what, s.name.id.name, d.name, d.name_span, at(f, s),
-                 fresh ? nullptr : &m_.nodes_[static_cast<std::size_t>(it->second)].name_span,
+                 first < 0 ? nullptr : &m_.nodes_[static_cast<std::size_t>(first)].name_span,
                  scope);
-      if (!fresh) m_.nodes_.pop_back();
+      if (first >= 0) m_.nodes_.pop_back();
     }
   }
 
@@ -487,10 +484,10 @@ private:
     const Span* previous = nullptr;
     bool entered = false;
     if (instance) {
-      if (auto it = m_.element_index_.find(name); it != m_.element_index_.end())
-        previous = &m_.elements_[static_cast<std::size_t>(it->second)].name_span;
-    } else if (auto [it, fresh] = m_.element_index_.try_emplace(name, index); !fresh) {
-      previous = &m_.elements_[static_cast<std::size_t>(it->second)].name_span;
+      if (const int i = m_.element_index_.find(name); i >= 0)
+        previous = &m_.elements_[static_cast<std::size_t>(i)].name_span;
+    } else if (const int i = m_.element_index_.insert(index); i >= 0) {
+      previous = &m_.elements_[static_cast<std::size_t>(i)].name_span;
     } else {
       entered = true;
     }

@@ -6,6 +6,8 @@
 #include "lang/signal.hpp"
 #include "lang/source.hpp"
 
+#include <boost/container/small_vector.hpp>
+
 #include <map>
 #include <optional>
 #include <string>
@@ -80,8 +82,9 @@ struct ElementSpec {
   const ElementSchema* schema = nullptr; ///< its kind's schema (nullptr for a composite)
   std::string kind;                      ///< kind name ("series"/"parallel" for composites)
   std::string name;                      ///< element name (empty for composite parts)
-  std::vector<int> nodes;                ///< terminal node indices
-  KeySignals values;                     ///< key -> value in SI (numbers as constant signals)
+  /// Terminal node indices, inline (an element has one or two: no allocation per element).
+  boost::container::small_vector<int, 2> nodes;
+  KeySignals values; ///< key -> value in SI (numbers as constant signals)
   /// Node-valued keys (e.g. sense) and their node indices, in the order given (a flat list: few
   /// elements have one, and an empty map weighed 48 bytes in every element).
   std::vector<std::pair<std::string, int>> node_keys;

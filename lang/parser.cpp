@@ -66,6 +66,9 @@ public:
     if (end_ - base_ >= 3 && std::equal(base_, base_ + 3, "\xEF\xBB\xBF")) p += 3; // a UTF-8 BOM
     parse_statements(p, file_.statements, Block::top, nullptr);
     if (p != end_ && diags_.saturated()) diags_.stop_early();
+    // The expression array grew by doubling and lives as long as the model: up to half of it is
+    // room never used, which the declarations and networks allocated next would sit above.
+    file_.exprs.shrink_to_fit();
     file_.syntax_errors = diags_.error_count() - errors_before;
     return std::move(file_);
   }

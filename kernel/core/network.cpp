@@ -119,6 +119,7 @@ Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec
     capacities_.push_back(spec_.nodes[i].C);
   }
   KindLookup kinds(registry);
+  pieces_.reserve(spec_.elements.size()); // one per element but a parallel block's parts
   const auto add = [&](const lang::ElementSpec& e, int spec_element) {
     std::unique_ptr<Element> element = build(e, kinds);
     Piece piece{spec_element};
@@ -154,15 +155,18 @@ Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec
                              e.state_name(j));
     }
   }
-  // Fix the pattern: every unknown's diagonal plus what the elements declare.
-  std::vector<std::pair<int, int>> pairs;
-  RecordingLayout recorder(pairs, unknown_of_);
-  links_.declare(recorder);
-  for (auto& e : elements_)
-    e->declare(recorder);
-  for (int u = 0; u < size(); ++u)
-    pairs.emplace_back(u, u);
-  pattern_ = pattern_of(size(), pairs);
+  // Fix the pattern: every unknown's diagonal plus what the elements declare (the pairs are freed
+  // before the Jacobian arrays below are allocated, which then take their place in the heap).
+  pattern_ = [&] {
+    std::vector<std::pair<int, int>> pairs;
+    RecordingLayout recorder(pairs, unknown_of_);
+    links_.declare(recorder);
+    for (auto& e : elements_)
+      e->declare(recorder);
+    for (int u = 0; u < size(); ++u)
+      pairs.emplace_back(u, u);
+    return pattern_of(size(), pairs);
+  }();
   SlotLayout slots(pattern_, unknown_of_);
   links_.declare(slots);
   for (auto& e : elements_) {

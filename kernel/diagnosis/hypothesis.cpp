@@ -62,7 +62,7 @@ lang::ElementSpec make_element(const std::string& kind, const std::string& name,
   if (!e.schema) throw std::invalid_argument("no element kind '" + kind + "'");
   e.kind = kind;
   e.name = name;
-  e.nodes = std::move(nodes);
+  e.nodes.assign(nodes.begin(), nodes.end());
   for (const auto& [k, v] : keys)
     e.values.emplace(k, lang::Signal::of(v));
   return e;

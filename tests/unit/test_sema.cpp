@@ -116,7 +116,8 @@ TEST_CASE("sema: the spec's example instantiates with every value in SI") {
   CHECK(node(net, "plate2").T0.value() == doctest::Approx(293.15));
 
   const ElementSpec& gap = element(net, "gap");
-  CHECK(gap.nodes == std::vector<int>{net.node_index("plate1"), net.node_index("plate2")});
+  CHECK(std::vector<int>(gap.nodes.begin(), gap.nodes.end()) ==
+        std::vector<int>{net.node_index("plate1"), net.node_index("plate2")});
   CHECK(gap.number("h") == 4);
   CHECK(gap.number("A") == doctest::Approx(0.02));
   const ElementSpec& rad = element(net, "rad");
