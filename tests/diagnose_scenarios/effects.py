@@ -139,7 +139,7 @@ def sites(net: Network, e: Effect, base, rng, measured: set[str], taken: set[str
         return [([a], None) for a in ok[:6]]
     if e.kind == "capacity_error":  # a node whose temperature moves, so its capacity matters
         ranked = sorted(ok, key=lambda a: -swing[a])
-        return [([a], None) for a in ranked[: max(3, len(ranked) // 3)]][:10]
+        return [([a], None) for a in ranked[: max(3, len(ranked) // 3)]][:6]
     if e.kind in ("heater_gain", "heater_mass"):
         hs = [h for h in net.heaters if h.node in ok]
         rng.shuffle(hs)
