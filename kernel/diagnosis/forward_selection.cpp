@@ -61,6 +61,12 @@ std::size_t Selection::rerank_jointly(const std::vector<Applied>& applied, const
     if (top.size() >= opt_.refits) break;
     if (sites.insert(site(nres[i].f.candidate)).second) top.push_back(i);
   }
+  // A link to an unmeasured node tied to a boundary and the link to that boundary differ little
+  // on top of findings whose params absorbed part of the effect: both are refitted jointly.
+  for (std::size_t k = 0, n = top.size(); k < n; ++k)
+    for (std::size_t j : boundary_exchanges(next, engine_.evidence(), next[top[k]].c))
+      if (!nres[j].f.values.empty() && sites.insert(site(nres[j].f.candidate)).second)
+        top.push_back(j);
   std::vector<std::unique_ptr<Compose>> composed;
   std::vector<Entry> entries;
   for (std::size_t i : top) {

@@ -12,6 +12,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <limits>
 #include <optional>
 
 namespace thermnet::detail {
@@ -38,10 +39,17 @@ std::size_t Selection::joint_refit(DiagnosisReport& rep) {
 
 void Selection::add_recalibrated_shortlist(const Base& base) {
   // The screen is repeated at the recalibrated params (the unexplained heat flows change with
-  // them): twice as many sites (a weak guide at wrong params, many near-equal sites after).
+  // them): twice as many sites (a weak guide at wrong params, many near-equal sites after). The
+  // measurement-side candidates proposed there are added too: a sensor's lag is proposed only
+  // where the residual follows the simulated slope, which the params' error can hide (D03 of the
+  // validation table: a 423 s lag, not proposed at the declared params, was named an offset).
   try {
     const Evidence ev = engine_.evidence_at(base);
-    for (auto& e : shortlisted(screen(ev).side, ev, 2 * opt_.refits, nullptr))
+    Screened s = screen(ev);
+    std::vector<Entry> more = shortlisted(s.side, ev, 2 * opt_.refits, nullptr);
+    for (auto& e : s.others)
+      if (e.c.measurement_side) more.push_back(std::move(e));
+    for (auto& e : more)
       if (std::none_of(chosen_.begin(), chosen_.end(),
                        [&](const Entry& x) { return same_candidate(x.c, e.c); })) {
         chosen_.push_back(std::move(e));
@@ -59,12 +67,14 @@ void Selection::refit_jointly(std::size_t recal, const std::vector<double>& rang
   // Their refits on the recalibrated model rank them (they correct its series: no simulation);
   // at the declared params the params' error hides a sensor's (S12: a 61 s lag whose own refit
   // gained 0.3 % at the declared values).
+  // (Those proposed only at the recalibrated params have no own refit: ranked by the second.)
   std::vector<std::size_t> meas;
   for (std::size_t i = 0; i < chosen_.size(); ++i)
-    if (chosen_[i].c.measurement_side && !res_[i].f.values.empty()) meas.push_back(i);
-  std::vector<double> rmse(chosen_.size());
+    if (chosen_[i].c.measurement_side && (!res_[i].f.values.empty() || recalibrated))
+      meas.push_back(i);
+  std::vector<double> rmse(chosen_.size(), std::numeric_limits<double>::infinity());
   for (std::size_t i : meas)
-    rmse[i] = res_[i].f.rmse_after;
+    if (!res_[i].f.values.empty()) rmse[i] = res_[i].f.rmse_after;
   if (recalibrated) {
     std::vector<Entry> on_recal;
     for (std::size_t i : meas)
@@ -81,25 +91,32 @@ void Selection::refit_jointly(std::size_t recal, const std::vector<double>& rang
   std::vector<Entry> entries;
   for (std::size_t i = 0; i < chosen_.size(); ++i) {
     if (!model_side(chosen_[i]) && std::find(meas.begin(), meas.end(), i) == meas.end()) continue;
-    joints_.push_back(
-        std::make_unique<Joint>(chosen_[i].h, chosen_[i].c, chosen_[recal].h, chosen_[recal].c));
     todo.push_back(i);
-    Entry je = chosen_[i];
-    je.h = joints_.back().get();
-    je.c = joints_.back()->candidate(ranged);
-    entries.push_back(std::move(je));
+    entries.push_back(joint_entry(chosen_[i], recal, ranged));
   }
   std::vector<Evaluated> jres = engine_.evaluate_all(entries, engine_.declared(), true);
   rep.refitted += todo.size();
   for (std::size_t j = 0; j < todo.size(); ++j) {
     if (jres[j].f.values.empty()) continue; // the joint fit failed: keep the own refit
     const std::size_t i = todo[j];
-    jres[j].f.evidence += (jres[j].f.evidence.empty() ? "" : "; ") +
-                          fmt::format("refitted jointly with the ranged params ({})",
-                                      fmt::join(chosen_[recal].c.names, ", "));
+    note_joint(jres[j].f, recal);
     res_[i] = std::move(jres[j]);
     chosen_[i] = std::move(entries[j]);
   }
+}
+
+Entry Selection::joint_entry(const Entry& e, std::size_t recal, const std::vector<double>& ranged) {
+  joints_.push_back(std::make_unique<Joint>(e.h, e.c, chosen_[recal].h, chosen_[recal].c));
+  Entry je = e;
+  je.h = joints_.back().get();
+  je.c = joints_.back()->candidate(ranged);
+  return je;
+}
+
+void Selection::note_joint(Finding& f, std::size_t recal) const {
+  f.evidence +=
+      (f.evidence.empty() ? "" : "; ") + fmt::format("refitted jointly with the ranged params ({})",
+                                                     fmt::join(chosen_[recal].c.names, ", "));
 }
 
 } // namespace thermnet::detail

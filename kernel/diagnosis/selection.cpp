@@ -16,7 +16,9 @@ Selection::Selection(const Engine& engine, const DiagnosisOptions& options)
 
 Base Selection::run(DiagnosisReport& rep) {
   refit_shortlist(rep);
-  rank_first(joint_refit(rep));
+  const std::size_t recal = joint_refit(rep);
+  rank_first(recal);
+  if (refit_tied_variants(recal, rep)) rank_first(recal);
   const Base best = select_forward(rep);
   finish(rep);
   return best;

@@ -23,6 +23,16 @@ std::vector<std::string> site_order(const std::vector<Entry>& side);
 /// True when a candidate is refitted as a model extension and compared by its screen score.
 bool model_side(const Entry& e);
 
+/// Indices into `entries` of the candidates of c's kind (either mechanism) that name, in place of
+/// one of its unmeasured nodes, a boundary an element links that node to.
+std::vector<std::size_t> boundary_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
+                                            const Candidate& c);
+
+/// Indices into `entries` of the candidates of c's kind (either mechanism) that name, in place of
+/// one of its boundaries, a node an element links to it (measured nodes first, 6 nodes at most).
+std::vector<std::size_t> tied_node_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
+                                             const Candidate& c);
+
 /// Records on `keep` how its mechanism compared with the other one (`drop`); `mechanisms` are its
 /// kind's, in order.
 void note_mechanism(Finding& keep, const Finding& drop, const FitComparison& cmp,
@@ -45,14 +55,18 @@ public:
   Base run(DiagnosisReport& rep);
 
 private:
-  // The stages, in order (selection.cpp, joint_refit.cpp, forward_selection.cpp).
+  // The stages, in order (selection.cpp, joint_refit.cpp, tied_variants.cpp,
+  // forward_selection.cpp).
   void refit_shortlist(DiagnosisReport& rep);
   void widen(std::size_t sites, std::set<std::size_t>& taken);
   std::size_t joint_refit(DiagnosisReport& rep);
   void add_recalibrated_shortlist(const Base& recalibrated);
   void refit_jointly(std::size_t recal, const std::vector<double>& ranged, const Base* recalibrated,
                      DiagnosisReport& rep);
+  Entry joint_entry(const Entry& e, std::size_t recal, const std::vector<double>& ranged);
+  void note_joint(Finding& f, std::size_t recal) const;
   void rank_first(std::size_t recal);
+  bool refit_tied_variants(std::size_t recal, DiagnosisReport& rep);
   Base select_forward(DiagnosisReport& rep) const;
   std::vector<Entry> next_entries(const Base& base, const std::vector<Applied>& applied,
                                   bool params_applied) const;

@@ -169,7 +169,63 @@ std::vector<std::size_t> few_unobserved(const std::vector<Entry>& side, std::siz
   return out;
 }
 
+/// Indices into `entries` of the candidates of c's kind (either mechanism) whose nodes are c's
+/// with the one at position n replaced by each of `by`, in the order of `by`; at most `most`
+/// distinct replacements.
+std::vector<std::size_t> exchanged(const std::vector<Entry>& entries, const lang::NetworkSpec& spec,
+                                   const Candidate& c, std::size_t n, const std::vector<int>& by,
+                                   std::size_t most) {
+  std::vector<std::size_t> out;
+  std::size_t found = 0;
+  for (int u : by) {
+    if (found >= most) break;
+    std::vector<std::string> nodes = c.nodes;
+    nodes[n] = spec.nodes[static_cast<std::size_t>(u)].name;
+    const std::string key = shape_key(c.kind, "", nodes);
+    bool any = false;
+    for (std::size_t j = 0; j < entries.size(); ++j)
+      if (shape_key(entries[j].c.kind, "", entries[j].c.nodes) == key) {
+        out.push_back(j);
+        any = true;
+      }
+    found += any;
+  }
+  return out;
+}
+
 } // namespace
+
+std::vector<std::size_t> boundary_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
+                                            const Candidate& c) {
+  const auto& spec = ev.cases.front().spec;
+  const auto near = neighbours(spec);
+  std::vector<std::size_t> out;
+  for (std::size_t n = 0; n < c.nodes.size(); ++n) {
+    const int node = spec.node_index(c.nodes[n]);
+    if (node < 0 || !ev.unobserved(node)) continue;
+    const auto more = exchanged(entries, spec, c, n, boundaries_near(near, spec, node), kBeside);
+    out.insert(out.end(), more.begin(), more.end());
+  }
+  return out;
+}
+
+std::vector<std::size_t> tied_node_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
+                                             const Candidate& c) {
+  const auto& spec = ev.cases.front().spec;
+  const auto near = neighbours(spec);
+  std::vector<std::size_t> out;
+  for (std::size_t n = 0; n < c.nodes.size(); ++n) {
+    const int node = spec.node_index(c.nodes[n]);
+    if (node < 0 || !spec.nodes[static_cast<std::size_t>(node)].boundary) continue;
+    std::vector<int> tied;
+    for (int u : near[static_cast<std::size_t>(node)])
+      if (!spec.nodes[static_cast<std::size_t>(u)].boundary) tied.push_back(u);
+    std::stable_partition(tied.begin(), tied.end(), [&](int u) { return ev.measured(u); });
+    const auto more = exchanged(entries, spec, c, n, tied, kBeside);
+    out.insert(out.end(), more.begin(), more.end());
+  }
+  return out;
+}
 
 bool model_side(const Entry& e) {
   return !e.c.measurement_side && !e.own_h->recalibrates();

@@ -1,0 +1,34 @@
+// The first finding against the nodes tied to its boundary. A link from a node to a boundary and
+// a link to a node an element ties to that boundary run at nearly the same temperature and fit
+// alike; the screen ranks sites by the measured nodes' heat flows and may refit only one of them.
+// The best candidate's counterparts on the tied nodes are refitted too (jointly with the ranged
+// params when those were recalibrated), so that they compete with it or stand beside it as rivals
+// the data cannot tell apart.
+
+#include "kernel/diagnosis/selection.hpp"
+
+#include <algorithm>
+
+namespace thermnet::detail {
+
+bool Selection::refit_tied_variants(std::size_t recal, DiagnosisReport& rep) {
+  if (first_.empty() || !model_side(chosen_[first_.front()])) return false;
+  const Candidate& best = chosen_[first_.front()].own;
+  const bool joint = recal < chosen_.size();
+  std::vector<Entry> entries;
+  for (std::size_t j : tied_node_exchanges(side_, engine_.evidence(), best))
+    if (std::none_of(chosen_.begin(), chosen_.end(),
+                     [&](const Entry& x) { return same_candidate(x.own, side_[j].c); }))
+      entries.push_back(joint ? joint_entry(side_[j], recal, res_[recal].f.values) : side_[j]);
+  if (entries.empty()) return false;
+  std::vector<Evaluated> r = engine_.evaluate_all(entries, engine_.declared(), joint);
+  rep.refitted += entries.size();
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    if (joint && !r[k].f.values.empty()) note_joint(r[k].f, recal);
+    chosen_.push_back(std::move(entries[k]));
+    res_.push_back(std::move(r[k]));
+  }
+  return true;
+}
+
+} // namespace thermnet::detail

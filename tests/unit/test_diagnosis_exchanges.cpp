@@ -1,0 +1,89 @@
+// Which candidates stand in for one another across a boundary: a link to an unmeasured node tied
+// to a boundary against the link to that boundary (boundary_exchanges), and a link to a boundary
+// against the link to the nodes tied to it (tied_node_exchanges).
+
+#include "kernel/diagnosis/selection.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "loaded_model.hpp"
+#include "temp_dir.hpp"
+
+namespace thermnet::detail {
+namespace {
+
+/// A candidate entry of `kind` (and `mechanism`) on `nodes`.
+Entry entry(std::string kind, std::vector<std::string> nodes, std::string mechanism = "") {
+  Entry e;
+  e.c.kind = std::move(kind);
+  e.c.nodes = std::move(nodes);
+  e.c.mechanism = std::move(mechanism);
+  e.own = e.c;
+  return e;
+}
+
+/// The node lists of entries[i] for each i in `idx`, "kind:mechanism:a,b".
+std::vector<std::string> named(const std::vector<Entry>& entries,
+                               const std::vector<std::size_t>& idx) {
+  std::vector<std::string> out;
+  for (std::size_t i : idx) {
+    std::string s = entries[i].c.kind + ":" + entries[i].c.mechanism + ":";
+    for (const auto& n : entries[i].c.nodes)
+      s += n + (&n == &entries[i].c.nodes.back() ? "" : ",");
+    out.push_back(s);
+  }
+  return out;
+}
+
+} // namespace
+
+TEST_CASE("diagnosis exchanges: boundaries for unmeasured ends, tied nodes for boundaries") {
+  // sink is a boundary; a (measured) and b (unmeasured) are bolted to it; c (measured) is free.
+  test::TempDir dir("exchanges");
+  const std::string path = dir.write("m.tnet", R"(
+boundary sink T = 20
+node a C = 10
+node b C = 10
+node c C = 10
+conductance ga a sink G = 5
+conductance gb b sink G = 5
+conductance gc a c G = 0.5
+conductance gd b c G = 0.5
+)");
+  test::LoadedModel m(path, test::Lint::clean);
+  Evidence ev;
+  ev.cases.emplace_back();
+  ev.cases.front().spec = m.model->instantiate();
+  const auto& spec = ev.cases.front().spec;
+  ev.cases.front().rows = {spec.node_index("a"), spec.node_index("c")};
+  REQUIRE(ev.unobserved(spec.node_index("b")));
+
+  const std::vector<Entry> entries = {entry("missing_link", {"c", "b"}, "linear"),
+                                      entry("missing_link", {"sink", "c"}, "linear"),
+                                      entry("missing_link", {"sink", "c"}, "radiation"),
+                                      entry("missing_link", {"c", "a"}, "linear"),
+                                      entry("missing_source", {"c"}),
+                                      entry("missing_link", {"sink", "b"}, "linear")};
+
+  SUBCASE("an unmeasured end is exchanged for the boundary it is tied to, either mechanism") {
+    CHECK(named(entries, boundary_exchanges(entries, ev, entries[0].c)) ==
+          std::vector<std::string>{"missing_link:linear:sink,c", "missing_link:radiation:sink,c"});
+  }
+  SUBCASE("a measured end is not exchanged") {
+    CHECK(boundary_exchanges(entries, ev, entries[3].c).empty());
+  }
+  SUBCASE("a boundary is exchanged for the nodes tied to it, measured ones first") {
+    // a (measured) before b (unmeasured); c is not tied to the sink.
+    CHECK(named(entries, tied_node_exchanges(entries, ev, entries[2].c)) ==
+          std::vector<std::string>{"missing_link:linear:c,a", "missing_link:linear:c,b"});
+  }
+  SUBCASE("a candidate naming no boundary has no tied-node exchange") {
+    CHECK(tied_node_exchanges(entries, ev, entries[0].c).empty());
+  }
+}
+
+} // namespace thermnet::detail
