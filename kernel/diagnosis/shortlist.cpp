@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 
 namespace thermnet::detail {
@@ -193,38 +194,46 @@ std::vector<std::size_t> exchanged(const std::vector<Entry>& entries, const lang
   return out;
 }
 
-} // namespace
+/// Spec node -> the nodes an element links it to (neighbours).
+using Near = std::vector<std::set<int>>;
 
-std::vector<std::size_t> boundary_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
-                                            const Candidate& c) {
+/// For each node of c, the candidates exchanged (`exchanged`) for the nodes by(near, node) lists.
+std::vector<std::size_t> exchanges(const std::vector<Entry>& entries, const Evidence& ev,
+                                   const Candidate& c,
+                                   const std::function<std::vector<int>(const Near&, int)>& by) {
   const auto& spec = ev.cases.front().spec;
-  const auto near = neighbours(spec);
+  const Near near = neighbours(spec);
   std::vector<std::size_t> out;
   for (std::size_t n = 0; n < c.nodes.size(); ++n) {
     const int node = spec.node_index(c.nodes[n]);
-    if (node < 0 || !ev.unobserved(node)) continue;
-    const auto more = exchanged(entries, spec, c, n, boundaries_near(near, spec, node), kBeside);
+    if (node < 0) continue;
+    const auto more = exchanged(entries, spec, c, n, by(near, node), kBeside);
     out.insert(out.end(), more.begin(), more.end());
   }
   return out;
 }
 
+} // namespace
+
+std::vector<std::size_t> boundary_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
+                                            const Candidate& c) {
+  return exchanges(entries, ev, c, [&](const Near& near, int node) {
+    return ev.unobserved(node) ? boundaries_near(near, ev.cases.front().spec, node)
+                               : std::vector<int>{};
+  });
+}
+
 std::vector<std::size_t> tied_node_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
                                              const Candidate& c) {
   const auto& spec = ev.cases.front().spec;
-  const auto near = neighbours(spec);
-  std::vector<std::size_t> out;
-  for (std::size_t n = 0; n < c.nodes.size(); ++n) {
-    const int node = spec.node_index(c.nodes[n]);
-    if (node < 0 || !spec.nodes[static_cast<std::size_t>(node)].boundary) continue;
+  return exchanges(entries, ev, c, [&](const Near& near, int node) {
     std::vector<int> tied;
+    if (!spec.nodes[static_cast<std::size_t>(node)].boundary) return tied;
     for (int u : near[static_cast<std::size_t>(node)])
       if (!spec.nodes[static_cast<std::size_t>(u)].boundary) tied.push_back(u);
     std::stable_partition(tied.begin(), tied.end(), [&](int u) { return ev.measured(u); });
-    const auto more = exchanged(entries, spec, c, n, tied, kBeside);
-    out.insert(out.end(), more.begin(), more.end());
-  }
-  return out;
+    return tied;
+  });
 }
 
 bool model_side(const Entry& e) {
