@@ -39,6 +39,17 @@ std::string shape_key(const std::string& kind, const std::string& mechanism,
   return fmt::format("{}|{}|{}", kind, mechanism, fmt::join(nodes, ","));
 }
 
+/// Entries by shape_key (with their mechanism, or without it) -> their indices, in order.
+using Shapes = std::map<std::string, std::vector<std::size_t>>;
+Shapes shapes(const std::vector<Entry>& entries, bool with_mechanism) {
+  Shapes out;
+  for (std::size_t j = 0; j < entries.size(); ++j)
+    out[shape_key(entries[j].c.kind, with_mechanism ? entries[j].c.mechanism : "",
+                  entries[j].c.nodes)]
+        .push_back(j);
+  return out;
+}
+
 /// Spec node -> the nodes an element links it to, in index order.
 std::vector<std::set<int>> neighbours(const lang::NetworkSpec& spec) {
   std::vector<std::set<int>> out(spec.nodes.size());
@@ -86,9 +97,7 @@ std::vector<int> boundaries_near(const std::vector<std::set<int>>& near,
 std::vector<std::pair<std::size_t, std::size_t>>
 counterparts(const std::vector<Entry>& side, const Evidence& ev,
              const std::vector<std::size_t>& picked) {
-  std::map<std::string, std::vector<std::size_t>> by_shape;
-  for (std::size_t j = 0; j < side.size(); ++j)
-    by_shape[shape_key(side[j].c.kind, side[j].c.mechanism, side[j].c.nodes)].push_back(j);
+  const Shapes by_shape = shapes(side, true);
   const auto& spec = ev.cases.front().spec;
   const auto near = neighbours(spec);
   std::vector<std::pair<std::size_t, std::size_t>> out;
@@ -170,10 +179,10 @@ std::vector<std::size_t> few_unobserved(const std::vector<Entry>& side, std::siz
   return out;
 }
 
-/// Indices into `entries` of the candidates of c's kind (either mechanism) whose nodes are c's
-/// with the one at position n replaced by each of `by`, in the order of `by`; at most `most`
-/// distinct replacements.
-std::vector<std::size_t> exchanged(const std::vector<Entry>& entries, const lang::NetworkSpec& spec,
+/// Indices of the candidates (`by_site`: shapes without mechanism) of c's kind, either mechanism,
+/// whose nodes are c's with the one at position n replaced by each of `by`, in the order of `by`;
+/// at most `most` distinct replacements.
+std::vector<std::size_t> exchanged(const Shapes& by_site, const lang::NetworkSpec& spec,
                                    const Candidate& c, std::size_t n, const std::vector<int>& by,
                                    std::size_t most) {
   std::vector<std::size_t> out;
@@ -182,14 +191,10 @@ std::vector<std::size_t> exchanged(const std::vector<Entry>& entries, const lang
     if (found >= most) break;
     std::vector<std::string> nodes = c.nodes;
     nodes[n] = spec.nodes[static_cast<std::size_t>(u)].name;
-    const std::string key = shape_key(c.kind, "", nodes);
-    bool any = false;
-    for (std::size_t j = 0; j < entries.size(); ++j)
-      if (shape_key(entries[j].c.kind, "", entries[j].c.nodes) == key) {
-        out.push_back(j);
-        any = true;
-      }
-    found += any;
+    auto it = by_site.find(shape_key(c.kind, "", nodes));
+    if (it == by_site.end()) continue;
+    out.insert(out.end(), it->second.begin(), it->second.end());
+    ++found;
   }
   return out;
 }
@@ -203,11 +208,12 @@ std::vector<std::size_t> exchanges(const std::vector<Entry>& entries, const Evid
                                    const std::function<std::vector<int>(const Near&, int)>& by) {
   const auto& spec = ev.cases.front().spec;
   const Near near = neighbours(spec);
+  const Shapes by_site = shapes(entries, false);
   std::vector<std::size_t> out;
   for (std::size_t n = 0; n < c.nodes.size(); ++n) {
     const int node = spec.node_index(c.nodes[n]);
     if (node < 0) continue;
-    const auto more = exchanged(entries, spec, c, n, by(near, node), kBeside);
+    const auto more = exchanged(by_site, spec, c, n, by(near, node), kBeside);
     out.insert(out.end(), more.begin(), more.end());
   }
   return out;
