@@ -720,14 +720,14 @@ void Elaborator::elaborate_node(const NodeDecl& d, NodeSpec& out) {
   Restore<const Scope*> context(context_, d.scope);
   out.name = d.name;
   out.boundary = d.boundary;
-  out.doc = d.doc;
-  out.where = d.where;
+  out.doc = d.doc();
+  out.where = d.where();
   ElementSpec tmp;
   tmp.name = d.name;
   const ElementSchema& schema = d.boundary ? boundary_schema() : node_schema();
-  Span at{d.file, d.where.begin, d.where.begin};
+  Span at{d.file, d.where().begin, d.where().begin};
   fill_keys(
-      schema, *d.keys, d.file, at, [&] { return fmt::format("{} '{}'", schema.kind, d.name); },
+      schema, d.keys(), d.file, at, [&] { return fmt::format("{} '{}'", schema.kind, d.name); },
       tmp);
   if (d.boundary) {
     if (tmp.has("T")) out.T = tmp.values["T"];
@@ -747,7 +747,7 @@ std::optional<ElementSpec> Elaborator::elaborate_element(const ElementDecl& d) {
   e.schema = d.schema;
   e.kind = s.kind.name;
   e.name = d.name;
-  e.where = d.where;
+  e.where = d.where();
   e.nodes.assign(d.nodes.begin(), d.nodes.end());
   bool ok = std::find(e.nodes.begin(), e.nodes.end(), -1) == e.nodes.end();
   ok &= fill_keys(
@@ -781,7 +781,7 @@ std::optional<ElementSpec> Elaborator::elaborate_composite(const ElementDecl& d)
   ElementSpec e;
   e.kind = s.mode.name;
   e.name = d.name;
-  e.where = d.where;
+  e.where = d.where();
   e.composite = s.mode.name == "series" ? Composite::series : Composite::parallel;
   e.nodes.assign(d.nodes.begin(), d.nodes.end());
   bool ok = std::find(e.nodes.begin(), e.nodes.end(), -1) == e.nodes.end();

@@ -63,7 +63,7 @@ void check_topology(const Model& m, const Reporter& report) {
     if (decls[i].boundary || degree[i] != 0) continue;
     const NodeDecl& d = decls[i];
     Diagnostic w =
-        DiagnosticEngine::make(DiagId::isolated_node, start_of(d.where), d.name_span, d.name);
+        DiagnosticEngine::make(DiagId::isolated_node, start_of(d.where()), d.name_span(), d.name);
     add_scope_notes(w, d.scope);
     report(std::move(w));
   }
@@ -74,14 +74,24 @@ void check_topology(const Model& m, const Reporter& report) {
       names += (k ? ", '" : "'") + decls[members[k]].name + "'";
     if (members.size() > 4) names += fmt::format(" and {} more", members.size() - 4);
     const NodeDecl& d = decls[members.front()];
-    Diagnostic w = DiagnosticEngine::make(DiagId::floating_group, start_of(d.where), d.name_span,
-                                          "nodes " + names);
+    Diagnostic w = DiagnosticEngine::make(DiagId::floating_group, start_of(d.where()),
+                                          d.name_span(), "nodes " + names);
     add_scope_notes(w, d.scope);
     report(std::move(w));
   }
 }
 
 } // namespace
+
+Span ElementDecl::where() const {
+  const ast::Tagged& s = element ? static_cast<const ast::Tagged&>(*element) : *composite;
+  return Span{file, s.begin, s.end};
+}
+
+Span ElementDecl::name_span() const {
+  const ast::Ref& n = element ? element->name : composite->name;
+  return Span{file, n.begin, n.end};
+}
 
 void Model::lint(DiagnosticEngine& diags) const {
   // The base model is elaborated once per case; report each identical problem only once (and

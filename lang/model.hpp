@@ -8,8 +8,6 @@
 #include "lang/schema.hpp"
 #include "lang/units.hpp"
 
-#include <boost/container/small_vector.hpp>
-
 #include <deque>
 #include <functional>
 #include <map>
@@ -17,6 +15,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -93,30 +92,42 @@ struct SubmodelDecl {
   int terminal_index(std::string_view n) const;
 };
 
-/// A node or boundary declaration (one per generated name).
+/// A node or boundary declaration (one per generated name). Spans, keys and description are
+/// read from the statement, which the model keeps: a large netlist has one declaration per line.
 struct NodeDecl {
-  bool boundary = false;                            ///< boundary (true) or node
-  std::string name;                                 ///< its full name (`p[3]`, `u1.pcb`)
-  const std::vector<ast::KeyValue>* keys = nullptr; ///< C/T0 or T
-  std::string doc;                                  ///< description
-  FileId file = 0;                                  ///< declaring file
-  Span where;                                       ///< statement
-  Span name_span;                                   ///< the name
-  const Scope* scope = nullptr;                     ///< loop iteration or instance, if any
+  const ast::NodeStmt* stmt = nullptr; ///< the declaring statement
+  std::string name;                    ///< its full name (`p[3]`, `u1.pcb`)
+  const Scope* scope = nullptr;        ///< loop iteration or instance, if any
+  FileId file = 0;                     ///< declaring file
+  bool boundary = false;               ///< boundary (true) or node
+
+  /// C/T0 or T, as written.
+  const auto& keys() const { return stmt->keys; }
+  /// The description, or an empty text.
+  std::string_view doc() const { return stmt->doc ? std::string_view(stmt->doc->text) : ""; }
+  /// The statement.
+  Span where() const { return Span{file, stmt->begin, stmt->end}; }
+  /// The name as written (with its index list).
+  Span name_span() const { return Span{file, stmt->name.begin, stmt->name.end}; }
 };
 
-/// An element or series/parallel declaration (one per generated name).
+/// An element or series/parallel declaration (one per generated name); its spans are read from
+/// the statement.
 struct ElementDecl {
   const ast::ElementStmt* element = nullptr;     ///< a plugin element, or
   const ast::CompositeStmt* composite = nullptr; ///< a series/parallel block
   std::string name;                              ///< its full name
-  FileId file = 0;                               ///< declaring file
+  const Scope* scope = nullptr;                  ///< loop iteration or instance, if any
+  const ElementSchema* schema = nullptr;         ///< the kind's schema (plugin elements)
+  /// Resolved terminals (-1: unresolved), one per terminal written; they live in the model.
+  std::span<const int> nodes;
+  FileId file = 0;   ///< declaring file
   bool valid = true; ///< false when its kind, terminals or names are wrong (reported at load)
-  Span where;        ///< statement
-  Span name_span;    ///< the name
-  const Scope* scope = nullptr;                 ///< loop iteration or instance, if any
-  const ElementSchema* schema = nullptr;        ///< the kind's schema (plugin elements)
-  boost::container::small_vector<int, 2> nodes; ///< resolved terminals (-1: unresolved), inline
+
+  /// The statement.
+  Span where() const;
+  /// The name as written (with its index list).
+  Span name_span() const;
 };
 /// A case declaration.
 struct CaseDecl {
@@ -307,6 +318,7 @@ private:
   std::deque<Scope> scopes_;
   std::deque<NodeDecl> nodes_;
   std::deque<ElementDecl> elements_;
+  std::vector<int> terminals_; // every ElementDecl::nodes, reserved once (the spans stay valid)
   std::vector<CaseDecl> cases_;
   std::vector<RequirementDecl> requirements_;
   std::set<std::string, std::less<>> unparsed_names_;

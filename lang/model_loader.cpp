@@ -459,19 +459,17 @@ private:
     const char* what = s.boundary ? "boundary" : "node";
     for (std::string& name : names_) {
       NodeDecl& d = m_.nodes_.emplace_back();
-      d.boundary = s.boundary;
+      d.stmt = &s;
       d.name = std::move(name);
-      d.keys = &s.keys;
-      if (s.doc) d.doc = s.doc->text;
-      d.file = f;
-      d.where = span(f, s);
-      d.name_span = span(f, s.name);
       d.scope = scope;
+      d.file = f;
+      d.boundary = s.boundary;
       const int index = static_cast<int>(m_.nodes_.size() - 1);
       const int first = m_.node_index_.insert(index);
-      check_name(what, s.name.id.name, d.name, d.name_span, at(f, s),
-                 first < 0 ? nullptr : &m_.nodes_[static_cast<std::size_t>(first)].name_span,
-                 scope);
+      std::optional<Span> previous;
+      if (first >= 0) previous = m_.nodes_[static_cast<std::size_t>(first)].name_span();
+      check_name(what, s.name.id.name, d.name, d.name_span(), at(f, s),
+                 previous ? &*previous : nullptr, scope);
       if (first >= 0) m_.nodes_.pop_back();
     }
   }
@@ -481,19 +479,20 @@ private:
                     Span name_span, Span where, const Scope* scope) {
     // One hash lookup for the common case, a new element's name: it is entered at once and taken
     // out again if an instance has it.
-    const Span* previous = nullptr;
+    std::optional<Span> previous;
     bool entered = false;
     if (instance) {
       if (const int i = m_.element_index_.find(name); i >= 0)
-        previous = &m_.elements_[static_cast<std::size_t>(i)].name_span;
+        previous = m_.elements_[static_cast<std::size_t>(i)].name_span();
     } else if (const int i = m_.element_index_.insert(index); i >= 0) {
-      previous = &m_.elements_[static_cast<std::size_t>(i)].name_span;
+      previous = m_.elements_[static_cast<std::size_t>(i)].name_span();
     } else {
       entered = true;
     }
     if (!previous && !instance_index_.empty())
-      if (auto i = instance_index_.find(name); i != instance_index_.end()) previous = &i->second;
-    check_name(instance ? "instance" : "element", base, name, name_span, where, previous, scope);
+      if (auto i = instance_index_.find(name); i != instance_index_.end()) previous = i->second;
+    check_name(instance ? "instance" : "element", base, name, name_span, where,
+               previous ? &*previous : nullptr, scope);
     if (previous) {
       if (entered) m_.element_index_.erase(name);
       return false;
@@ -536,13 +535,11 @@ private:
       d.element = e;
       d.composite = c;
       d.name = std::move(n);
-      d.file = f;
-      d.where = span(f, s);
-      d.name_span = span(f, name);
       d.scope = scope;
       d.schema = schema;
+      d.file = f;
       d.valid = valid;
-      if (!element_name(d.name, index, false, name.id.name, d.name_span, at(f, s), scope))
+      if (!element_name(d.name, index, false, name.id.name, span(f, name), at(f, s), scope))
         m_.elements_.pop_back();
     }
   }
@@ -656,23 +653,30 @@ private:
                                                Span{s.file, s.where.begin, s.where.begin}))
           s.terminals[k] = *n;
     }
+    const auto refs_of = [](const ElementDecl& d) -> const auto& {
+      return d.element ? d.element->nodes : d.composite->nodes;
+    };
+    std::size_t count = 0;
+    for (const ElementDecl& d : m_.elements_)
+      count += refs_of(d).size();
+    auto& terminals = m_.terminals_;
+    terminals.reserve(count); // exactly: the declarations' spans view this array
     for (ElementDecl& d : m_.elements_) {
-      const auto& refs = d.element ? d.element->nodes : d.composite->nodes;
-      d.nodes.reserve(refs.size());
+      const std::size_t first = terminals.size();
+      const auto& refs = refs_of(d);
       if (!d.valid) { // its error is reported; its links still count for the topology warnings
         for (const auto& r : refs)
-          d.nodes.push_back(elaborator_->find_node(r, d.file, d.scope));
-        continue;
+          terminals.push_back(elaborator_->find_node(r, d.file, d.scope));
+      } else {
+        const Span start{d.file, d.where().begin, d.where().begin};
+        for (const auto& r : refs) {
+          // A plain name at the top level is looked up directly (the common case of big files).
+          int n = d.scope || !r.plain() ? -1 : m_.node_index(r.id.name);
+          if (n < 0) n = elaborator_->resolve_node(r, d.file, d.scope, start).value_or(-1);
+          terminals.push_back(n);
+        }
       }
-      for (const auto& r : refs) {
-        // A plain name at the top level is looked up directly (the common case of big files).
-        int n = d.scope || !r.plain() ? -1 : m_.node_index(r.id.name);
-        if (n < 0)
-          n = elaborator_
-                  ->resolve_node(r, d.file, d.scope, Span{d.file, d.where.begin, d.where.begin})
-                  .value_or(-1);
-        d.nodes.push_back(n);
-      }
+      d.nodes = std::span<const int>(terminals.data() + first, refs.size());
     }
   }
 

@@ -48,7 +48,7 @@ void add_kinds(Items& items, bool linear_only) {
 
 void add_nodes(Items& items, const lang::Model& m) {
   for (const auto& n : m.nodes())
-    items.add(n.name, item_variable, n.boundary ? "boundary" : "node", n.doc);
+    items.add(n.name, item_variable, n.boundary ? "boundary" : "node", std::string(n.doc()));
 }
 
 void add_values(Items& items, const lang::Model& m) {

@@ -71,11 +71,11 @@ std::optional<std::string> submodel_hover(const lang::Model& m, const std::strin
 /// The markdown of a declared name.
 std::optional<std::string> declaration_hover(const Document& doc, const std::string& name) {
   const lang::Model& m = doc.model();
-  auto with_doc = [](std::string head, const std::string& d) {
-    return d.empty() ? head : head + "\n\n" + d;
+  auto with_doc = [](std::string head, std::string_view d) {
+    return d.empty() ? head : head + "\n\n" + std::string(d);
   };
   if (const lang::NodeDecl* n = find_node(m, name))
-    return with_doc(fmt::format("**{}** — {}", name, n->boundary ? "boundary" : "node"), n->doc);
+    return with_doc(fmt::format("**{}** — {}", name, n->boundary ? "boundary" : "node"), n->doc());
   for (const auto& v : m.values())
     if (v.name == name)
       return with_doc(fmt::format("**{}** — {}", name, v.is_param ? "param" : "const"), v.doc);
