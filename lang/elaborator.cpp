@@ -400,10 +400,10 @@ std::optional<int> Elaborator::resolve_node(const ast::Ref& r, FileId file, cons
     for (const auto& t : inst->submodel->stmt->terminals)
       names.emplace_back(t.name);
     for (const auto& n : m_.nodes())
-      if (n.name.starts_with(inst->prefix)) names.push_back(n.name.substr(inst->prefix.size()));
+      if (n.name.starts_with(inst->prefix)) names.emplace_back(n.name.substr(inst->prefix.size()));
   } else {
     for (const auto& n : m_.nodes())
-      names.push_back(n.name);
+      names.emplace_back(n.name);
   }
   if (auto s = closest_match(text, names))
     d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
@@ -1279,9 +1279,9 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
     Diagnostic d = DiagnosticEngine::make(DiagId::unknown_element, at, object_span, obj);
     std::vector<std::string> names;
     for (const auto& e : m_.elements())
-      names.push_back(e.name);
+      names.emplace_back(e.name);
     for (const auto& nd : m_.nodes())
-      names.push_back(nd.name);
+      names.emplace_back(nd.name);
     if (auto s = closest_match(obj, names))
       d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
     report(std::move(d));

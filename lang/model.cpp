@@ -71,7 +71,7 @@ void check_topology(const Model& m, const Reporter& report) {
     if (grounded.count(comp.find(root)) || members.size() < 2) continue;
     std::string names;
     for (std::size_t k = 0; k < members.size() && k < 4; ++k)
-      names += (k ? ", '" : "'") + decls[members[k]].name + "'";
+      names += fmt::format("{}'{}'", k ? ", " : "", decls[members[k]].name);
     if (members.size() > 4) names += fmt::format(" and {} more", members.size() - 4);
     const NodeDecl& d = decls[members.front()];
     Diagnostic w = DiagnosticEngine::make(DiagId::floating_group, start_of(d.where()),

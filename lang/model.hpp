@@ -6,6 +6,7 @@
 #include "lang/name_index.hpp"
 #include "lang/network_spec.hpp"
 #include "lang/schema.hpp"
+#include "lang/text_store.hpp"
 #include "lang/units.hpp"
 
 #include <deque>
@@ -96,7 +97,7 @@ struct SubmodelDecl {
 /// read from the statement, which the model keeps: a large netlist has one declaration per line.
 struct NodeDecl {
   const ast::NodeStmt* stmt = nullptr; ///< the declaring statement
-  std::string name;                    ///< its full name (`p[3]`, `u1.pcb`)
+  std::string_view name;               ///< its full name (`p[3]`, `u1.pcb`), kept by the model
   const Scope* scope = nullptr;        ///< loop iteration or instance, if any
   FileId file = 0;                     ///< declaring file
   bool boundary = false;               ///< boundary (true) or node
@@ -116,7 +117,7 @@ struct NodeDecl {
 struct ElementDecl {
   const ast::ElementStmt* element = nullptr;     ///< a plugin element, or
   const ast::CompositeStmt* composite = nullptr; ///< a series/parallel block
-  std::string name;                              ///< its full name
+  std::string_view name;                         ///< its full name, kept by the model
   const Scope* scope = nullptr;                  ///< loop iteration or instance, if any
   const ElementSchema* schema = nullptr;         ///< the kind's schema (plugin elements)
   /// Resolved terminals (-1: unresolved), one per terminal written; they live in the model.
@@ -319,6 +320,7 @@ private:
   std::deque<NodeDecl> nodes_;
   std::deque<ElementDecl> elements_;
   std::vector<int> terminals_; // every ElementDecl::nodes, reserved once (the spans stay valid)
+  TextStore name_text_;        // generated node and element names (a plain name views its file)
   std::vector<CaseDecl> cases_;
   std::vector<RequirementDecl> requirements_;
   std::set<std::string, std::less<>> unparsed_names_;

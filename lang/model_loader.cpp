@@ -460,7 +460,7 @@ private:
     for (std::string& name : names_) {
       NodeDecl& d = m_.nodes_.emplace_back();
       d.stmt = &s;
-      d.name = std::move(name);
+      d.name = kept_name(s.name, scope, name);
       d.scope = scope;
       d.file = f;
       d.boundary = s.boundary;
@@ -472,6 +472,13 @@ private:
                  previous ? &*previous : nullptr, scope);
       if (first >= 0) m_.nodes_.pop_back();
     }
+  }
+
+  /// A declared name as the model keeps it: a plain name at the top level is the identifier in
+  /// its file's text (the common case of big files); any other is copied to the model's store.
+  std::string_view kept_name(const ast::Ref& ref, const Scope* scope, std::string_view name) {
+    if (ref.plain() && !(scope && scope->instance())) return ref.id.name;
+    return m_.name_text_.keep(name);
   }
 
   /// Registers an element or instance name in the element namespace; false when taken.
@@ -534,7 +541,7 @@ private:
       ElementDecl& d = m_.elements_.emplace_back();
       d.element = e;
       d.composite = c;
-      d.name = std::move(n);
+      d.name = kept_name(name, scope, n);
       d.scope = scope;
       d.schema = schema;
       d.file = f;

@@ -35,9 +35,9 @@ const KeySchema& Model::settable_key(std::string_view object, std::string_view k
             option, object, sc.submodel->name, object));
     std::vector<std::string> names;
     for (const auto& d : elements_)
-      names.push_back(d.name);
+      names.emplace_back(d.name);
     for (const auto& d : nodes_)
-      names.push_back(d.name);
+      names.emplace_back(d.name);
     std::string msg =
         fmt::format("{}: the model has no node, boundary or element '{}'", option, object);
     if (auto s = closest_match(std::string(object), names))

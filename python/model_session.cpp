@@ -108,7 +108,7 @@ std::shared_ptr<const ModelSession> ModelSession::from_text(const std::string& t
 std::vector<std::string> ModelSession::node_names() const {
   std::vector<std::string> out;
   for (const auto& n : model_->nodes())
-    out.push_back(n.name);
+    out.emplace_back(n.name);
   return out;
 }
 

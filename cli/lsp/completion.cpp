@@ -48,7 +48,8 @@ void add_kinds(Items& items, bool linear_only) {
 
 void add_nodes(Items& items, const lang::Model& m) {
   for (const auto& n : m.nodes())
-    items.add(n.name, item_variable, n.boundary ? "boundary" : "node", std::string(n.doc()));
+    items.add(std::string(n.name), item_variable, n.boundary ? "boundary" : "node",
+              std::string(n.doc()));
 }
 
 void add_values(Items& items, const lang::Model& m) {
@@ -85,9 +86,9 @@ void add_inner_names(Items& items, const lang::Model& m, const std::string& obje
     items.add(rest.substr(0, rest.find('.')), item_variable, detail);
   };
   for (const auto& n : m.nodes())
-    add(n.name, n.boundary ? "boundary" : "node");
+    add(std::string(n.name), n.boundary ? "boundary" : "node");
   for (const auto& e : m.elements())
-    add(e.name, "element");
+    add(std::string(e.name), "element");
 }
 
 /// Completions inside a value: node names for node keys, else params and consts.
@@ -113,7 +114,7 @@ void case_items(Items& items, const lang::Model& m, const StatementContext& ctx)
   add_keys(items, "case", {});
   items.add("for", item_keyword, "repeat overrides over a range");
   for (const auto& e : m.elements())
-    items.add(e.name, item_variable, "element " + element_kind(m, e.name));
+    items.add(std::string(e.name), item_variable, "element " + element_kind(m, e.name));
   add_nodes(items, m);
   for (const auto& v : m.values())
     if (v.is_param) items.add(v.name, item_constant, "param", v.doc);

@@ -35,13 +35,14 @@ std::vector<Decl> declarations(const lang::Model& m) {
     out.push_back({v.file, v.where, v.name_span, v.name, v.is_param ? "param" : "const",
                    v.is_param ? symbol_property : symbol_constant});
   for (const auto& n : m.nodes())
-    out.push_back({n.file, n.where(), n.name_span(), n.name, n.boundary ? "boundary" : "node",
+    out.push_back({n.file, n.where(), n.name_span(), std::string(n.name),
+                   n.boundary ? "boundary" : "node",
                    n.boundary ? symbol_constant : symbol_variable});
   for (const auto& e : m.elements()) {
     std::string kind(e.element     ? e.element->kind.name
                      : e.composite ? e.composite->mode.name
                                    : std::string_view());
-    out.push_back({e.file, e.where(), e.name_span(), e.name, kind, symbol_object});
+    out.push_back({e.file, e.where(), e.name_span(), std::string(e.name), kind, symbol_object});
   }
   for (const auto& c : m.cases())
     out.push_back({c.file, c.where, c.name_span, c.name, "case", symbol_namespace});
