@@ -4,9 +4,13 @@
 ///
 /// The tree is built once and never copied (its nodes are move-only). Names are views into the
 /// file's text, which the SourceManager keeps in place; expressions are stored flat, one array of
-/// nodes per file, so a statement costs a few small objects and a deep expression needs no
-/// recursion to destroy.
+/// nodes per file, so a deep expression needs no recursion to destroy; the lists of a node,
+/// element or series/parallel statement (terminals, keys, inner elements) sit in per-file blocks
+/// (Chunks) the statement views, so such a statement allocates nothing of its own. A generated
+/// netlist line thus costs its Statement (120 bytes), a KeyValue (56) per key, a Ref (40) per
+/// terminal and an ExprNode (24) per literal.
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -22,6 +26,42 @@ namespace thermnet::lang::ast {
 using Index = std::uint32_t;
 /// No index.
 inline constexpr Index none = ~Index{0};
+
+/// Storage of the per-statement lists of a File (an element's terminals and keys, a node's keys):
+/// each list is one contiguous run in a block that never moves once written, so the statements
+/// hold a span into it, the File may be moved, and an ordinary statement costs no allocation of
+/// its own. Blocks grow from a few items to 64 KiB, so a small file stays small.
+template <typename T> class Chunks {
+public:
+  /// No storage yet.
+  Chunks() = default;
+  /// Takes the blocks over (they stay where they are, so the spans into them stay valid).
+  Chunks(Chunks&&) = default;
+  /// Takes the blocks over.
+  Chunks& operator=(Chunks&&) = default;
+  Chunks(const Chunks&) = delete; // a copy's statements would view the original's blocks
+  Chunks& operator=(const Chunks&) = delete;
+
+  /// Moves `items` into the storage as one run and clears them; the run (empty: no storage).
+  std::span<const T> append(std::vector<T>& items) {
+    if (items.empty()) return {};
+    if (blocks_.empty() || blocks_.back().capacity() - blocks_.back().size() < items.size()) {
+      next_ = std::min(next_ * 2, max_block);
+      blocks_.emplace_back().reserve(std::max(next_, items.size()));
+    }
+    std::vector<T>& block = blocks_.back(); // reserved: pushing never reallocates it
+    const std::size_t first = block.size();
+    for (T& item : items)
+      block.push_back(std::move(item));
+    items.clear();
+    return {block.data() + first, block.size() - first};
+  }
+
+private:
+  static constexpr std::size_t max_block = std::max<std::size_t>(1, 65536 / sizeof(T));
+  std::vector<std::vector<T>> blocks_; // each filled up to the capacity it was reserved with
+  std::size_t next_ = 4;               // items in the next block, doubling up to max_block
+};
 
 /// Byte range [begin, end) of a node inside its file, filled in by the parser.
 struct Tagged {
@@ -45,14 +85,15 @@ struct UnitText : Tagged {
   std::string text; ///< unit text as written (newlines inside brackets read as blanks)
 };
 
-/// One node of an expression, stored in File::exprs.
+/// One node of an expression, stored in File::exprs (24 bytes: a literal's value shares its
+/// place with the second operand, which a literal does not have).
 struct ExprNode : Tagged {
   /// What the node computes.
   enum class Op : std::uint8_t {
     number,   ///< `value`
     quantity, ///< `value [unit]`: a = index in File::units
     name,     ///< a = index in File::names
-    call,     ///< a = index in File::names (the function); args: `count` roots at File::args[b]
+    call,     ///< a = index in File::names (the function); File::args[b] = n, then n roots
     negate,   ///< -a
     add,      ///< a + b
     subtract, ///< a - b
@@ -61,11 +102,12 @@ struct ExprNode : Tagged {
     power,    ///< a ^ b (the span of every power in a chain `x ^ y ^ z` is the whole chain)
     group,    ///< (a): its value must be finite (the span includes the parentheses)
   };
-  Index a = none;          ///< first operand or table index
-  Index b = none;          ///< second operand or table index
-  std::uint32_t count = 0; ///< number of call arguments
-  Op op = Op::number;      ///< the operation
-  double value = 0;        ///< number and quantity literal (signs folded into one with a unit)
+  Index a = none;     ///< first operand or table index
+  Op op = Op::number; ///< the operation
+  union {
+    double value = 0; ///< number and quantity literal (signs folded into one with a unit)
+    Index b;          ///< second operand or table index (an operation or a call)
+  };
 };
 
 /// An expression: the root of its nodes in File::exprs, and its span.
@@ -146,6 +188,10 @@ struct KeyValue : Tagged {
   Identifier key; ///< the key
   Value value;    ///< its value
 };
+/// The keys of a statement, a run in File::key_lists.
+using KeyList = std::span<const KeyValue>;
+/// The terminals of a statement, a run in File::ref_lists.
+using RefList = std::span<const Ref>;
 
 /// `model NAME`.
 struct ModelStmt : Tagged {
@@ -181,28 +227,28 @@ struct ParamStmt : Tagged {
 struct NodeStmt : Tagged {
   bool boundary = false;       ///< boundary (true) or node
   Ref name;                    ///< the node or boundary
-  std::vector<KeyValue> keys;  ///< C = ..., T0 = ... or T = ...
+  KeyList keys;                ///< C = ..., T0 = ... or T = ... (in File::key_lists)
   std::unique_ptr<String> doc; ///< description
 };
 /// `KIND NAME NODE... key = value ...`: an element of a plugin kind, or an instance of a submodel.
 struct ElementStmt : Tagged {
   Identifier kind;             ///< element kind or submodel (resolved by the model loader)
   Ref name;                    ///< element name
-  std::vector<Ref> nodes;      ///< terminal nodes
-  std::vector<KeyValue> keys;  ///< key = value pairs
+  RefList nodes;               ///< terminal nodes (in File::ref_lists)
+  KeyList keys;                ///< key = value pairs (in File::key_lists)
   std::unique_ptr<String> doc; ///< description
 };
 /// One inner element of a series/parallel block: `KIND key = value ...`.
 struct InnerElement : Tagged {
-  Identifier kind;            ///< element kind
-  std::vector<KeyValue> keys; ///< its keys
+  Identifier kind; ///< element kind
+  KeyList keys;    ///< its keys (in File::key_lists)
 };
 /// `series|parallel NAME A B { ... ; ... }`.
 struct CompositeStmt : Tagged {
-  Identifier mode;                 ///< "series" or "parallel"
-  Ref name;                        ///< element name
-  std::vector<Ref> nodes;          ///< the two terminals
-  std::vector<InnerElement> parts; ///< inner elements
+  Identifier mode;                     ///< "series" or "parallel"
+  Ref name;                            ///< element name
+  RefList nodes;                       ///< the two terminals (in File::ref_lists)
+  std::span<const InnerElement> parts; ///< inner elements (in File::part_lists)
 };
 
 /// `VAR in LO .. HI`: one loop variable of a `for` header.
@@ -272,8 +318,8 @@ struct RequireStmt : Tagged {
 };
 
 /// A rare statement kept on the heap, so that it does not set the size of every statement (a
-/// `require` is 160 bytes; a node or element statement, of which a netlist has one per line, 88
-/// or 128). Made from the statement the parser built.
+/// `require` is 160 bytes; a node or element statement, of which a netlist has one per line, 80
+/// or 112). Made from the statement the parser built.
 template <typename T> struct Boxed {
   std::unique_ptr<T> stmt; ///< the statement (never null)
   /// Moves a parsed statement to the heap.
@@ -323,12 +369,15 @@ struct File {
   std::vector<Identifier> names;     ///< names used in expressions (ExprNode::name, call)
   std::vector<UnitText> units;       ///< units of quantity literals
   std::vector<Index> args;           ///< roots of call arguments (ExprNode::call)
+  Chunks<Ref> ref_lists;             ///< terminals of element and series/parallel statements
+  Chunks<KeyValue> key_lists;        ///< keys of node, element and inner element statements
+  Chunks<InnerElement> part_lists;   ///< inner elements of series/parallel statements
 
   /// The node at an index.
   const ExprNode& node(Index i) const { return exprs[i]; }
   /// The roots of a call's argument expressions.
   std::span<const Index> call_args(const ExprNode& call) const {
-    return {args.data() + call.b, call.count};
+    return {args.data() + call.b + 1, args[call.b]};
   }
 };
 

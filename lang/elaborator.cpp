@@ -574,9 +574,8 @@ std::optional<Signal> Elaborator::signal(const ast::Value& v, FileId f, const Pl
   }
 }
 
-bool Elaborator::fill_keys(const ElementSchema& schema, const std::vector<ast::KeyValue>& keys,
-                           FileId f, Span at, const std::function<std::string()>& owner,
-                           ElementSpec& out) {
+bool Elaborator::fill_keys(const ElementSchema& schema, ast::KeyList keys, FileId f, Span at,
+                           const std::function<std::string()>& owner, ElementSpec& out) {
   bool ok = true;
   // Keys given so far with their spans (a handful per element: a flat list beats a map, and
   // kept inline it costs no allocation).

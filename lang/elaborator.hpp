@@ -97,8 +97,8 @@ private:
   void report(Diagnostic d);
 
   void elaborate_node(const NodeDecl& d, NodeSpec& out);
-  bool fill_keys(const ElementSchema& schema, const std::vector<ast::KeyValue>& keys, FileId f,
-                 Span at, const std::function<std::string()>& owner, ElementSpec& out);
+  bool fill_keys(const ElementSchema& schema, ast::KeyList keys, FileId f, Span at,
+                 const std::function<std::string()>& owner, ElementSpec& out);
   std::optional<ElementSpec> elaborate_element(const ElementDecl& d);
   std::optional<ElementSpec> elaborate_composite(const ElementDecl& d);
   void apply_param_overrides();

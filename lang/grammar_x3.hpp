@@ -183,7 +183,7 @@ inline const x3::rule<class point_signal_r, ast::PointSignal> point_signal = "si
 inline const x3::rule<class table_signal_r, ast::TableSignal> table_signal = "table signal";
 inline const x3::rule<class value_r, ast::Value> value = "value";
 inline const x3::rule<class key_value_r, ast::KeyValue> key_value = "key = value";
-inline const x3::rule<class keys_r, std::vector<ast::KeyValue>> keys = "keys";
+inline const x3::rule<class keys_r, std::span<const ast::KeyValue>> keys = "keys";
 inline const x3::rule<class model_r, ast::ModelStmt> model_stmt = "model statement";
 inline const x3::rule<class include_r, ast::IncludeStmt> include_stmt = "include statement";
 inline const x3::rule<class plugin_r, ast::PluginStmt> plugin_stmt = "plugin statement";
@@ -194,7 +194,8 @@ inline const x3::rule<class param_r, ast::ParamStmt> param_stmt = "param stateme
 inline const x3::rule<class node_r, ast::NodeStmt> node_stmt = "node statement";
 inline const x3::rule<class element_r, ast::ElementStmt> element_stmt = "element statement";
 inline const x3::rule<class inner_r, ast::InnerElement> inner_element = "inner element";
-inline const x3::rule<class pair_r, std::vector<ast::Ref>> terminal_pair = "the two terminal nodes";
+inline const x3::rule<class pair_r, std::span<const ast::Ref>> terminal_pair =
+    "the two terminal nodes";
 inline const x3::rule<class composite_r, ast::CompositeStmt> composite_stmt = "series/parallel";
 inline const x3::rule<class require_group_r, ast::String> require_group =
     "a node or element name or glob in quotes (\"lens*\")";
@@ -281,8 +282,8 @@ inline const auto make_name_or_call = [](auto& ctx) {
     const auto first = b.args.begin() + static_cast<std::ptrdiff_t>(c.args_from);
     n.op = Op::call;
     n.b = static_cast<ast::Index>(b.file.args.size());
-    n.count = static_cast<std::uint32_t>(b.args.end() - first);
     n.end = c.end;
+    b.file.args.push_back(static_cast<ast::Index>(b.args.end() - first)); // the count
     b.file.args.insert(b.file.args.end(), first, b.args.end());
     b.args.resize(c.args_from);
   }
@@ -395,17 +396,24 @@ inline const auto push_key = [](auto& ctx) { builder(ctx).keys.push_back(std::mo
 inline const auto push_terminal = [](auto& ctx) {
   builder(ctx).refs.push_back(std::move(_attr(ctx)));
 };
-/// Moves a scratch list into a vector of exactly its size (one allocation).
-template <typename T> std::vector<T> take_all(std::vector<T>& scratch) {
-  std::vector<T> out;
-  out.reserve(scratch.size());
-  for (T& item : scratch)
-    out.push_back(std::move(item));
-  scratch.clear();
-  return out;
-}
-inline const auto take_keys = [](auto& ctx) { _val(ctx) = take_all(builder(ctx).keys); };
-inline const auto take_terminals = [](auto& ctx) { _val(ctx).nodes = take_all(builder(ctx).refs); };
+/// Moves the statement's keys into the file's key lists.
+inline const auto take_keys = [](auto& ctx) {
+  _val(ctx) = builder(ctx).file.key_lists.append(builder(ctx).keys);
+};
+/// Moves the terminals into the file's reference lists.
+inline const auto take_refs = [](auto& ctx) {
+  _val(ctx) = builder(ctx).file.ref_lists.append(builder(ctx).refs);
+};
+inline const auto take_terminals = [](auto& ctx) {
+  _val(ctx).nodes = builder(ctx).file.ref_lists.append(builder(ctx).refs);
+};
+/// Keeps an inner element in the statement's scratch list (blocks never nest).
+inline const auto push_part = [](auto& ctx) {
+  builder(ctx).parts.push_back(std::move(_attr(ctx)));
+};
+inline const auto take_parts = [](auto& ctx) {
+  _val(ctx).parts = builder(ctx).file.part_lists.append(builder(ctx).parts);
+};
 inline const auto only_in_submodel = [](auto& ctx) {
   x3::_pass(ctx) = builder(ctx).param_value_optional;
 };
@@ -438,7 +446,6 @@ inline const auto push_more = [](auto& ctx) {
 };
 inline const auto push_terminal_name = [](auto& ctx) { _val(ctx).terminals.push_back(_attr(ctx)); };
 inline const auto push_point = [](auto& ctx) { _val(ctx).points.push_back(std::move(_attr(ctx))); };
-inline const auto push_part = [](auto& ctx) { _val(ctx).parts.push_back(std::move(_attr(ctx))); };
 inline const auto push_group = [](auto& ctx) { _val(ctx).groups.push_back(std::move(_attr(ctx))); };
 inline const auto push_case = [](auto& ctx) { _val(ctx).cases.push_back(_attr(ctx)); };
 inline const auto take_limit = [](auto& ctx) {
@@ -549,14 +556,13 @@ inline const auto element_stmt_def = identifier[set<&ast::ElementStmt::kind>] >>
 inline const auto inner_element_def =
     (identifier[set<&ast::InnerElement::kind>] >> keys[set<&ast::InnerElement::keys>]) >>
     eps[set_inner_span];
-inline const auto terminal_pair_def = ref[push] >> ref[push];
+inline const auto terminal_pair_def = ref[push_terminal] >> ref[push_terminal] >> eps[take_refs];
 inline const auto separators = *(lit(';') | lit('\n'));
-inline const auto composite_stmt_def = (&(keyword("series") | keyword("parallel")) >>
-                                        identifier[set<&ast::CompositeStmt::mode>]) >
-                                       name_part[set<&ast::CompositeStmt::name>] >
-                                       terminal_pair[set<&ast::CompositeStmt::nodes>] > *lit('\n') >
-                                       lit('{') > separators >
-                                       *(inner_element[push_part] >> separators) > lit('}');
+inline const auto composite_stmt_def =
+    (&(keyword("series") | keyword("parallel")) >> identifier[set<&ast::CompositeStmt::mode>]) >
+    name_part[set<&ast::CompositeStmt::name>] > terminal_pair[set<&ast::CompositeStmt::nodes>] >
+    *lit('\n') > lit('{') > separators >
+    (*(inner_element[push_part] >> separators) >> eps[take_parts]) > lit('}');
 // `require` is a statement only before a requirement kind (an element kind may be called so).
 inline const x3::symbols<> requirement_kinds({"band", "gradient", "power", "energy", "margin"});
 inline const auto require_group_def = string_literal[take];

@@ -27,20 +27,22 @@ struct Builder {
   Builder(const char* base, const char* end, std::string_view original, ast::File& file)
       : base(base), end(end), original(original), file(file) {}
 
-  const char* base;                  ///< first byte of the parse copy
-  const char* end;                   ///< one past its last byte
-  std::string_view original;         ///< the text names view (same bytes at the same offsets)
-  ast::File& file;                   ///< where nodes go
-  bool param_value_optional = false; ///< a param may be left without value (in a submodel)
-  std::vector<ast::KeyValue> keys;   ///< keys of the statement being parsed
-  std::vector<ast::Ref> refs;        ///< terminals of the element being parsed
-  std::vector<PowerTail> tails;      ///< tails of the power chains being parsed (a stack)
-  std::vector<ast::Index> args;      ///< arguments of the calls being parsed (a stack)
+  const char* base;                     ///< first byte of the parse copy
+  const char* end;                      ///< one past its last byte
+  std::string_view original;            ///< the text names view (same bytes at the same offsets)
+  ast::File& file;                      ///< where nodes go
+  bool param_value_optional = false;    ///< a param may be left without value (in a submodel)
+  std::vector<ast::KeyValue> keys;      ///< keys of the statement being parsed
+  std::vector<ast::Ref> refs;           ///< terminals of the element being parsed
+  std::vector<ast::InnerElement> parts; ///< inner elements of the series/parallel being parsed
+  std::vector<PowerTail> tails;         ///< tails of the power chains being parsed (a stack)
+  std::vector<ast::Index> args;         ///< arguments of the calls being parsed (a stack)
 
   /// Clears the scratch lists (after an expectation failure they may hold leftovers).
   void reset() {
     keys.clear();
     refs.clear();
+    parts.clear();
     tails.clear();
     args.clear();
   }

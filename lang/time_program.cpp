@@ -54,8 +54,8 @@ template <typename Visit> void postfix(const ast::File& file, ast::Index root, V
       child = fr.next == 0 ? n.a : n.b;
       break;
     case NodeOp::call:
-      children = n.count;
-      if (fr.next < n.count) child = file.call_args(n)[fr.next];
+      children = static_cast<std::uint32_t>(file.call_args(n).size());
+      if (fr.next < children) child = file.call_args(n)[fr.next];
       break;
     default:
       break;
@@ -278,8 +278,8 @@ compile_time_program(const ast::File& file, ast::Index root,
       break;
     case NodeOp::call: {
       const Code code = function_code(file.names[n.a].name);
-      const int args = static_cast<int>(n.count);
-      emit(code, args, 1, 0, n.count);
+      const auto count = static_cast<std::uint32_t>(file.call_args(n).size());
+      emit(code, static_cast<int>(count), 1, 0, count);
       break;
     }
     }

@@ -39,7 +39,7 @@ struct PathCollector {
   void value(const ast::Value& v) const {
     if (const auto* t = v.as_table()) add(t->file, PathKind::table);
   }
-  void keys(const std::vector<ast::KeyValue>& kvs) const {
+  void keys(ast::KeyList kvs) const {
     for (const auto& kv : kvs)
       value(kv.value);
   }

@@ -229,6 +229,46 @@ TEST_CASE("parser: two-terminal and one-terminal elements") {
   CHECK(t.keys[3].key.name == "sense");
 }
 
+TEST_CASE("parser: statement lists are viewed in place, also after the file is moved") {
+  // Enough keys and terminals for several blocks of the file's list storage, lists of varying
+  // length (a list that does not fit the rest of a block starts the next one).
+  std::string text;
+  const int count = 3000;
+  for (int i = 0; i < count; ++i) {
+    text += "conductance g" + std::to_string(i) + " a" + std::to_string(i);
+    if (i % 2) text += " b" + std::to_string(i);
+    for (int k = 0; k <= i % 4; ++k)
+      text += " k" + std::to_string(k) + " = " + std::to_string(i * 10 + k);
+    text += "\n";
+  }
+  text += "node n C = 10 T0 = max(1, 2, 3)\n";
+  auto p = parse(text);
+  CHECK(p->diags.all().empty());
+  const auto& first = p->stmt<ast::ElementStmt>(0);
+  const ast::KeyValue* first_keys = first.keys.data();
+  const ast::File moved = std::move(p->file);
+  REQUIRE(moved.statements.size() == count + 1);
+  CHECK(std::get<ast::ElementStmt>(moved.statements[0]).keys.data() == first_keys);
+  for (int i = 0; i < count; ++i) {
+    const auto& e = std::get<ast::ElementStmt>(moved.statements[static_cast<std::size_t>(i)]);
+    REQUIRE(e.nodes.size() == static_cast<std::size_t>(1 + i % 2));
+    const std::string number = std::to_string(i);
+    CHECK(e.nodes[0].id.name == std::string("a").append(number));
+    if (i % 2) CHECK(e.nodes[1].id.name == std::string("b").append(number));
+    REQUIRE(e.keys.size() == static_cast<std::size_t>(1 + i % 4));
+    const ast::KeyValue& last = e.keys.back();
+    CHECK(last.key.name == std::string("k").append(std::to_string(i % 4)));
+    CHECK(moved.node(last.value.as_expr()->root).value == i * 10 + i % 4);
+  }
+  const auto& n = std::get<ast::NodeStmt>(moved.statements.back());
+  REQUIRE(n.keys.size() == 2);
+  const ast::ExprNode& call = moved.node(n.keys[1].value.as_expr()->root);
+  REQUIRE(call.op == ast::ExprNode::Op::call);
+  const auto args = moved.call_args(call);
+  REQUIRE(args.size() == 3);
+  CHECK(moved.node(args[2]).value == 3);
+}
+
 TEST_CASE("parser: table signal") {
   auto p = parse("heater h n P = table(\"power.csv\", \"P1\")\n");
   CHECK(p->diags.all().empty());
