@@ -85,7 +85,7 @@ std::string sources_table(const std::vector<CheckedRun>& runs, nlohmann::json& j
     double total = 0.0;
     for (std::size_t e = 0; e < spec.elements.size(); ++e) {
       const auto& el = spec.elements[e];
-      if (el.nodes.size() != 1 || el.composite != lang::Composite::none) continue;
+      if (el.nodes().size() != 1 || el.composite() != lang::Composite::none) continue;
       const double energy = r.energy.element_energy[e][0];
       const double on = r.energy.on_time[e];
       const double duty = span > 0 ? on / span : 0.0;

@@ -123,7 +123,7 @@ DesignPoint DesignProblem::score(const std::vector<double>& x,
     double installed = 0.0;
     for (std::size_t e = 0; e < spec.elements.size(); ++e) {
       const auto& el = spec.elements[e];
-      if (el.nodes.size() != 1 || el.composite != lang::Composite::none) continue;
+      if (el.nodes().size() != 1 || el.composite() != lang::Composite::none) continue;
       if (objective_ == DesignObjective::energy && e < r.energy.element_energy.size())
         p.objective += r.energy.element_energy[e][0];
       if (el.has("P") && el.values.at("P").is_constant()) installed += el.number("P");

@@ -24,11 +24,11 @@ EnergyBalance energy_balance(const lang::NetworkSpec& spec, const EnergyTotals& 
       b.stored += spec.nodes[i].C * (totals.T_end[i] - totals.T_start[i]);
   for (std::size_t e = 0; e < spec.elements.size(); ++e) {
     const auto& el = spec.elements[e];
-    for (std::size_t j = 0; j < el.nodes.size(); ++j) {
+    for (std::size_t j = 0; j < el.nodes().size(); ++j) {
       const double q = totals.element_energy[e][j];
-      if (spec.nodes[static_cast<std::size_t>(el.nodes[j])].boundary)
+      if (spec.nodes[static_cast<std::size_t>(el.nodes()[j])].boundary)
         b.lost += q;
-      else if (el.nodes.size() == 1)
+      else if (el.nodes().size() == 1)
         b.supplied += q;
     }
   }
@@ -46,9 +46,9 @@ std::string energy_report(const lang::NetworkSpec& spec, const EnergyTotals& tot
     if (spec.nodes[i].boundary) continue;
     double sources = 0.0, links = 0.0;
     for (std::size_t e = 0; e < spec.elements.size(); ++e)
-      for (std::size_t j = 0; j < spec.elements[e].nodes.size(); ++j)
-        if (static_cast<std::size_t>(spec.elements[e].nodes[j]) == i)
-          (spec.elements[e].nodes.size() == 1 ? sources : links) += totals.element_energy[e][j];
+      for (std::size_t j = 0; j < spec.elements[e].nodes().size(); ++j)
+        if (static_cast<std::size_t>(spec.elements[e].nodes()[j]) == i)
+          (spec.elements[e].nodes().size() == 1 ? sources : links) += totals.element_energy[e][j];
     const double stored = spec.nodes[i].C * (totals.T_end[i] - totals.T_start[i]);
     put(out, "{:<20} {:>16.6g} {:>16.6g} {:>16.6g} {:>12.3e}\n", spec.nodes[i].name, stored,
         sources, links, stored - sources - links);
@@ -58,14 +58,14 @@ std::string energy_report(const lang::NetworkSpec& spec, const EnergyTotals& tot
     if (!spec.nodes[i].boundary) continue;
     double received = 0.0;
     for (std::size_t e = 0; e < spec.elements.size(); ++e)
-      for (std::size_t j = 0; j < spec.elements[e].nodes.size(); ++j)
-        if (static_cast<std::size_t>(spec.elements[e].nodes[j]) == i)
+      for (std::size_t j = 0; j < spec.elements[e].nodes().size(); ++j)
+        if (static_cast<std::size_t>(spec.elements[e].nodes()[j]) == i)
           received += totals.element_energy[e][j];
     put(out, "{:<20} {:>16.6g}\n", spec.nodes[i].name, received);
   }
   bool header = false;
   for (std::size_t e = 0; e < spec.elements.size(); ++e) {
-    if (spec.elements[e].nodes.size() != 1) continue;
+    if (spec.elements[e].nodes().size() != 1) continue;
     if (!header)
       put(out, "\n{:<20} {:>16} {:>12} {:>8} {:>10}\n", "source", "energy", "on time [s]", "duty",
           "switches");

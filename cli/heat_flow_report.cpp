@@ -21,7 +21,7 @@ const std::string& node_name(const lang::NetworkSpec& spec, int node) {
 
 /// True when the element is reported as one flow (two terminals), else per terminal.
 bool two_terminal(const lang::ElementSpec& e) {
-  return e.nodes.size() == 2;
+  return e.nodes().size() == 2;
 }
 
 } // namespace
@@ -40,7 +40,7 @@ std::vector<std::string> flow_columns(const lang::NetworkSpec& spec,
       columns.push_back(element_label(spec, e));
       continue;
     }
-    for (int node : el.nodes)
+    for (int node : el.nodes())
       columns.push_back(fmt::format("{}@{}", element_label(spec, e), node_name(spec, node)));
   }
   return columns;
@@ -95,14 +95,14 @@ std::string steady_flow_listing(const lang::NetworkSpec& spec,
     double balance = 0.0, sources = 0.0;
     for (std::size_t e = 0; e < spec.elements.size(); ++e) {
       const auto& el = spec.elements[e];
-      for (std::size_t j = 0; j < el.nodes.size(); ++j) {
-        if (static_cast<std::size_t>(el.nodes[j]) != i) continue;
+      for (std::size_t j = 0; j < el.nodes().size(); ++j) {
+        if (static_cast<std::size_t>(el.nodes()[j]) != i) continue;
         const double q = heat[e][j];
         balance += q;
-        if (el.nodes.size() == 1) sources += q;
+        if (el.nodes().size() == 1) sources += q;
         if (!listed[e]) continue;
         std::string other = "(source)";
-        if (two_terminal(el)) other = "from " + node_name(spec, el.nodes[1 - j]);
+        if (two_terminal(el)) other = "from " + node_name(spec, el.nodes()[1 - j]);
         put(out, "  {:<20} {:<24} {:>16.9f}\n", element_label(spec, e), other, q);
       }
     }

@@ -472,9 +472,8 @@ std::optional<Signal> Elaborator::time_signal(const ast::Expr& e, FileId f, cons
       return v ? std::optional<Signal>(Signal::of(*v)) : std::nullopt;
     }
     Signal s;
-    s.kind = Signal::Kind::expression;
     const Scope* scope = context_;
-    s.shape().program = compile_time_program(
+    s.shape(Signal::Kind::expression).program = compile_time_program(
         m_.file(f), e.root, [&](const ast::Identifier& id) { return lookup(id, f, scope).value; });
     if (q.dim && !(*q.dim == p.dim)) {
       report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(f, e), p.what(),
@@ -504,7 +503,7 @@ std::optional<Signal> Elaborator::signal(const ast::Value& v, FileId f, const Pl
   }
   if (const ast::PointSignal* ps = v.as_point_signal()) {
     Signal s;
-    s.kind = ps->kind.name == "step" ? Signal::Kind::step : Signal::Kind::pwl;
+    s.shape(ps->kind.name == "step" ? Signal::Kind::step : Signal::Kind::pwl);
     Place time{
         [&] { return fmt::format("a time in the {} signal of {}", ps->kind.name, p.what()); },
         dim::time};
@@ -547,8 +546,7 @@ std::optional<Signal> Elaborator::signal(const ast::Value& v, FileId f, const Pl
       return std::nullopt;
     }
     Signal s;
-    s.kind = Signal::Kind::pwl;
-    Signal::Shape& corners = s.shape();
+    Signal::Shape& corners = s.shape(Signal::Kind::pwl);
     for (std::size_t r = 0; r < table.rows(); ++r) {
       double x = table.cells[static_cast<std::size_t>(col)][r];
       if (std::isnan(x)) continue;
@@ -631,7 +629,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, ast::KeyList keys, FileI
         plain.end = id->end;
       }
       if (auto n = resolve_node(ref ? *ref : plain, f, context_, at))
-        out.node_keys.emplace_back(ks->name, *n);
+        out.add_node_key(*ks, *n);
       else
         ok = false;
       continue;
@@ -642,7 +640,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, ast::KeyList keys, FileI
       continue;
     }
     if (auto s = signal(kv.value, f, place, at))
-      out.values[ks->name] = std::move(*s);
+      out.values[*ks] = std::move(*s);
     else
       ok = false;
   }
@@ -697,7 +695,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, ast::KeyList keys, FileI
   for (const auto& ks : schema.keys) {
     if (find_given(ks.name)) continue;
     if (ks.default_value)
-      out.values[ks.name] = Signal::of(*ks.default_value);
+      out.values[ks] = Signal::of(*ks.default_value);
     else if (ks.required && !in_groups(ks.name)) {
       report(DiagnosticEngine::make(DiagId::missing_key, at, std::nullopt, kind_word,
                                     out.name.empty() ? owner() : out.name, ks.name));
@@ -719,7 +717,7 @@ void Elaborator::elaborate_node(const NodeDecl& d, NodeSpec& out) {
   Restore<const Scope*> context(context_, d.scope);
   out.name = d.name;
   out.boundary = d.boundary;
-  out.doc = d.doc();
+  out.set_doc(d.doc());
   out.where = d.where();
   ElementSpec tmp;
   tmp.name = d.name;
@@ -729,7 +727,7 @@ void Elaborator::elaborate_node(const NodeDecl& d, NodeSpec& out) {
       schema, d.keys(), d.file, at, [&] { return fmt::format("{} '{}'", schema.kind, d.name); },
       tmp);
   if (d.boundary) {
-    if (tmp.has("T")) out.T = tmp.values["T"];
+    if (tmp.has("T")) out.T = std::move(tmp.values.at("T"));
   } else {
     if (tmp.has("C")) out.C = tmp.number("C");
     if (tmp.has("T0")) out.T0 = tmp.number("T0");
@@ -744,30 +742,30 @@ std::optional<ElementSpec> Elaborator::elaborate_element(const ElementDecl& d) {
   Span at{f, s.begin, s.begin};
   ElementSpec e;
   e.schema = d.schema;
-  e.kind = s.kind.name;
   e.name = d.name;
   e.where = d.where();
-  e.nodes.assign(d.nodes.begin(), d.nodes.end());
-  bool ok = std::find(e.nodes.begin(), e.nodes.end(), -1) == e.nodes.end();
+  e.set_nodes(d.nodes);
+  const std::span<const int> nodes = e.nodes();
+  bool ok = std::find(nodes.begin(), nodes.end(), -1) == nodes.end();
   ok &= fill_keys(
-      *d.schema, s.keys, f, at, [&] { return fmt::format("{} '{}'", e.kind, e.name); }, e);
+      *d.schema, s.keys, f, at, [&] { return fmt::format("{} '{}'", e.kind(), e.name); }, e);
   if (!ok) return std::nullopt;
   const auto& decls = m_.nodes();
-  if (e.nodes.size() == 2 && e.nodes[0] == e.nodes[1]) {
+  if (nodes.size() == 2 && nodes[0] == nodes[1]) {
     report(DiagnosticEngine::make(DiagId::self_link, at, span_of(f, s.nodes[1]), e.name,
-                                  decls[static_cast<std::size_t>(e.nodes[0])].name));
+                                  decls[static_cast<std::size_t>(nodes[0])].name));
     return std::nullopt;
   }
   if (d.schema->is_source)
-    for (std::size_t i = 0; i < e.nodes.size(); ++i)
-      if (decls[static_cast<std::size_t>(e.nodes[i])].boundary) {
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      if (decls[static_cast<std::size_t>(nodes[i])].boundary) {
         report(DiagnosticEngine::make(DiagId::heater_on_boundary, at, span_of(f, s.nodes[i]),
-                                      e.kind, e.name,
-                                      decls[static_cast<std::size_t>(e.nodes[i])].name));
+                                      e.kind(), e.name,
+                                      decls[static_cast<std::size_t>(nodes[i])].name));
         return std::nullopt;
       }
-  if (e.nodes.size() == 2 && decls[static_cast<std::size_t>(e.nodes[0])].boundary &&
-      decls[static_cast<std::size_t>(e.nodes[1])].boundary)
+  if (nodes.size() == 2 && decls[static_cast<std::size_t>(nodes[0])].boundary &&
+      decls[static_cast<std::size_t>(nodes[1])].boundary)
     report(DiagnosticEngine::make(DiagId::both_boundaries, at, span_of(f, s.name), e.name));
   return e;
 }
@@ -778,15 +776,15 @@ std::optional<ElementSpec> Elaborator::elaborate_composite(const ElementDecl& d)
   FileId f = d.file;
   Span at{f, s.begin, s.begin};
   ElementSpec e;
-  e.kind = s.mode.name;
   e.name = d.name;
   e.where = d.where();
-  e.composite = s.mode.name == "series" ? Composite::series : Composite::parallel;
-  e.nodes.assign(d.nodes.begin(), d.nodes.end());
-  bool ok = std::find(e.nodes.begin(), e.nodes.end(), -1) == e.nodes.end();
+  e.set_composite(s.mode.name == "series" ? Composite::series : Composite::parallel);
+  e.set_nodes(d.nodes); // a series/parallel statement has two terminals (the grammar's)
+  const std::span<const int> nodes = e.nodes();
+  bool ok = std::find(nodes.begin(), nodes.end(), -1) == nodes.end();
   if (s.parts.empty()) {
     report(DiagnosticEngine::make(DiagId::composite_kind, at, span_of(f, s.name),
-                                  fmt::format("{} '{}' has no inner elements", e.kind, e.name)));
+                                  fmt::format("{} '{}' has no inner elements", e.kind(), e.name)));
     ok = false;
   }
   for (const auto& part : s.parts) {
@@ -800,12 +798,12 @@ std::optional<ElementSpec> Elaborator::elaborate_composite(const ElementDecl& d)
       ok = false;
       continue;
     }
-    if (schema->terminals != 2 || (e.composite == Composite::series && !schema->conductance)) {
+    if (schema->terminals != 2 || (e.composite() == Composite::series && !schema->conductance)) {
       report(DiagnosticEngine::make(
           DiagId::composite_kind, at, span_of(f, part.kind),
           schema->terminals != 2
               ? fmt::format("'{}' is not a two-terminal element and cannot be part of a {} block",
-                            part.kind.name, e.kind)
+                            part.kind.name, e.kind())
               : fmt::format("'{}' is not a linear conductance, so it cannot be added as a "
                             "resistance in a series block (use a node between the parts)",
                             part.kind.name)));
@@ -814,17 +812,16 @@ std::optional<ElementSpec> Elaborator::elaborate_composite(const ElementDecl& d)
     }
     ElementSpec p;
     p.schema = schema;
-    p.kind = part.kind.name;
-    p.nodes = e.nodes;
+    p.set_nodes(nodes);
     ok &= fill_keys(
         *schema, part.keys, f, at,
-        [&] { return fmt::format("{} in {} '{}'", part.kind.name, e.kind, e.name); }, p);
-    e.parts.push_back(std::move(p));
+        [&] { return fmt::format("{} in {} '{}'", part.kind.name, e.kind(), e.name); }, p);
+    e.edit_parts().push_back(std::move(p));
   }
   if (!ok) return std::nullopt;
-  if (e.nodes[0] == e.nodes[1]) {
+  if (nodes[0] == nodes[1]) {
     report(DiagnosticEngine::make(DiagId::self_link, at, span_of(f, s.nodes[1]), e.name,
-                                  m_.nodes()[static_cast<std::size_t>(e.nodes[0])].name));
+                                  m_.nodes()[static_cast<std::size_t>(nodes[0])].name));
     return std::nullopt;
   }
   return e;
@@ -958,15 +955,15 @@ void Elaborator::apply_key_settings(NetworkSpec& net) {
           DiagId::conflicting_keys, at, std::nullopt,
           fmt::format("{}: {} '{}' is not given by '{}' here, so its value cannot be replaced "
                       "(set the keys it is given by)",
-                      s.option, e.kind, e.name, s.key)));
+                      s.option, e.kind(), e.name, s.key)));
       continue;
     }
-    e.values[s.key] = Signal::of(s.value);
+    e.set(s.key, Signal::of(s.value));
     if (e.schema->check)
       for (const auto& problem : e.schema->check(e.key_values()))
         report(DiagnosticEngine::make(
             DiagId::conflicting_keys, at, std::nullopt,
-            fmt::format("{}: {} '{}': {}", s.option, e.kind, e.name, problem.message)));
+            fmt::format("{}: {} '{}': {}", s.option, e.kind(), e.name, problem.message)));
   }
 }
 
@@ -1304,7 +1301,7 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
     for (const auto& k : e.schema->keys)
       if (k.type != KeyType::node) names.push_back(k.name);
     Diagnostic d = DiagnosticEngine::make(DiagId::unknown_key, at, key_span,
-                                          fmt::format("element kind '{}'", e.kind), key);
+                                          fmt::format("element kind '{}'", e.kind()), key);
     if (ks) // a node-valued key such as 'sense' is part of the wiring, not a value
       d.notes.push_back(DiagnosticEngine::note(
           DiagId::note_text, std::nullopt,
@@ -1314,11 +1311,11 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
     else
       d.notes.push_back(
           DiagnosticEngine::note(DiagId::note_text, std::nullopt,
-                                 fmt::format("'{}' takes: {}", e.kind, list_names(names))));
+                                 fmt::format("'{}' takes: {}", e.kind(), list_names(names))));
     report(std::move(d));
     return;
   }
-  Place p{[&] { return fmt::format("{} of {} '{}'", key, e.kind, e.name); }, ks->dim,
+  Place p{[&] { return fmt::format("{} of {} '{}'", key, e.kind(), e.name); }, ks->dim,
           ks->absolute_temperature, ks, ks->type == KeyType::signal};
   if (!a.more.empty()) {
     report(
@@ -1329,7 +1326,7 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
     report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what()));
     return;
   }
-  if (auto v = signal(a.value, f, p, at)) e.values[key] = std::move(*v);
+  if (auto v = signal(a.value, f, p, at)) e.values[*ks] = std::move(*v);
 }
 
 namespace {
@@ -1346,7 +1343,7 @@ std::pair<double, double> prescribed_band(const NetworkSpec& net) {
   for (const auto& n : net.nodes) {
     if (n.T0) take(*n.T0);
     if (!n.boundary) continue;
-    if (n.T.kind == Signal::Kind::expression) {
+    if (n.T.kind() == Signal::Kind::expression) {
       for (int k = 0; k <= 10; ++k)
         take(n.T.at(end * k / 10.0));
     } else {

@@ -32,20 +32,72 @@ const Signal& KeySignals::at(std::string_view key) const {
   return const_cast<KeySignals*>(this)->at(key);
 }
 
-Signal& KeySignals::operator[](std::string_view key) {
+Signal& KeySignals::operator[](const KeySchema& key) {
   return emplace(key, Signal{}).first->second;
 }
 
-std::pair<KeySignals::iterator, bool> KeySignals::emplace(std::string_view key, Signal value) {
-  auto it = lower_bound(key);
-  if (it != items_.end() && it->first == key) return {it, false};
-  return {items_.emplace(it, std::string(key), std::move(value)), true};
+std::pair<KeySignals::iterator, bool> KeySignals::emplace(const KeySchema& key, Signal value) {
+  const std::string_view name = key.name;
+  auto it = lower_bound(name);
+  if (it != items_.end() && it->first == name) return {it, false};
+  return {items_.emplace(it, name, std::move(value)), true};
+}
+
+const std::string& NodeSpec::doc() const {
+  static const std::string none;
+  return doc_.get() ? *doc_.get() : none;
+}
+
+void NodeSpec::set_doc(std::string_view text) {
+  if (!text.empty() || doc_.get()) doc_.make() = text;
+}
+
+std::string_view ElementSpec::kind() const {
+  if (schema) return schema->kind;
+  switch (composite_) {
+  case Composite::series:
+    return "series";
+  case Composite::parallel:
+    return "parallel";
+  case Composite::none:
+    break;
+  }
+  return {};
+}
+
+void ElementSpec::set_nodes(std::span<const int> nodes) {
+  if (nodes.empty() || nodes.size() > nodes_.size())
+    throw std::invalid_argument(
+        fmt::format("element '{}' has {} terminals (1 or 2 allowed)", name, nodes.size()));
+  std::copy(nodes.begin(), nodes.end(), nodes_.begin());
+  terminals_ = static_cast<std::uint8_t>(nodes.size());
+}
+
+std::span<const ElementSpec> ElementSpec::parts() const {
+  if (const Extras* x = extras_.get()) return x->parts;
+  return {};
+}
+
+std::vector<ElementSpec>& ElementSpec::edit_parts() {
+  return extras_.make().parts;
+}
+
+void ElementSpec::set(std::string_view key, Signal value) {
+  const KeySchema* ks = schema ? schema->key(key) : nullptr;
+  if (!ks)
+    throw std::invalid_argument(fmt::format("element kind '{}' has no key '{}'", kind(), key));
+  values[*ks] = std::move(value);
 }
 
 std::optional<int> ElementSpec::node_key(std::string_view key) const {
-  for (const auto& [name, node] : node_keys)
-    if (name == key) return node;
+  if (const Extras* x = extras_.get())
+    for (const auto& [name, node] : x->node_keys)
+      if (name == key) return node;
   return std::nullopt;
+}
+
+void ElementSpec::add_node_key(const KeySchema& key, int node) {
+  extras_.make().node_keys.emplace_back(key.name, node);
 }
 
 KeyValues ElementSpec::key_values() const {

@@ -8,8 +8,12 @@
 
 #include <boost/container/small_vector.hpp>
 
+#include <array>
+#include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -17,28 +21,69 @@
 
 namespace thermnet::lang {
 
+/// A value kept on the heap only when present, copied with its owner (for members most objects
+/// leave empty: a null pointer weighs 8 bytes where an empty string or vector weighs 24-32).
+template <class T> class Rare {
+public:
+  /// Empty.
+  Rare() = default;
+  /// A copy with its own value.
+  Rare(const Rare& other) : p_(other.p_ ? std::make_unique<T>(*other.p_) : nullptr) {}
+  /// Takes another's value.
+  Rare(Rare&&) noexcept = default;
+  /// Copies another's value.
+  Rare& operator=(const Rare& other) {
+    if (this != &other) p_ = other.p_ ? std::make_unique<T>(*other.p_) : nullptr;
+    return *this;
+  }
+  /// Takes another's value.
+  Rare& operator=(Rare&&) noexcept = default;
+  /// The value, or nullptr if none was made.
+  const T* get() const { return p_.get(); }
+  /// The value, made (default) on first use.
+  T& make() {
+    if (!p_) p_ = std::make_unique<T>();
+    return *p_;
+  }
+
+private:
+  std::unique_ptr<T> p_;
+};
+
 /// A node (unknown temperature) or a boundary (prescribed temperature).
 struct NodeSpec {
   std::string name;         ///< node name
-  bool boundary = false;    ///< true for a boundary
   double C = 0.0;           ///< heat capacity, J/K (0: arithmetic node)
   std::optional<double> T0; ///< initial temperature, K (nodes; else the case's initial)
   Signal T;                 ///< prescribed temperature, K (boundaries)
-  std::string doc;          ///< description
   Span where;               ///< declaring statement
+  bool boundary = false;    ///< true for a boundary
+
+  /// Description (empty when none was written).
+  const std::string& doc() const;
+  /// Sets the description (an empty one takes no memory).
+  void set_doc(std::string_view text);
+
+private:
+  Rare<std::string> doc_;
 };
 
-/// The values of an element's keys by name, in key order, with the interface of the std::map it
-/// replaces: a sorted flat list (an element has a handful of keys, and a list costs one
-/// allocation where a map costs one per key).
+/// The values of an element's keys by name, in key order, with the interface of a std::map: a
+/// sorted flat list whose key names are views of the element schema's key names (stable for the
+/// life of the process), and whose first key is kept inline (most elements have one).
 class KeySignals {
 public:
-  /// A key and its value.
-  using value_type = std::pair<std::string, Signal>;
+  /// A key name (a view of the schema's) and its value.
+  using value_type = std::pair<std::string_view, Signal>;
+
+private:
+  using Items = boost::container::small_vector<value_type, 1>;
+
+public:
   /// Iterators over the keys in order.
-  using iterator = std::vector<value_type>::iterator;
+  using iterator = Items::iterator;
   /// Read-only iterators over the keys in order.
-  using const_iterator = std::vector<value_type>::const_iterator;
+  using const_iterator = Items::const_iterator;
 
   /// First key.
   iterator begin() { return items_.begin(); }
@@ -64,42 +109,73 @@ public:
   Signal& at(std::string_view key);
   /// The value of a key; throws std::out_of_range if absent.
   const Signal& at(std::string_view key) const;
-  /// The value of a key, inserted (a constant 0) if absent.
-  Signal& operator[](std::string_view key);
-  /// Inserts a key's value unless the key has one; the entry and whether it was inserted.
-  std::pair<iterator, bool> emplace(std::string_view key, Signal value);
+  /// The value of a schema key, inserted (a constant 0) if absent; the list keeps a view of
+  /// key.name, so the schema must outlive it (a registered kind's schema lives with the process).
+  Signal& operator[](const KeySchema& key);
+  /// Inserts a schema key's value unless the key has one (see operator[]); the entry and whether
+  /// it was inserted.
+  std::pair<iterator, bool> emplace(const KeySchema& key, Signal value);
 
 private:
   iterator lower_bound(std::string_view key);
-  std::vector<value_type> items_;
+  Items items_;
 };
 
 /// How a series/parallel block combines its parts.
-enum class Composite { none, series, parallel };
+enum class Composite : std::uint8_t { none, series, parallel };
 
 /// One element between nodes, with every key evaluated (defaults filled in).
-struct ElementSpec {
+///
+/// Laid out for networks of a million elements: the kind is its schema's, the terminals are
+/// inline, and what few elements have (node-valued keys, the parts of a composite) lives behind
+/// one pointer.
+class ElementSpec {
+public:
   const ElementSchema* schema = nullptr; ///< its kind's schema (nullptr for a composite)
-  std::string kind;                      ///< kind name ("series"/"parallel" for composites)
   std::string name;                      ///< element name (empty for composite parts)
-  /// Terminal node indices, inline (an element has one or two: no allocation per element).
-  boost::container::small_vector<int, 2> nodes;
-  KeySignals values; ///< key -> value in SI (numbers as constant signals)
-  /// Node-valued keys (e.g. sense) and their node indices, in the order given (a flat list: few
-  /// elements have one, and an empty map weighed 48 bytes in every element).
-  std::vector<std::pair<std::string, int>> node_keys;
-  Composite composite = Composite::none; ///< composite mode
-  std::vector<ElementSpec> parts;        ///< inner elements of a composite
+  KeySignals values;                     ///< key -> value in SI (numbers as constant signals)
   Span where;                            ///< declaring statement
 
+  /// Kind name: the schema's, "series"/"parallel" for a composite ("" when neither is set).
+  std::string_view kind() const;
+  /// Terminal node indices (one or two, as the kind's schema says).
+  std::span<const int> nodes() const { return {nodes_.data(), terminals_}; }
+  /// Sets the terminal node indices (one or two; throws std::invalid_argument otherwise).
+  void set_nodes(std::span<const int> nodes);
+  /// Composite mode (none for an element of a kind).
+  Composite composite() const { return composite_; }
+  /// Makes the element a series or parallel block (kind() then names the mode).
+  void set_composite(Composite mode) { composite_ = mode; }
+  /// Inner elements of a composite (empty otherwise).
+  std::span<const ElementSpec> parts() const;
+  /// Inner elements of a composite, to be modified or added to.
+  std::vector<ElementSpec>& edit_parts();
+
   /// A constant key value (throws std::out_of_range if absent).
-  double number(const std::string& key) const { return values.at(key).constant; }
+  double number(std::string_view key) const { return values.at(key).constant; }
   /// True if a key has a value.
-  bool has(const std::string& key) const { return values.count(key) != 0; }
+  bool has(std::string_view key) const { return values.count(key) != 0; }
+  /// Sets the value of a key of the schema; throws std::invalid_argument when the element has no
+  /// schema or its schema no such key.
+  void set(std::string_view key, Signal value);
   /// The node index of a node-valued key, or nullopt if it was not given.
   std::optional<int> node_key(std::string_view key) const;
+  /// Records a node-valued key of the schema (e.g. sense) and its node index.
+  void add_node_key(const KeySchema& key, int node);
   /// The constant values of all keys, for schema functions.
   KeyValues key_values() const;
+
+private:
+  /// What few elements have.
+  struct Extras {
+    /// Node-valued keys (names viewing the schema's) and their node indices, in the order given.
+    std::vector<std::pair<std::string_view, int>> node_keys;
+    std::vector<ElementSpec> parts; ///< inner elements of a composite
+  };
+  std::array<int, 2> nodes_{-1, -1};      // terminal node indices
+  std::uint8_t terminals_ = 0;            // how many of nodes_ are used
+  Composite composite_ = Composite::none; // composite mode
+  Rare<Extras> extras_;                   // node-valued keys and parts, when any
 };
 
 /// Settings of the case the network was instantiated for.

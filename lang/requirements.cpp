@@ -164,7 +164,7 @@ void Elaborator::add_requirements(NetworkSpec& net) {
       } else {
         picked = select(element_names, pattern, [&](std::size_t i) {
           const ElementSpec& e = net.elements[i];
-          return e.nodes.size() == 1 && e.composite == Composite::none;
+          return e.nodes().size() == 1 && e.composite() == Composite::none;
         });
       }
       if (picked.empty()) {
@@ -174,7 +174,7 @@ void Elaborator::add_requirements(NetworkSpec& net) {
           candidates = node_names;
         } else {
           for (std::size_t i = 0; i < element_names.size(); ++i)
-            if (net.elements[i].nodes.size() == 1) candidates.push_back(element_names[i]);
+            if (net.elements[i].nodes().size() == 1) candidates.push_back(element_names[i]);
         }
         const auto existing = std::find(element_names.begin(), element_names.end(), pattern);
         std::string msg;
@@ -186,7 +186,7 @@ void Elaborator::add_requirements(NetworkSpec& net) {
               "'{}' is a {}, not a heat source (a one-terminal element such as a "
               "heater or thermostat)",
               pattern,
-              net.elements[static_cast<std::size_t>(existing - element_names.begin())].kind);
+              net.elements[static_cast<std::size_t>(existing - element_names.begin())].kind());
         else
           msg = literal ? fmt::format("unknown heat source '{}'", pattern)
                         : fmt::format("pattern '{}' matches no heat source (a one-terminal "

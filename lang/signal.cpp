@@ -11,7 +11,7 @@ const std::vector<double> no_corners;
 }
 
 Signal::Signal(const Signal& other)
-    : kind(other.kind), constant(other.constant),
+    : constant(other.constant),
       shape_(other.shape_ ? std::make_unique<Shape>(*other.shape_) : nullptr) {}
 
 Signal& Signal::operator=(const Signal& other) {
@@ -32,7 +32,14 @@ Signal::Shape& Signal::shape() {
   return *shape_;
 }
 
+Signal::Shape& Signal::shape(Kind kind) {
+  Shape& s = shape();
+  s.kind = kind;
+  return s;
+}
+
 double Signal::at(double time) const {
+  const Kind kind = this->kind();
   if (kind == Kind::expression) return shape_->program->at(time) * shape_->scale + shape_->offset;
   const std::vector<double>& t = times();
   const std::vector<double>& v = values();

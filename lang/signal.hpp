@@ -12,22 +12,23 @@ class TimeProgram;
 
 /// A value over time; times in s, values in SI (K for temperatures, W for powers).
 ///
-/// Nearly every value of a netlist is a constant, so a signal is a kind and a number (24 bytes);
-/// the corners and the expression of the other kinds are kept on the heap, copied with the signal.
+/// Nearly every value of a netlist is a constant, so a signal is a number and a pointer (16
+/// bytes); the kind, corners and expression of the other kinds are kept on the heap, copied with
+/// the signal.
 struct Signal {
   /// The shape of a signal.
   enum class Kind : std::uint8_t { constant, step, pwl, expression };
   /// What a signal other than a constant holds.
   struct Shape {
-    std::vector<double> t; ///< corner times, increasing (step, pwl)
-    std::vector<double> v; ///< values at the corners (step: held until the next corner)
+    Kind kind = Kind::constant; ///< shape of the signal
+    std::vector<double> t;      ///< corner times, increasing (step, pwl)
+    std::vector<double> v;      ///< values at the corners (step: held until the next corner)
     /// The expression of the time (kind == expression): its value is program(t) * scale + offset.
     std::shared_ptr<const TimeProgram> program;
     double scale = 1.0;  ///< factor on the program's value (expression)
     double offset = 0.0; ///< added after the factor (expression; 273.15 for a bare degC value)
   };
-  Kind kind = Kind::constant; ///< shape
-  double constant = 0.0;      ///< value when kind == constant
+  double constant = 0.0; ///< value when kind() == constant
 
   /// A constant 0.
   Signal() = default;
@@ -50,15 +51,19 @@ struct Signal {
   /// ends; expression: computed).
   double at(double time) const;
   /// True for a constant.
-  bool is_constant() const { return kind == Kind::constant; }
+  bool is_constant() const { return kind() == Kind::constant; }
+  /// The shape: constant unless corners or an expression were made.
+  Kind kind() const { return shape_ ? shape_->kind : Kind::constant; }
   /// Corner times, increasing (empty for a constant or an expression).
   const std::vector<double>& times() const;
   /// Values at the corners (empty for a constant or an expression).
   const std::vector<double>& values() const;
   /// Times where the signal jumps or bends (where an integrator should restart).
   const std::vector<double>& corners() const { return times(); }
-  /// The corners and expression, made (empty) on first use, to be filled in.
+  /// The corners and expression, made (empty, of kind constant) on first use, to be filled in.
   Shape& shape();
+  /// The corners and expression, made (empty) on first use, of a signal that becomes of a kind.
+  Shape& shape(Kind kind);
   /// The corners and expression, or nullptr if none were made.
   const Shape* shape_if() const { return shape_.get(); }
   /// Multiplies every value by a factor.

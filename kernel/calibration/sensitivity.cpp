@@ -44,7 +44,7 @@ using Perturb = std::function<lang::NetworkSpec(const CaseRun&, double sign)>;
 
 lang::ElementSpec& element_at(lang::NetworkSpec& spec, const KeyRef& ref) {
   lang::ElementSpec& e = spec.elements.at(ref.element);
-  return ref.part < 0 ? e : e.parts.at(static_cast<std::size_t>(ref.part));
+  return ref.part < 0 ? e : e.edit_parts().at(static_cast<std::size_t>(ref.part));
 }
 
 bool nonzero(const lang::Signal& s) {
@@ -59,7 +59,7 @@ void add_element_keys(const lang::ElementSpec& e, const std::string& label, std:
   for (const auto& [key, signal] : e.values) {
     if (!nonzero(signal)) continue;
     SensitivityFactor f;
-    f.name = label + "." + key;
+    f.name = fmt::format("{}.{}", label, key);
     f.kind = "element";
     f.value = signal.is_constant() ? signal.constant : std::numeric_limits<double>::quiet_NaN();
     f.scale = signal.is_constant() ? std::abs(signal.constant) : 1.0;
@@ -67,7 +67,7 @@ void add_element_keys(const lang::ElementSpec& e, const std::string& label, std:
     f.temperature = schema && schema->absolute_temperature;
     if (f.temperature) f.scale = 1.0; // per kelvin of change
     factors.push_back(f);
-    KeyRef ref{index, part, key};
+    KeyRef ref{index, part, std::string(key)};
     perturbs.push_back([ref, rel, shift = f.temperature](const CaseRun& c, double sign) {
       lang::NetworkSpec spec = c.spec;
       lang::Signal& s = element_at(spec, ref).values.at(ref.key);
@@ -89,19 +89,19 @@ void add_element_factors(const lang::NetworkSpec& spec, double rel,
                          std::vector<SensitivityFactor>& factors, std::vector<Perturb>& perturbs) {
   for (std::size_t i = 0; i < spec.elements.size(); ++i) {
     const lang::ElementSpec& e = spec.elements[i];
-    if (e.composite == lang::Composite::none) {
+    if (e.composite() == lang::Composite::none) {
       add_element_keys(e, e.name, i, -1, rel, factors, perturbs);
       continue;
     }
     std::map<std::string, int> seen;
-    for (const auto& part : e.parts)
-      ++seen[part.kind];
+    for (const auto& part : e.parts())
+      ++seen[std::string(part.kind())];
     std::map<std::string, int> count;
-    for (std::size_t k = 0; k < e.parts.size(); ++k) {
-      const std::string& kind = e.parts[k].kind;
+    for (std::size_t k = 0; k < e.parts().size(); ++k) {
+      const std::string kind(e.parts()[k].kind());
       std::string label = e.name + "." + kind;
       if (seen[kind] > 1) label += fmt::format("#{}", ++count[kind]);
-      add_element_keys(e.parts[k], label, i, static_cast<int>(k), rel, factors, perturbs);
+      add_element_keys(e.parts()[k], label, i, static_cast<int>(k), rel, factors, perturbs);
     }
   }
   for (std::size_t i = 0; i < spec.nodes.size(); ++i) {

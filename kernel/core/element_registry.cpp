@@ -39,7 +39,7 @@ ElementPlugin linear_plugin(lang::ElementSchema schema) {
   auto G = schema.conductance;
   return ElementPlugin{
       std::move(schema), [G](const lang::ElementSpec& s) -> std::unique_ptr<Element> {
-        return std::make_unique<LinearLink>(s.nodes.at(0), s.nodes.at(1), G(s.key_values()));
+        return std::make_unique<LinearLink>(s.nodes()[0], s.nodes()[1], G(s.key_values()));
       }};
 }
 

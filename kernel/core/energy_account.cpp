@@ -14,7 +14,7 @@ public:
     const auto& elements = net.spec().elements;
     for (std::size_t e = 0; e < elements.size(); ++e) {
       offset_.push_back(extra_);
-      extra_ += static_cast<int>(elements[e].nodes.size()) + 1; // terminals, then on-time
+      extra_ += static_cast<int>(elements[e].nodes().size()) + 1; // terminals, then on-time
       totals.switching.push_back(net.element_switches(e) ? 1 : 0);
     }
     totals.switches.assign(elements.size(), 0);
@@ -74,7 +74,7 @@ public:
   void collect(const std::vector<double>& state) {
     for (std::size_t e = 0; e < offset_.size(); ++e) {
       const double* x = state.data() + n_ + offset_[e];
-      const std::size_t terminals = net_.spec().elements[e].nodes.size();
+      const std::size_t terminals = net_.spec().elements[e].nodes().size();
       totals_.element_energy.emplace_back(x, x + terminals);
       totals_.on_time.push_back(x[terminals]);
     }

@@ -48,7 +48,7 @@ private:
 class KindLookup {
 public:
   explicit KindLookup(const ElementRegistry& registry) : registry_(registry) {}
-  const ElementPlugin* find(const std::string& kind) {
+  const ElementPlugin* find(std::string_view kind) {
     if (!last_ || kind != last_kind_) {
       last_ = registry_.find(kind);
       last_kind_ = kind;
@@ -63,14 +63,14 @@ private:
 };
 
 std::unique_ptr<Element> build(const lang::ElementSpec& e, KindLookup& kinds) {
-  if (e.composite == lang::Composite::series) {
+  if (e.composite() == lang::Composite::series) {
     double R = 0.0;
-    for (const auto& part : e.parts)
+    for (const auto& part : e.parts())
       R += 1.0 / part.schema->conductance(part.key_values());
-    return std::make_unique<LinearLink>(e.nodes.at(0), e.nodes.at(1), 1.0 / R);
+    return std::make_unique<LinearLink>(e.nodes()[0], e.nodes()[1], 1.0 / R);
   }
-  const ElementPlugin* plugin = kinds.find(e.kind);
-  if (!plugin) throw NetworkError(fmt::format("no plugin provides element kind '{}'", e.kind));
+  const ElementPlugin* plugin = kinds.find(e.kind());
+  if (!plugin) throw NetworkError(fmt::format("no plugin provides element kind '{}'", e.kind()));
   return plugin->create(e);
 }
 
@@ -134,8 +134,8 @@ Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec
   };
   for (std::size_t k = 0; k < spec_.elements.size(); ++k) {
     const auto& e = spec_.elements[k];
-    if (e.composite == lang::Composite::parallel)
-      for (const auto& part : e.parts)
+    if (e.composite() == lang::Composite::parallel)
+      for (const auto& part : e.parts())
         add(part, static_cast<int>(k));
     else
       add(e, static_cast<int>(k));
@@ -314,10 +314,10 @@ void Network::element_heat(double t, const double* T, std::vector<std::vector<do
   load(t, T);
   heat.resize(spec_.elements.size());
   for (std::size_t e = 0; e < heat.size(); ++e)
-    heat[e].assign(spec_.elements[e].nodes.size(), 0.0);
+    heat[e].assign(spec_.elements[e].nodes().size(), 0.0);
   // Adds what the piece put into F_piece_ at the element's terminals, and clears F_piece_.
   const auto collect = [&](const Piece& p) {
-    const auto& terminals = spec_.elements[static_cast<std::size_t>(p.spec_element)].nodes;
+    const auto terminals = spec_.elements[static_cast<std::size_t>(p.spec_element)].nodes();
     auto& h = heat[static_cast<std::size_t>(p.spec_element)];
     for (std::size_t j = 0; j < terminals.size(); ++j)
       h[j] += F_piece_[static_cast<std::size_t>(terminals[j])];

@@ -159,8 +159,7 @@ lang::Signal event_schedule(const std::vector<EventWindow>& events, const std::s
   if (on.empty()) return lang::Signal::of(0.0);
   std::sort(on.begin(), on.end(), [](auto* a, auto* b) { return a->start < b->start; });
   lang::Signal s;
-  s.kind = lang::Signal::Kind::step;
-  lang::Signal::Shape& corners = s.shape();
+  lang::Signal::Shape& corners = s.shape(lang::Signal::Kind::step);
   auto point = [&](double t, double v) {
     if (!corners.t.empty() && corners.t.back() == t) { // a window starting where the last one ended
       corners.t.pop_back();

@@ -20,23 +20,24 @@ std::string netlist_number(double v) {
 std::string signal_text(const lang::Signal& s, const std::string& unit) {
   const std::string u = unit.empty() ? "" : " [" + unit + "]";
   if (s.is_constant()) return netlist_number(s.constant) + u;
-  std::string out = s.kind == lang::Signal::Kind::step ? "step(" : "pwl(";
+  std::string out = s.kind() == lang::Signal::Kind::step ? "step(" : "pwl(";
   for (std::size_t i = 0; i < s.times().size(); ++i)
     out += fmt::format("{}{}: {}{}", i ? ", " : "", s.times()[i], netlist_number(s.values()[i]), u);
   return out + ")";
 }
 
 bool same_signal(const lang::Signal& a, const lang::Signal& b) {
-  return a.kind == b.kind && (a.is_constant() ? a.constant == b.constant
-                                              : a.times() == b.times() && a.values() == b.values());
+  return a.kind() == b.kind() &&
+         (a.is_constant() ? a.constant == b.constant
+                          : a.times() == b.times() && a.values() == b.values());
 }
 
 std::vector<int> named_heaters(const lang::NetworkSpec& spec) {
   std::vector<int> out;
   for (std::size_t e = 0; e < spec.elements.size(); ++e) {
     const auto& el = spec.elements[e];
-    if (el.kind == "heater" && el.has("P") && !el.name.empty() &&
-        !spec.nodes.at(static_cast<std::size_t>(el.nodes.at(0))).boundary)
+    if (el.kind() == "heater" && el.has("P") && !el.name.empty() &&
+        !spec.nodes.at(static_cast<std::size_t>(el.nodes()[0])).boundary)
       out.push_back(static_cast<int>(e));
   }
   return out;
@@ -60,11 +61,10 @@ lang::ElementSpec make_element(const std::string& kind, const std::string& name,
   lang::ElementSpec e;
   e.schema = element_catalog().find(kind);
   if (!e.schema) throw std::invalid_argument("no element kind '" + kind + "'");
-  e.kind = kind;
   e.name = name;
-  e.nodes.assign(nodes.begin(), nodes.end());
+  e.set_nodes(nodes);
   for (const auto& [k, v] : keys)
-    e.values.emplace(k, lang::Signal::of(v));
+    e.set(k, lang::Signal::of(v));
   return e;
 }
 

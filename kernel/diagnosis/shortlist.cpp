@@ -54,8 +54,8 @@ Shapes shapes(const std::vector<Entry>& entries, bool with_mechanism) {
 std::vector<std::set<int>> neighbours(const lang::NetworkSpec& spec) {
   std::vector<std::set<int>> out(spec.nodes.size());
   for (const auto& e : spec.elements)
-    for (int a : e.nodes)
-      for (int b : e.nodes)
+    for (int a : e.nodes())
+      for (int b : e.nodes())
         if (a != b) out[static_cast<std::size_t>(a)].insert(b);
   return out;
 }

@@ -12,8 +12,10 @@
 /// ElementSchema, OptimizerPlugin, EstimatorPlugin, HypothesisPlugin, ...) changes layout or
 /// meaning. 2: hypotheses join the plugin families; one Registry template. 3: Hypothesis gains
 /// mechanisms(), recalibrates() and rewrites(). 4: ElementSpec::values is a KeySignals (a sorted
-/// flat list with a map's interface) instead of a std::map.
-#define THERMNET_PLUGIN_ABI 4
+/// flat list with a map's interface) instead of a std::map. 5: ElementSpec is laid out for big
+/// networks (kind(), nodes(), composite(), parts() are accessors; key names are string_views of
+/// the schema's), Signal::kind() is an accessor, NodeSpec::doc() an accessor.
+#define THERMNET_PLUGIN_ABI 5
 
 namespace thermnet {
 

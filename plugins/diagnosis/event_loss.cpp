@@ -71,7 +71,7 @@ public:
               lang::NetworkSpec& spec) const override {
     lang::ElementSpec el = make_element("switched_conductance", unique_name(spec, name_of(c)),
                                         {c.index[0], c.index[1]}, {{"G", p[0]}});
-    el.values["on"] = schedule(c, spec.settings.name);
+    el.set("on", schedule(c, spec.settings.name));
     spec.elements.push_back(std::move(el));
   }
 

@@ -17,7 +17,7 @@ public:
     const auto& spec = ev.cases.front().spec;
     for (int e : named_heaters(spec)) {
       const auto& el = spec.elements[static_cast<std::size_t>(e)];
-      const int node = el.nodes.at(0);
+      const int node = el.nodes()[0];
       const bool unobserved = ev.unobserved(node);
       const ScreenFit f =
           unobserved ? ScreenFit{} : ev.regress([&](std::size_t c, int row, std::size_t k) {

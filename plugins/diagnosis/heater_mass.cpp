@@ -58,7 +58,7 @@ public:
     const auto& spec = ev.cases.front().spec;
     for (int e : named_heaters(spec)) {
       const auto& el = spec.elements[static_cast<std::size_t>(e)];
-      const int node = el.nodes.at(0);
+      const int node = el.nodes()[0];
       const double C_node = spec.nodes[static_cast<std::size_t>(node)].C;
       const bool unobserved = ev.unobserved(node);
       if (!(C_node > 0.0)) continue;
@@ -117,11 +117,11 @@ public:
     m.name = unique_name(spec, mass_name(c));
     m.C = p[0];
     m.T0 = spec.nodes[static_cast<std::size_t>(node)].T0;
-    m.doc = "the heater's own mass (thermnet diagnose)";
+    m.set_doc("the heater's own mass (thermnet diagnose)");
     spec.nodes.push_back(std::move(m));
     spec.elements.push_back(make_element("conductance", unique_name(spec, mass_name(c) + "_g"),
                                          {mass, node}, {{"G", p[0] / p[1]}}));
-    spec.elements.at(static_cast<std::size_t>(c.index[0])).nodes.at(0) = mass;
+    spec.elements.at(static_cast<std::size_t>(c.index[0])).set_nodes(std::array{mass});
   }
 
   // A new node and its conductance; the heater's power is rerouted by two heaters (its power into

@@ -84,7 +84,7 @@ ElementPlugin make_annulus_convection() {
   };
   return ElementPlugin{std::move(s), [](const lang::ElementSpec& e) -> std::unique_ptr<Element> {
                          const lang::KeyValues v = e.key_values();
-                         return std::make_unique<AnnulusConvection>(e.nodes.at(0), e.nodes.at(1),
+                         return std::make_unique<AnnulusConvection>(e.nodes()[0], e.nodes()[1],
                                                                     v.at("D_in"), v.at("D_out"),
                                                                     v.at("L"), v.at("scale"));
                        }};

@@ -90,7 +90,7 @@ ElementPlugin make_cavity_convection() {
         const double A = v.at("A"), gap = v.at("gap");
         auto h = v.find("H");
         const double H = h != v.end() ? h->second : std::sqrt(4.0 * A / std::numbers::pi);
-        return std::make_unique<CavityConvection>(e.nodes.at(0), e.nodes.at(1),
+        return std::make_unique<CavityConvection>(e.nodes()[0], e.nodes()[1],
                                                   v.at("scale") * A / gap, cavity_law(gap, H));
       }};
 }

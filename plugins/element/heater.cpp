@@ -29,7 +29,7 @@ ElementPlugin make_heater() {
   s.keys.push_back(
       Key("P", lang::dim::power, "power [W], a constant or a signal").required().signal());
   return ElementPlugin{std::move(s), [](const lang::ElementSpec& e) -> std::unique_ptr<Element> {
-                         return std::make_unique<Heater>(e.nodes.at(0), e.values.at("P"));
+                         return std::make_unique<Heater>(e.nodes()[0], e.values.at("P"));
                        }};
 }
 

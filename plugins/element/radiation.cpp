@@ -44,7 +44,7 @@ ElementPlugin make_radiation() {
   s.keys.push_back(Key("eps2", lang::dim::none, "emissivity of surface B, in (0, 1]").fraction());
   s.alternatives = {{"GR"}, {"A", "eps1", "eps2"}};
   return ElementPlugin{std::move(s), [](const lang::ElementSpec& e) -> std::unique_ptr<Element> {
-                         return std::make_unique<RadiationLink>(e.nodes.at(0), e.nodes.at(1),
+                         return std::make_unique<RadiationLink>(e.nodes()[0], e.nodes()[1],
                                                                 exchange_factor(e.key_values()));
                        }};
 }

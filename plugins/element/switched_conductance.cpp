@@ -40,7 +40,7 @@ ElementPlugin make_switched_conductance() {
   on.k.max = 1.0;
   s.keys.push_back(on);
   return ElementPlugin{std::move(s), [](const lang::ElementSpec& e) -> std::unique_ptr<Element> {
-                         return std::make_unique<SwitchedLink>(e.nodes.at(0), e.nodes.at(1),
+                         return std::make_unique<SwitchedLink>(e.nodes()[0], e.nodes()[1],
                                                                e.number("G"), e.values.at("on"));
                        }};
 }

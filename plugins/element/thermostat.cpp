@@ -150,7 +150,7 @@ ElementPlugin make_thermostat() {
   };
   return ElementPlugin{std::move(s), [](const lang::ElementSpec& e) -> std::unique_ptr<Element> {
                          ThermostatSettings t;
-                         t.node = e.nodes.at(0);
+                         t.node = e.nodes()[0];
                          t.sense = e.node_key("sense").value_or(t.node);
                          t.P = e.values.at("P");
                          t.on = e.number("on");

@@ -40,10 +40,9 @@ std::unique_ptr<Element> make_element(const std::string& kind,
   REQUIRE(plugin != nullptr);
   thermnet::lang::ElementSpec spec;
   spec.schema = &plugin->schema;
-  spec.kind = kind;
-  spec.nodes = {0, 1};
+  spec.set_nodes(std::array{0, 1});
   for (const auto& [k, v] : keys)
-    spec.values[k] = thermnet::lang::Signal::of(v);
+    spec.set(k, thermnet::lang::Signal::of(v));
   auto e = plugin->create(spec);
   PairLayout layout;
   e->declare(layout);

@@ -75,7 +75,7 @@ thermnet::ElementPlugin make_peltier() {
       Key("K", dim::conductance, "thermal conductance cold-hot [W/K]").required().positive());
   return thermnet::ElementPlugin{
       std::move(s), [](const thermnet::lang::ElementSpec& e) -> std::unique_ptr<Element> {
-        return std::make_unique<Peltier>(e.nodes.at(0), e.nodes.at(1), e.number("S"),
+        return std::make_unique<Peltier>(e.nodes()[0], e.nodes()[1], e.number("S"),
                                          e.values.at("I"), e.number("R"), e.number("K"));
       }};
 }
