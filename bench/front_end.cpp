@@ -3,7 +3,9 @@
 // (Model::load), checking every case (lint), elaborating the case (network), and building the
 // kernel's Network — and their rate in MB of model text per second.
 //
-// Usage: thermnet_bench_front_end MODEL.tnet [CASE]
+// Usage: thermnet_bench_front_end [--no-prefault] MODEL.tnet [CASE]
+// --no-prefault leaves every page to the loading thread, so the peak RSS is what the front end
+// touches by itself: the basis of the prefault size in cli/huge_page_heap.cpp.
 // Prints one line per stage (wall and CPU seconds, peak RSS so far) and a summary line
 // `front end: N MB in W s wall (R MB/s), peak RSS P MB (X times the file)` read by bench/run.py.
 // The heap is set up as `thermnet` sets it up (cli/huge_page_heap.hpp).
@@ -17,6 +19,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <sys/resource.h>
 #include <utility>
 
@@ -47,15 +50,17 @@ double peak_rss_mb() {
 
 int main(int argc, char** argv) {
   thermnet::cli::reserve_huge_page_heap(std::size_t{1} << 30);
+  const bool prefault = !(argc > 1 && std::string_view(argv[1]) == "--no-prefault");
+  if (!prefault) --argc, ++argv;
   if (argc < 2) {
-    std::fprintf(stderr, "usage: thermnet_bench_front_end MODEL.tnet [CASE]\n");
+    std::fprintf(stderr, "usage: thermnet_bench_front_end [--no-prefault] MODEL.tnet [CASE]\n");
     return 2;
   }
   const std::string path = argv[1];
   const std::string case_name = argc > 2 ? argv[2] : "";
   const auto bytes = std::filesystem::file_size(path);
   const double mb = static_cast<double>(bytes) / 1e6;
-  thermnet::cli::prefault_heap_for(bytes); // as cli/model_loading.cpp does
+  if (prefault) thermnet::cli::prefault_heap_for(bytes); // as cli/model_loading.cpp does
   const double w0 = wall_now(), c0 = cpu_now();
   double w = w0, c = c0;
   auto stage = [&](const char* name) {
