@@ -56,7 +56,7 @@ void reserve_huge_page_heap(std::size_t bytes) {
 void prefault_heap_for(std::uintmax_t netlist_bytes) {
 #ifdef MADV_POPULATE_WRITE
   static constexpr std::uintptr_t step = std::uintptr_t{2} << 20;
-  constexpr std::uintmax_t smallest = std::uintmax_t{1} << 20, heap_per_byte = 20;
+  constexpr std::uintmax_t smallest = std::uintmax_t{1} << 20, heap_per_byte = 16;
   if (heap_first == 0 || netlist_bytes < smallest) return;
   const std::uintmax_t bytes = heap_per_byte * netlist_bytes;
   const std::uintptr_t end = heap_first + std::min<std::uintptr_t>(bytes, heap_top - heap_first);

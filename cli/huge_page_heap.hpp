@@ -15,7 +15,7 @@ namespace thermnet::cli {
 /// or `bytes` is outside what mallopt can express (1 MiB to 2 GiB less 1 MiB).
 void reserve_huge_page_heap(std::size_t bytes);
 
-/// Before a netlist of `netlist_bytes` is loaded: from 1 MiB on, makes the first 20 bytes of the
+/// Before a netlist of `netlist_bytes` is loaded: from 1 MiB on, makes the first 16 bytes of the
 /// reserved heap per byte of netlist resident on a background thread (a large netlist's load
 /// touches about that much: bench/results/front_end.md), by madvise MADV_POPULATE_WRITE 2 MiB at
 /// a time (contents unchanged), so that the kernel zeroes those fresh pages on the other core
