@@ -194,8 +194,7 @@ inline const x3::rule<class param_r, ast::ParamStmt> param_stmt = "param stateme
 inline const x3::rule<class node_r, ast::NodeStmt> node_stmt = "node statement";
 inline const x3::rule<class element_r, ast::ElementStmt> element_stmt = "element statement";
 inline const x3::rule<class inner_r, ast::InnerElement> inner_element = "inner element";
-inline const x3::rule<class pair_r, std::span<const ast::Ref>> terminal_pair =
-    "the two terminal nodes";
+inline const x3::rule<class pair_r> terminal_pair = "the two terminal nodes";
 inline const x3::rule<class composite_r, ast::CompositeStmt> composite_stmt = "series/parallel";
 inline const x3::rule<class require_group_r, ast::String> require_group =
     "a node or element name or glob in quotes (\"lens*\")";
@@ -400,10 +399,8 @@ inline const auto push_terminal = [](auto& ctx) {
 inline const auto take_keys = [](auto& ctx) {
   _val(ctx) = builder(ctx).file.key_lists.append(builder(ctx).keys);
 };
-/// Moves the terminals into the file's reference lists.
-inline const auto take_refs = [](auto& ctx) {
-  _val(ctx) = builder(ctx).file.ref_lists.append(builder(ctx).refs);
-};
+/// Moves the terminals into the file's reference lists, as the statement's (element or
+/// series/parallel) nodes.
 inline const auto take_terminals = [](auto& ctx) {
   _val(ctx).nodes = builder(ctx).file.ref_lists.append(builder(ctx).refs);
 };
@@ -556,13 +553,14 @@ inline const auto element_stmt_def = identifier[set<&ast::ElementStmt::kind>] >>
 inline const auto inner_element_def =
     (identifier[set<&ast::InnerElement::kind>] >> keys[set<&ast::InnerElement::keys>]) >>
     eps[set_inner_span];
-inline const auto terminal_pair_def = ref[push_terminal] >> ref[push_terminal] >> eps[take_refs];
+inline const auto terminal_pair_def = ref[push_terminal] >> ref[push_terminal];
 inline const auto separators = *(lit(';') | lit('\n'));
-inline const auto composite_stmt_def =
-    (&(keyword("series") | keyword("parallel")) >> identifier[set<&ast::CompositeStmt::mode>]) >
-    name_part[set<&ast::CompositeStmt::name>] > terminal_pair[set<&ast::CompositeStmt::nodes>] >
-    *lit('\n') > lit('{') > separators >
-    (*(inner_element[push_part] >> separators) >> eps[take_parts]) > lit('}');
+inline const auto composite_stmt_def = (&(keyword("series") | keyword("parallel")) >>
+                                        identifier[set<&ast::CompositeStmt::mode>]) >
+                                       name_part[set<&ast::CompositeStmt::name>] > terminal_pair >
+                                       eps[take_terminals] > *lit('\n') > lit('{') > separators >
+                                       (*(inner_element[push_part] >> separators) >>
+                                        eps[take_parts]) > lit('}');
 // `require` is a statement only before a requirement kind (an element kind may be called so).
 inline const x3::symbols<> requirement_kinds({"band", "gradient", "power", "energy", "margin"});
 inline const auto require_group_def = string_literal[take];
