@@ -62,7 +62,8 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
     if (rep.findings.empty())
       std::cerr << fmt::format("{}: note: no finding; {} not written\n", me, o.write);
     else
-      files.push_back({o.write, extended_model_text(*model, rep.findings.front())});
+      for (auto& f : extended_model_files(*model, rep.findings.front(), o.write))
+        files.push_back({f.path, std::move(f.text)});
   }
   if (!o.plot.empty()) files.push_back({o.plot, diagnosis_svg(rep)});
   write_output_files(files);
@@ -72,33 +73,32 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
 
 } // namespace
 
-std::string extended_model_text(const lang::Model& model, const Finding& f) {
+std::vector<rewrite::RewrittenFile> extended_model_files(const lang::Model& model, const Finding& f,
+                                                         const std::string& out) {
   const long root = model.sources().find(model.path());
   if (root < 0) throw OutputError("the model's own text is no longer available");
   const auto file = static_cast<lang::FileId>(root);
-  std::string text = model.sources().text(file);
   std::string why = fmt::format(
       "# thermnet diagnose: {} [{}]{} -- {}\n# RMSE {:.4g} -> {:.4g} K (held-out {:.4g} -> "
       "{:.4g} K)\n",
       f.candidate.kind, fmt::join(f.candidate.nodes, ", "),
       f.candidate.mechanism.empty() ? "" : " (" + f.candidate.mechanism + ")", f.evidence,
       f.rmse_before, f.rmse_after, f.validation_rmse_before, f.validation_rmse_after);
-  std::vector<rewrite::TextEdit> edits;
+  // The ranged params it recalibrated are rewritten where they are declared (an included file
+  // is written as a rewritten copy beside the output, as calibrate -o does).
+  std::vector<rewrite::ParamUpdate> updates;
   std::string applied;
   if (!f.param_rewrites.empty()) {
-    std::vector<rewrite::ParamUpdate> updates;
     for (const auto& p : model.params())
       if (auto it = f.param_rewrites.find(p.name); it != f.param_rewrites.end())
         updates.push_back({p, it->second});
-    edits = rewrite::param_edits(model.sources(), file, updates);
-    applied = "# (the declared values of the ranged params above were rewritten)\n";
+    applied = "# (the declared values of the ranged params were rewritten)\n";
   } else {
     applied = f.statement.empty() ? "" : f.statement + "\n";
   }
   std::vector<std::string> elsewhere;
-  const auto inserts = rewrite::case_block_edits(
-      model, file, f.case_statements, "# thermnet diagnose: " + f.candidate.kind, elsewhere);
-  edits.insert(edits.end(), inserts.begin(), inserts.end());
+  auto inserts = rewrite::case_block_edits(model, file, f.case_statements,
+                                           "# thermnet diagnose: " + f.candidate.kind, elsewhere);
   if (!inserts.empty()) applied += "# (with the lines marked in the case blocks above)\n";
   for (const auto& name : elsewhere) {
     applied +=
@@ -108,9 +108,15 @@ std::string extended_model_text(const lang::Model& model, const Finding& f) {
       lines.replace(p, 1, "\n#   ");
     applied += "#   " + lines + "\n";
   }
-  text = rewrite::apply_edits(std::move(text), std::move(edits));
+  auto files = rewrite::rewrite_model(model.sources(), file, updates, out, std::move(inserts));
+  std::string& text = files.front().text;
   if (!text.empty() && text.back() != '\n') text += '\n';
-  return text + "\n" + why + applied;
+  text += "\n" + why + applied;
+  return files;
+}
+
+std::string extended_model_text(const lang::Model& model, const Finding& f) {
+  return extended_model_files(model, f, model.path() + ".extended.tnet").front().text;
 }
 
 std::string diagnosis_svg(const DiagnosisReport& r, std::size_t worst) {

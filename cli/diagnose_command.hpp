@@ -2,10 +2,12 @@
 /// `thermnet diagnose`: what the simulation gets wrong, the cause, the extension and the gain.
 
 #include "kernel/diagnosis/diagnosis.hpp"
+#include "lang/rewrite/model_files.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <string>
+#include <vector>
 
 namespace thermnet::cli {
 
@@ -14,8 +16,13 @@ namespace thermnet::cli {
 /// outputs).
 void add_diagnose_command(CLI::App& app, int& status);
 
-/// The model's root text with a finding applied: new statements appended under a comment that
-/// says why (capacity overrides go into every case block; recalibrated params are rewritten).
+/// The model with a finding applied, as files to write: the root (at `out`) with the new
+/// statements appended under a comment that says why (capacity overrides go into every case
+/// block), and rewritten copies of the included files that declare params the finding
+/// recalibrated; throws rewrite::RewriteError when `out` names an input of the model.
+std::vector<rewrite::RewrittenFile>
+extended_model_files(const lang::Model& model, const Finding& finding, const std::string& out);
+/// The root file's text of extended_model_files() (the copies of included files aside).
 std::string extended_model_text(const lang::Model& model, const Finding& finding);
 
 /// The --plot figure: measured, before and after curves of the worst nodes of every case.

@@ -160,6 +160,7 @@ int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin&
   lang::CsvTable head;
   try {
     head = lang::parse_csv(header, "<stdin>");
+    head.check_all_numbers();
   } catch (const lang::CsvError& e) {
     throw at_line(e, line_no);
   }
@@ -185,6 +186,7 @@ int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin&
     lang::CsvTable t;
     try {
       t = lang::parse_csv(header + "\n" + line, "<stdin>");
+      t.check_all_numbers();
     } catch (const lang::CsvError& e) {
       throw at_line(e, line_no);
     }
@@ -209,6 +211,7 @@ int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin&
 int run_batch(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin& plugin,
               const std::string& title) {
   lang::CsvTable table = lang::read_csv(o.data);
+  table.check_all_numbers();
   if (table.rows() == 0) throw lang::CsvError(o.data, 2, 0, "the file has no data rows");
   ctx.columns = table.columns;
   auto est = plugin.create(ctx);

@@ -29,6 +29,7 @@ struct SimulateOptions {
   std::string model;
   std::string case_name;
   bool steady = false;
+  bool sensors = false;
   std::string duration;
   std::string output_interval;
   std::string out;
@@ -123,6 +124,7 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   if (!o.duration.empty()) sim.duration = parse_time(o.duration);
   if (!o.output_interval.empty()) sim.output = parse_time(o.output_interval);
   sim.steady = o.steady;
+  sim.sensors = o.sensors;
   sim.solver.rtol = o.rtol;
   sim.solver.atol = o.atol;
   sim.solver.linear_solver = solver_kind(o.linear_solver);
@@ -144,13 +146,19 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   std::vector<std::string> names, element_names;
   for (const auto& n : spec.nodes)
     names.push_back(n.name);
+  if (o.sensors) // their readings follow the nodes in every row (SimulationOptions::sensors)
+    for (int e : net.sensor_elements())
+      names.push_back(spec.elements[static_cast<std::size_t>(e)].name);
   for (const auto& e : spec.elements)
     element_names.push_back(e.name);
   // Everything selected is checked before the run: the CSV goes out row by row, only the plotted
   // columns are kept for the plot.
   const std::vector<std::size_t> columns = plot_columns(names, o.nodes);
-  const std::vector<std::size_t> flow_elements =
+  std::vector<std::size_t> flow_elements =
       select_names(element_names, o.elements, "--elements", "element");
+  std::erase_if(flow_elements, [&](std::size_t e) { // a sensor carries no heat
+    return spec.elements[e].schema && spec.elements[e].schema->observes;
+  });
   const bool kelvin = o.unit == "K";
   std::optional<NodeSummary> summary;
   if (!o.summary.empty())
@@ -261,6 +269,9 @@ void add_simulate_command(CLI::App& app, int& status) {
                   "output interval, e.g. 10, 1min (default: duration/1000)");
   cmd->add_option("-o,--out", o->out, "CSV output file (default: standard output)");
   cmd->add_option("--plot", o->plot, "SVG plot of node temperatures against time");
+  cmd->add_flag("--sensors", o->sensors,
+                "add each sensor's reading as a column named after the sensor (select them with "
+                "--nodes like nodes)");
   cmd->add_option("--nodes", o->nodes,
                   "nodes and boundaries in the CSV, plot and summary: names or globs "
                   "(comma-separated; default: all)")

@@ -16,8 +16,8 @@ const std::vector<Ref>& Ref::rest() const {
 }
 
 Tagged Value::span() const {
-  if (!other) return expr;
-  return std::visit([](const auto& form) -> Tagged { return form; }, *other);
+  if (!ref) return expr;
+  return *ref;
 }
 
 const Tagged& tag_of(const Statement& s) {

@@ -101,6 +101,8 @@ struct ExprNode : Tagged {
     divide,   ///< a / b
     power,    ///< a ^ b (the span of every power in a chain `x ^ y ^ z` is the whole chain)
     group,    ///< (a): its value must be finite (the span includes the parentheses)
+    signal,   ///< a step, pwl or table signal: a = index in File::signals
+    ref,      ///< another object's key (`film.P`, `room.T`): a = index in File::expr_refs
   };
   Index a = none;     ///< first operand or table index
   Op op = Op::number; ///< the operation
@@ -153,32 +155,47 @@ struct PointSignal : Tagged {
   Identifier kind;                 ///< "step" or "pwl"
   std::vector<SignalPoint> points; ///< the points in order
 };
-/// `table("file.csv", "column")`.
+/// `time = "column" [unit]`: which column of a CSV file holds the time, and its unit or format
+/// (`[min]`, `[h]`, `[unix s]`, `[unix ns]`, `[iso]`; seconds when left out).
+struct TimeOption : Tagged {
+  String column;                ///< the column's name
+  std::optional<UnitText> unit; ///< its unit or format
+};
+/// How a CSV file is laid out, where a `table` or `data` statement says so (extension).
+struct FileOptions {
+  std::optional<TimeOption> time;  ///< the time column (default: `time`, seconds)
+  std::optional<String> separator; ///< the field separator (default: `,`)
+  std::vector<Tagged> misplaced;   ///< options given twice, or `hold` in a data statement
+};
+/// `table("file.csv", "column" [, hold] [, time = ...] [, separator = ...]) [unit]`, or
+/// `table(data, "column", ...)` for a column of the case's data file.
 struct TableSignal : Tagged {
-  String file;   ///< CSV path relative to the model file
-  String column; ///< column name
+  String file;                  ///< CSV path relative to the model file (empty for `data`)
+  bool case_data = false;       ///< `table(data, ...)`: the case's data file
+  String column;                ///< column name
+  bool hold = false;            ///< zero-order hold instead of linear interpolation
+  FileOptions options;          ///< the file's layout, when not the default
+  std::optional<UnitText> unit; ///< unit of the column's values (bare when left out)
+};
+/// A signal standing in an expression (ExprNode::signal).
+struct SignalExpr : std::variant<PointSignal, TableSignal> {
+  using variant::variant;
+  /// Its byte range.
+  const Tagged& tag() const {
+    return std::visit([](const auto& s) -> const Tagged& { return s; }, *this);
+  }
 };
 
-/// What may follow `=` where a value is allowed: an expression, or (rarely) a signal or a node
-/// reference with an index or dots (`sense = p[3]`).
+/// What may follow `=` where a value is allowed: an expression (which may hold signals), or a
+/// reference with an index or dots standing alone (`sense = p[3]`, `P = film.P`).
 struct Value {
-  /// The forms other than a plain expression.
-  using Other = std::variant<PointSignal, TableSignal, Ref>;
-  Expr expr;                    ///< the expression, when `other` is empty
-  std::unique_ptr<Other> other; ///< a signal or reference, else null
+  Expr expr;                ///< the expression, when `ref` is null
+  std::unique_ptr<Ref> ref; ///< a lone reference, else null
 
-  /// The expression, or nullptr for another form.
-  const Expr* as_expr() const { return other ? nullptr : &expr; }
-  /// The step/pwl signal, or nullptr.
-  const PointSignal* as_point_signal() const {
-    return other ? std::get_if<PointSignal>(other.get()) : nullptr;
-  }
-  /// The table signal, or nullptr.
-  const TableSignal* as_table() const {
-    return other ? std::get_if<TableSignal>(other.get()) : nullptr;
-  }
-  /// The node reference, or nullptr.
-  const Ref* as_reference() const { return other ? std::get_if<Ref>(other.get()) : nullptr; }
+  /// The expression, or nullptr for a lone reference.
+  const Expr* as_expr() const { return ref ? nullptr : &expr; }
+  /// The lone reference, or nullptr.
+  const Ref* as_reference() const { return ref.get(); }
   /// The byte range of whichever form the value has.
   Tagged span() const;
 };
@@ -234,6 +251,7 @@ struct NodeStmt : Tagged {
 struct ElementStmt : Tagged {
   Identifier kind;             ///< element kind or submodel (resolved by the model loader)
   Ref name;                    ///< element name
+  bool mean = false;           ///< the terminals are written `mean(a, b, ...)` (a sensor)
   RefList nodes;               ///< terminal nodes (in File::ref_lists)
   KeyList keys;                ///< key = value pairs (in File::key_lists)
   std::unique_ptr<String> doc; ///< description
@@ -278,14 +296,32 @@ struct Target : Tagged {
 };
 /// `target = value [, expr ...]` inside a case (a list only for `output`).
 struct CaseAssign : Tagged {
-  Target target;          ///< what is set
-  Value value;            ///< to what
-  std::vector<Expr> more; ///< further items of a list `output = 0, 100, 250`
+  Target target;                ///< what is set
+  Value value;                  ///< to what
+  std::vector<Expr> more;       ///< further items of a list `output = 0, 100, 250`
+  std::unique_ptr<Range> range; ///< `w.T0 = 20 range 15 .. 30`: calibrated per case (extension)
 };
-/// `data "file.csv" [unit]` inside a case.
+/// One column named in a data statement's column map, with its weight in a mean.
+struct ColumnSource : Tagged {
+  String column;              ///< the column's name (a name or a string as written)
+  std::optional<Expr> weight; ///< `column: weight` in a weighted mean
+};
+/// `TARGET = column [unit]` or `TARGET = mean(a, b, ...) [unit]` in a data statement's block: the
+/// node, boundary or sensor a measured series is compared with, and where it is read.
+struct ColumnMap : Tagged {
+  Ref target;                        ///< node, boundary or sensor
+  bool mean = false;                 ///< the (weighted) mean of several columns
+  std::vector<ColumnSource> sources; ///< the columns (one unless a mean)
+  std::optional<UnitText> unit;      ///< temperature unit of these columns
+};
+/// `data "file.csv" [unit] [time = ...] [separator = ...] [{ TARGET = COLUMN ... }]` inside a
+/// case.
 struct CaseData : Tagged {
-  String path;                  ///< CSV path relative to the model file
-  std::optional<UnitText> unit; ///< the temperature unit of the file's values (extension)
+  String path;                    ///< CSV path relative to the model file
+  std::optional<UnitText> unit;   ///< the temperature unit of the file's values (extension)
+  FileOptions options;            ///< the file's layout, when not the default (extension)
+  bool mapped = false;            ///< a column map was given: only its columns are compared
+  std::vector<ColumnMap> columns; ///< the column map (extension)
 };
 struct CaseItem;
 /// `for VAR in LO .. HI { settings }` inside a case (extension).
@@ -369,6 +405,8 @@ struct File {
   std::vector<Identifier> names;     ///< names used in expressions (ExprNode::name, call)
   std::vector<UnitText> units;       ///< units of quantity literals
   std::vector<Index> args;           ///< roots of call arguments (ExprNode::call)
+  std::vector<SignalExpr> signals;   ///< signals standing in expressions (ExprNode::signal)
+  std::vector<Ref> expr_refs;        ///< references to keys in expressions (ExprNode::ref)
   Chunks<Ref> ref_lists;             ///< terminals of element and series/parallel statements
   Chunks<KeyValue> key_lists;        ///< keys of node, element and inner element statements
   Chunks<InnerElement> part_lists;   ///< inner elements of series/parallel statements

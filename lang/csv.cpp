@@ -1,7 +1,9 @@
 #include "lang/csv.hpp"
 
+#include "lang/diagnostics.hpp"
 #include "lang/display_text.hpp"
 #include "lang/source.hpp"
+#include "lang/units.hpp"
 
 #include <fmt/format.h>
 
@@ -24,10 +26,10 @@ std::string trim(std::string_view s) {
   return std::string(s.substr(b, e - b + 1));
 }
 
-/// Splits a row at its commas. A field in double quotes may hold commas (`""` is a quote), and
-/// a comma inside square brackets does not split either, so a header may name `p[3,7]` as it is
-/// written or quoted, as spreadsheets write it.
-std::vector<std::string> split(std::string_view line) {
+/// Splits a row at its separators. A field in double quotes may hold the separator (`""` is a
+/// quote), and a separator inside square brackets does not split either, so a header may name
+/// `p[3,7]` as it is written or quoted, as spreadsheets write it.
+std::vector<std::string> split(std::string_view line, char separator) {
   std::vector<std::string> fields;
   std::string field;
   bool quoted = false, was_quoted = false;
@@ -52,7 +54,7 @@ std::vector<std::string> split(std::string_view line) {
     } else if (c == '"' && trim(field).empty()) {
       field.clear();
       quoted = was_quoted = true;
-    } else if (c == ',' && brackets == 0) {
+    } else if (c == separator && brackets == 0) {
       finish();
     } else if (!was_quoted) {
       brackets += c == '[' ? 1 : c == ']' && brackets > 0 ? -1 : 0;
@@ -71,11 +73,100 @@ bool parse_number(const std::string& s, double& out) {
   return ec == std::errc() && p == s.data() + s.size();
 }
 
-bool is_missing(const std::string& s) {
-  if (s.empty()) return true;
+std::string lower(std::string_view s) {
   std::string l(s);
   std::transform(l.begin(), l.end(), l.begin(), [](unsigned char c) { return std::tolower(c); });
+  return l;
+}
+
+bool is_missing(const std::string& s) {
+  if (s.empty()) return true;
+  const std::string l = lower(s);
   return l == "nan" || l == "na";
+}
+
+/// An on/off word as 1 or 0 (`True`/`False`, `on`/`off`, `yes`/`no`, any case).
+std::optional<double> on_off_word(const std::string& s) {
+  if (s.size() > 5) return std::nullopt;
+  const std::string l = lower(s);
+  if (l == "true" || l == "on" || l == "yes") return 1.0;
+  if (l == "false" || l == "off" || l == "no") return 0.0;
+  return std::nullopt;
+}
+
+/// Days from 1970-01-01 to a date of the proleptic Gregorian calendar (H. Hinnant's algorithm).
+long days_from_civil(long y, unsigned m, unsigned d) {
+  y -= m <= 2 ? 1 : 0;
+  const long era = (y >= 0 ? y : y - 399) / 400;
+  const auto yoe = static_cast<unsigned>(y - era * 400);
+  const unsigned doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+  const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+  return era * 146097 + static_cast<long>(doe) - 719468;
+}
+
+/// An ISO 8601 date and time (`2021-01-22`, `2021-01-22T14:48:58.72Z`, `2021-01-22 14:48+01:00`)
+/// as seconds since 1970-01-01 UTC; a time without zone is taken as UTC.
+std::optional<double> parse_iso_time(std::string_view s) {
+  std::size_t i = 0;
+  auto digits = [&](std::size_t n, long& out) {
+    if (i + n > s.size()) return false;
+    out = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const char c = s[i + k];
+      if (c < '0' || c > '9') return false;
+      out = out * 10 + (c - '0');
+    }
+    i += n;
+    return true;
+  };
+  auto expect = [&](char c) {
+    if (i < s.size() && s[i] == c) {
+      ++i;
+      return true;
+    }
+    return false;
+  };
+  long y = 0, mo = 0, d = 0, h = 0, mi = 0, sec = 0;
+  if (!digits(4, y) || !expect('-') || !digits(2, mo) || !expect('-') || !digits(2, d))
+    return std::nullopt;
+  if (mo < 1 || mo > 12 || d < 1 || d > 31) return std::nullopt;
+  double seconds = 0.0;
+  if (i < s.size() && (s[i] == 'T' || s[i] == ' ')) {
+    ++i;
+    if (!digits(2, h) || !expect(':') || !digits(2, mi)) return std::nullopt;
+    if (expect(':')) {
+      if (!digits(2, sec)) return std::nullopt;
+      if (i < s.size() && (s[i] == '.' || s[i] == ',')) {
+        ++i;
+        double scale = 0.1;
+        const std::size_t from = i;
+        while (i < s.size() && s[i] >= '0' && s[i] <= '9') {
+          seconds += scale * (s[i] - '0');
+          scale /= 10;
+          ++i;
+        }
+        if (i == from) return std::nullopt;
+      }
+    }
+    if (h > 24 || mi > 59 || sec > 60) return std::nullopt;
+  }
+  long zone = 0; // seconds east of UTC
+  if (i < s.size()) {
+    if (s[i] == 'Z') {
+      ++i;
+    } else if (s[i] == '+' || s[i] == '-') {
+      const long sign = s[i] == '+' ? 1 : -1;
+      ++i;
+      long zh = 0, zm = 0;
+      if (!digits(2, zh)) return std::nullopt;
+      expect(':');
+      if (i < s.size() && !digits(2, zm)) return std::nullopt;
+      zone = sign * (zh * 3600 + zm * 60);
+    }
+  }
+  if (i != s.size()) return std::nullopt;
+  const long days = days_from_civil(y, static_cast<unsigned>(mo), static_cast<unsigned>(d));
+  return static_cast<double>(days * 86400 + h * 3600 + mi * 60 + sec - zone) + seconds;
 }
 
 /// A byte order mark, written first by some spreadsheet programs; it is not part of the header.
@@ -102,7 +193,7 @@ CsvError::CsvError(const std::string& path, std::size_t row_, std::size_t column
     : std::runtime_error(row_ == 0      ? fmt::format("{}: {}", path, msg)
                          : column_ == 0 ? fmt::format("{}:{}: {}", path, row_, msg)
                                         : fmt::format("{}:{}:{}: {}", path, row_, column_, msg)),
-      row(row_), column(column_) {}
+      row(row_), column(column_), detail(msg) {}
 
 int CsvTable::column_index(const std::string& name) const {
   for (std::size_t i = 0; i < columns.size(); ++i)
@@ -110,12 +201,75 @@ int CsvTable::column_index(const std::string& name) const {
   return -1;
 }
 
-CsvTable parse_csv(const std::string& text, const std::string& path) {
+std::optional<std::string> parse_time_format(std::string_view text, CsvLayout& layout) {
+  std::string t(trim(text));
+  if (t == "iso") {
+    layout.format = TimeFormat::iso;
+    layout.time_scale = 1.0;
+    return std::nullopt;
+  }
+  if (t.starts_with("unix")) {
+    const std::string unit = trim(std::string_view(t).substr(4));
+    static const std::pair<const char*, double> units[] = {
+        {"s", 1.0}, {"ms", 1e-3}, {"us", 1e-6}, {"ns", 1e-9}};
+    for (const auto& [name, scale] : units)
+      if (unit == name) {
+        layout.format = TimeFormat::unix;
+        layout.time_scale = scale;
+        return std::nullopt;
+      }
+    return fmt::format("UNIX time stamps are in 'unix s', 'unix ms', 'unix us' or 'unix ns', not "
+                       "'{}'",
+                       excerpt_for_display(t));
+  }
+  try {
+    const Unit u = parse_unit(t);
+    if (!(u.dim == dim::time))
+      return fmt::format("'{}' is not a unit of time; write a time unit ([s], [min], [h], "
+                         "[day]), [unix s] (or ms, us, ns) or [iso]",
+                         excerpt_for_display(t));
+    layout.format = TimeFormat::relative;
+    layout.time_scale = u.scale;
+    return std::nullopt;
+  } catch (const UnitError& e) {
+    return fmt::format("{}; the time is in a time unit ([s], [min], [h], [day]), [unix s] (or ms, "
+                       "us, ns) or [iso]",
+                       e.what());
+  }
+}
+
+void CsvTable::check_column(std::size_t column) const {
+  if (column >= bad.size() || !bad[column]) return;
+  const BadCell& b = *bad[column];
+  throw CsvError(path, b.row, b.column,
+                 fmt::format("'{}' is not a number{}", excerpt_for_display(b.text),
+                             b.text.find(';') == std::string::npos
+                                 ? ""
+                                 : " (fields are separated by ',', not ';')"));
+}
+
+void CsvTable::check_numbers(std::size_t column) const {
+  check_column(column);
+  if (column >= words.size() || !words[column]) return;
+  for (std::size_t r = 0; r < rows(); ++r)
+    if (!std::isnan(cells[column][r]))
+      throw CsvError(path, line_of(r), file_columns[column],
+                     fmt::format("column '{}' holds on/off words (True/False), not temperatures",
+                                 excerpt_for_display(columns[column])));
+}
+
+CsvTable parse_csv(const std::string& text, const std::string& path, const CsvLayout& layout) {
   CsvTable t;
   t.path = path;
+  t.absolute_time = layout.absolute();
+  const char sep = layout.separator;
+  const bool default_layout = layout.time_first && sep == ',';
   std::size_t pos = std::string_view(text).starts_with(kUtf8Bom) ? kUtf8Bom.size() : 0;
   std::size_t line_no = 0;
   bool header = true;
+  std::size_t width = 0;              // fields per row
+  std::size_t time_at = 0;            // the time column's field (0-based)
+  std::vector<std::size_t> column_of; // file field -> table column
   while (pos <= text.size()) {
     auto nl = text.find('\n', pos);
     std::string_view line(text.data() + pos, (nl == std::string::npos ? text.size() : nl) - pos);
@@ -124,14 +278,10 @@ CsvTable parse_csv(const std::string& text, const std::string& path) {
     if (trim(line).empty()) continue;
     if (line.find('\0') != std::string_view::npos)
       throw CsvError(path, line_no, 0, "contains a NUL byte; is this a binary file?");
-    auto fields = split(line);
+    auto fields = split(line, sep);
     if (header) {
       header = false;
-      reject_semicolons(fields, path, line_no);
-      if (fields[0] != "time")
-        throw CsvError(path, line_no, 1,
-                       fmt::format("the first column must be 'time', found '{}'",
-                                   excerpt_for_display(fields[0])));
+      if (default_layout) reject_semicolons(fields, path, line_no);
       for (std::size_t c = 0; c < fields.size(); ++c) {
         if (fields[c].empty()) throw CsvError(path, line_no, c + 1, "empty column name");
         for (std::size_t k = 0; k < c; ++k)
@@ -140,54 +290,113 @@ CsvTable parse_csv(const std::string& text, const std::string& path) {
                 path, line_no, c + 1,
                 fmt::format("column '{}' appears twice", excerpt_for_display(fields[c])));
       }
-      t.columns = fields;
-      t.cells.assign(fields.size(), {});
+      if (layout.time_first) {
+        if (fields[0] != layout.time_column)
+          throw CsvError(path, line_no, 1,
+                         fmt::format("the first column must be '{}', found '{}'",
+                                     layout.time_column, excerpt_for_display(fields[0])));
+      } else {
+        auto it = std::find(fields.begin(), fields.end(), layout.time_column);
+        if (it == fields.end()) {
+          std::string msg =
+              fmt::format("there is no time column '{}'", excerpt_for_display(layout.time_column));
+          if (auto s = closest_match(layout.time_column, fields))
+            msg += fmt::format(" (did you mean '{}'?)", excerpt_for_display(*s));
+          throw CsvError(path, line_no, 0, msg);
+        }
+        time_at = static_cast<std::size_t>(it - fields.begin());
+      }
+      width = fields.size();
+      column_of.assign(width, 0);
+      t.columns.push_back(fields[time_at]);
+      t.file_columns.push_back(time_at + 1);
+      for (std::size_t c = 0; c < width; ++c) {
+        if (c == time_at) continue;
+        column_of[c] = t.columns.size();
+        t.columns.push_back(fields[c]);
+        t.file_columns.push_back(c + 1);
+      }
+      t.cells.assign(width, {});
+      t.words.assign(width, false);
+      t.bad.assign(width, std::nullopt);
       continue;
     }
-    if (fields.size() != t.columns.size())
+    if (fields.size() != width)
       throw CsvError(path, line_no, 0,
-                     fmt::format("row has {} fields, the header has {}{}", fields.size(),
-                                 t.columns.size(),
-                                 line.find(';') == std::string_view::npos
-                                     ? ""
-                                     : " (fields are separated by ',', not ';')"));
-    for (std::size_t c = 0; c < fields.size(); ++c) {
+                     fmt::format("row has {} fields, the header has {}{}", fields.size(), width,
+                                 default_layout && line.find(';') != std::string_view::npos
+                                     ? " (fields are separated by ',', not ';')"
+                                     : ""));
+    // The time first: a row without one is an error of the whole file.
+    const std::string& tf = fields[time_at];
+    double time = std::numeric_limits<double>::quiet_NaN();
+    if (is_missing(tf)) throw CsvError(path, line_no, time_at + 1, "the time is missing");
+    if (layout.format == TimeFormat::iso) {
+      if (auto v = parse_iso_time(tf))
+        time = *v;
+      else
+        throw CsvError(path, line_no, time_at + 1,
+                       fmt::format("'{}' is not an ISO 8601 date and time "
+                                   "(2021-01-22T14:48:58Z)",
+                                   excerpt_for_display(tf)));
+    } else {
+      if (!parse_number(tf, time))
+        throw CsvError(path, line_no, time_at + 1,
+                       fmt::format("'{}' is not a number{}", excerpt_for_display(tf),
+                                   default_layout && tf.find(';') != std::string::npos
+                                       ? " (fields are separated by ',', not ';')"
+                                       : ""));
+      if (!std::isfinite(time))
+        throw CsvError(path, line_no, time_at + 1,
+                       fmt::format("'{}' is not finite", excerpt_for_display(tf)));
+      time *= layout.time_scale;
+    }
+    if (!t.cells[0].empty() && !(time > t.cells[0].back()))
+      throw CsvError(path, line_no, time_at + 1,
+                     fmt::format("time {:.10g} does not increase (previous row: {:.10g})",
+                                 time / layout.time_scale, t.cells[0].back() / layout.time_scale));
+    t.cells[0].push_back(time);
+    t.lines.push_back(line_no);
+    for (std::size_t c = 0; c < width; ++c) {
+      if (c == time_at) continue;
+      const std::size_t col = column_of[c];
       double v = std::numeric_limits<double>::quiet_NaN();
-      if (!is_missing(fields[c]) && !parse_number(fields[c], v))
-        throw CsvError(path, line_no, c + 1,
-                       fmt::format("'{}' is not a number{}", excerpt_for_display(fields[c]),
-                                   fields[c].find(';') == std::string::npos
-                                       ? ""
-                                       : " (fields are separated by ',', not ';')"));
-      if (!std::isnan(v) && !std::isfinite(v))
-        throw CsvError(path, line_no, c + 1,
-                       fmt::format("'{}' is not finite", excerpt_for_display(fields[c])));
-      if (c == 0) {
-        if (std::isnan(v)) throw CsvError(path, line_no, 1, "the time is missing");
-        if (!t.cells[0].empty() && !(v > t.cells[0].back()))
-          throw CsvError(path, line_no, 1,
-                         fmt::format("time {:g} does not increase (previous row: {:g})", v,
-                                     t.cells[0].back()));
+      if (!is_missing(fields[c]) && !parse_number(fields[c], v)) {
+        if (auto w = on_off_word(fields[c])) {
+          v = *w;
+          t.words[col] = true;
+        } else if (!t.bad[col]) {
+          t.bad[col] = BadCell{line_no, c + 1, fields[c]};
+        }
+      } else if (!std::isnan(v) && !std::isfinite(v) && !t.bad[col]) {
+        t.bad[col] = BadCell{line_no, c + 1, fields[c]};
+        v = std::numeric_limits<double>::quiet_NaN();
       }
-      t.cells[c].push_back(v);
+      t.cells[col].push_back(v);
     }
   }
-  if (header) throw CsvError(path, 1, 0, "the file is empty; expected a header row 'time,...'");
+  if (header)
+    throw CsvError(
+        path, 1, 0,
+        fmt::format("the file is empty; expected a header row '{},...'", layout.time_column));
+  t.cells.resize(t.columns.size());
+  t.words.resize(t.columns.size());
+  t.bad.resize(t.columns.size());
   return t;
 }
 
-std::vector<std::string> csv_fields(std::string_view line) {
-  return split(line);
+std::vector<std::string> csv_fields(std::string_view line, char separator) {
+  return split(line, separator);
 }
 
 bool csv_number(const std::string& field, double& out) {
   return parse_number(field, out);
 }
 
-CsvTable read_csv(const std::string& path) {
+CsvTable read_csv(const std::string& path, const CsvLayout& layout) {
   std::string text;
   if (auto error = read_text_file(path, text)) throw CsvError(path, 0, 0, *error);
-  return parse_csv(text, path);
+  return parse_csv(text, path, layout);
 }
 
 std::size_t rows_after(const CsvTable& t, double end) {
@@ -198,11 +407,11 @@ std::size_t rows_after(const CsvTable& t, double end) {
 
 void check_measured(const CsvTable& t) {
   const std::vector<double>& time = t.time();
-  for (std::size_t r = 0; r < time.size(); ++r)
-    if (time[r] < 0.0)
-      // Rows are counted from the header (row 1); blank lines, if any, are not counted.
-      throw CsvError(t.path, r + 2, 1,
-                     fmt::format("time {:g} is negative; simulations start at 0", time[r]));
+  if (!t.absolute_time)
+    for (std::size_t r = 0; r < time.size(); ++r)
+      if (time[r] < 0.0)
+        throw CsvError(t.path, t.line_of(r), t.file_columns[0],
+                       fmt::format("time {:g} is negative; simulations start at 0", time[r]));
   for (std::size_t c = 1; c < t.cells.size(); ++c)
     for (double v : t.cells[c])
       if (!std::isnan(v)) return;

@@ -1,4 +1,5 @@
 #include "lang/elaborator.hpp"
+#include "lang/elaborator_detail.hpp"
 
 #include "lang/csv.hpp"
 #include "lang/time_program.hpp"
@@ -10,6 +11,7 @@
 #include <filesystem>
 
 namespace thermnet::lang {
+using namespace detail;
 namespace {
 
 namespace fs = std::filesystem;
@@ -64,48 +66,6 @@ const ElementSchema& boundary_schema() {
   return s;
 }
 
-namespace {
-
-/// The identifier a value consists of, if it is a bare name.
-const ast::Identifier* as_identifier(const ast::Value& v, const ast::File& file) {
-  const ast::Expr* e = v.as_expr();
-  if (!e) return nullptr;
-  const ast::ExprNode& n = file.node(e->root);
-  return n.op == ast::ExprNode::Op::name ? &file.names[n.a] : nullptr;
-}
-
-Span span_of(FileId f, const ast::Tagged& t) {
-  return Span{f, t.begin, t.end};
-}
-
-std::string list_names(const std::vector<std::string>& names) {
-  std::string out;
-  for (std::size_t i = 0; i < names.size() && i < 4; ++i)
-    out += (i ? ", '" : "'") + names[i] + "'";
-  if (names.size() > 4) out += fmt::format(" and {} more", names.size() - 4);
-  return out;
-}
-
-/// Sets a variable for the lifetime of the guard, then restores it.
-template <typename T> class Restore {
-public:
-  Restore(T& var, T value) : var_(var), saved_(var) { var_ = value; }
-  ~Restore() { var_ = saved_; }
-  Restore(const Restore&) = delete;
-  Restore& operator=(const Restore&) = delete;
-
-private:
-  T& var_;
-  T saved_;
-};
-
-/// True when a case setting's name is one of the case's own keys.
-bool is_case_key(std::string_view k) {
-  return k == "duration" || k == "initial" || k == "output";
-}
-
-} // namespace
-
 Elaborator::Elaborator(const Model& model, Reporter report, const CaseDecl* c,
                        const ParamValues& overrides, bool check_data, const Overrides* external)
     : m_(model), report_(std::move(report)), case_(c),
@@ -130,9 +90,10 @@ void Elaborator::report(Diagnostic d) {
 }
 
 Evaluator Elaborator::evaluator(FileId f, const Scope* scope) {
-  return Evaluator(m_.file(f), [this, scope](const ast::Identifier& id, FileId file) {
-    return lookup(id, file, scope);
-  });
+  return Evaluator(
+      m_.file(f),
+      [this, scope](const ast::Identifier& id, FileId file) { return lookup(id, file, scope); },
+      [this, scope](ast::Index node, FileId file) { return embedded_signal(node, file, scope); });
 }
 
 // Loop variables first (up to the instance), then the instance's params and consts, then the
@@ -451,123 +412,10 @@ void Elaborator::report_at(const EvalError& err, Span at) {
 std::optional<double> Elaborator::number(const ast::Expr& e, FileId f, const Place& p, Span at) {
   try {
     Restore<bool> time(time_allowed_, false);
+    Restore<const Place*> place(constant_place_, &p);
     return to_place(evaluator(f, context_).eval(e), p, at, span_of(f, e));
   } catch (const EvalError& err) {
     report_at(err, at);
-    return std::nullopt;
-  }
-}
-
-// An expression that uses `time` becomes a program of the time; its unit is checked by
-// evaluating it once (at t = 0), and its value is checked at t = 0.
-std::optional<Signal> Elaborator::time_signal(const ast::Expr& e, FileId f, const Place& p,
-                                              Span at) {
-  Quantity q;
-  try {
-    Restore<bool> time(time_allowed_, true);
-    saw_time_ = false;
-    q = evaluator(f, context_).eval(e);
-    if (!saw_time_) {
-      auto v = to_place(q, p, at, span_of(f, e));
-      return v ? std::optional<Signal>(Signal::of(*v)) : std::nullopt;
-    }
-    Signal s;
-    const Scope* scope = context_;
-    s.shape(Signal::Kind::expression).program = compile_time_program(
-        m_.file(f), e.root, [&](const ast::Identifier& id) { return lookup(id, f, scope).value; });
-    if (q.dim && !(*q.dim == p.dim)) {
-      report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(f, e), p.what(),
-                                    describe(p.dim), describe(*q.dim)));
-      return std::nullopt;
-    }
-    if (!q.dim && p.absolute_temperature) s.shape().offset = 273.15;
-    if (!check_range(s.at(0.0), p, at, span_of(f, e))) return std::nullopt;
-    return s;
-  } catch (const EvalError& err) {
-    report_at(err, at);
-    return std::nullopt;
-  }
-}
-
-std::optional<Signal> Elaborator::signal(const ast::Value& v, FileId f, const Place& p, Span at) {
-  if (const ast::Expr* e = v.as_expr()) {
-    if (p.time_allowed) return time_signal(*e, f, p, at);
-    auto x = number(*e, f, p, at);
-    return x ? std::optional<Signal>(Signal::of(*x)) : std::nullopt;
-  }
-  if (v.as_reference()) {
-    report(
-        DiagnosticEngine::make(DiagId::syntax_expected, at, span_of(f, v.span()),
-                               fmt::format("expected a value for {}, not a node name", p.what())));
-    return std::nullopt;
-  }
-  if (const ast::PointSignal* ps = v.as_point_signal()) {
-    Signal s;
-    s.shape(ps->kind.name == "step" ? Signal::Kind::step : Signal::Kind::pwl);
-    Place time{
-        [&] { return fmt::format("a time in the {} signal of {}", ps->kind.name, p.what()); },
-        dim::time};
-    bool ok = true;
-    for (const auto& pt : ps->points) {
-      auto t = number(pt.time, f, time, at);
-      auto x = number(pt.value, f, p, at);
-      if (!t || !x) {
-        ok = false;
-        continue;
-      }
-      Signal::Shape& corners = s.shape();
-      if (!corners.t.empty() && !(*t > corners.t.back())) {
-        report(
-            DiagnosticEngine::make(DiagId::bad_signal, at, span_of(f, pt.time),
-                                   fmt::format("signal times must increase: {:g} s follows {:g} s",
-                                               *t, corners.t.back())));
-        ok = false;
-        continue;
-      }
-      corners.t.push_back(*t);
-      corners.v.push_back(*x);
-    }
-    if (!ok) return std::nullopt;
-    return s;
-  }
-  const ast::TableSignal& ts = *v.as_table();
-  fs::path path(ts.file.text);
-  if (path.is_relative()) path = fs::path(m_.directory_of(f)) / path;
-  try {
-    CsvTable table = read_csv(path.string());
-    int col = table.column_index(ts.column.text);
-    if (col < 0) {
-      Diagnostic d = DiagnosticEngine::make(
-          DiagId::bad_signal, at, span_of(f, ts.column),
-          fmt::format("'{}' has no column '{}'", ts.file.text, ts.column.text));
-      if (auto s = closest_match(ts.column.text, table.columns))
-        d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
-      report(std::move(d));
-      return std::nullopt;
-    }
-    Signal s;
-    Signal::Shape& corners = s.shape(Signal::Kind::pwl);
-    for (std::size_t r = 0; r < table.rows(); ++r) {
-      double x = table.cells[static_cast<std::size_t>(col)][r];
-      if (std::isnan(x)) continue;
-      corners.t.push_back(table.time()[r]);
-      corners.v.push_back(p.absolute_temperature ? x + 273.15 : x);
-    }
-    if (corners.t.empty()) {
-      report(DiagnosticEngine::make(
-          DiagId::bad_signal, at, span_of(f, ts.column),
-          fmt::format("column '{}' of '{}' has no values", ts.column.text, ts.file.text)));
-      return std::nullopt;
-    }
-    for (double x : corners.v)
-      if (!check_range(x, p, at, span_of(f, ts))) return std::nullopt;
-    return s;
-  } catch (const CsvError& e) {
-    report(DiagnosticEngine::make(e.row == 0 ? DiagId::data_unreadable : DiagId::data_format, at,
-                                  span_of(f, ts.file), ts.file.text,
-                                  e.row == 0
-                                      ? std::string(e.what()).substr(path.string().size() + 2)
-                                      : std::string(e.what())));
     return std::nullopt;
   }
 }
@@ -639,7 +487,7 @@ bool Elaborator::fill_keys(const ElementSchema& schema, ast::KeyList keys, FileI
       ok = false;
       continue;
     }
-    if (auto s = signal(kv.value, f, place, at))
+    if (auto s = signal(kv.value, f, place, at, out.name))
       out.values[*ks] = std::move(*s);
     else
       ok = false;
@@ -751,6 +599,7 @@ std::optional<ElementSpec> Elaborator::elaborate_element(const ElementDecl& d) {
       *d.schema, s.keys, f, at, [&] { return fmt::format("{} '{}'", e.kind(), e.name); }, e);
   if (!ok) return std::nullopt;
   const auto& decls = m_.nodes();
+  if (d.schema->observes) return e; // a sensor reads its nodes, boundaries included
   if (nodes.size() == 2 && nodes[0] == nodes[1]) {
     report(DiagnosticEngine::make(DiagId::self_link, at, span_of(f, s.nodes[1]), e.name,
                                   decls[static_cast<std::size_t>(nodes[0])].name));
@@ -924,6 +773,7 @@ NetworkSpec Elaborator::run() {
 void Elaborator::finish(NetworkSpec& net) {
   if (case_) apply_case(net);
   apply_key_settings(net);
+  resolve_references(net);
   add_requirements(net);
 }
 
@@ -931,6 +781,7 @@ void Elaborator::finish(NetworkSpec& net) {
 // and keys were checked by Model::settable_key(), the values against the keys' ranges.
 void Elaborator::apply_key_settings(NetworkSpec& net) {
   for (const KeySetting& s : external_->keys) {
+    supersede(s.object, s.key);
     if (const int n = m_.node_index(s.object); n >= 0) {
       NodeSpec& node = net.nodes[static_cast<std::size_t>(n)];
       if (s.key == "T")
@@ -992,12 +843,12 @@ void Elaborator::apply_case(NetworkSpec& net) {
                                   s.name));
   else if (data_times_)
     warn_data_beyond_duration(s);
+  if (s.initial_data) initial_from_data(net);
 }
 
 void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseItem>& items,
                                   const Scope* scope, std::set<std::string>& seen) {
   const FileId f = case_->file;
-  CaseSettings& s = net.settings;
   for (const auto& item : items) {
     if (const auto* loop = std::get_if<ast::CaseFor>(&item)) {
       // A loop over settings: each iteration applies its items with the loop's variables.
@@ -1037,39 +888,7 @@ void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseI
     }
     Restore<const Scope*> context(context_, scope);
     if (const auto* data = std::get_if<ast::CaseData>(&item)) {
-      Span at{f, data->begin, data->begin};
-      if (scope) {
-        report(DiagnosticEngine::make(DiagId::misplaced_statement, at, span_of(f, *data),
-                                      "'data' is given once per case, not in a loop"));
-        continue;
-      }
-      if (!seen.insert("data").second) {
-        report(DiagnosticEngine::make(DiagId::duplicate_case_key, at, span_of(f, *data), s.name,
-                                      "data"));
-        continue;
-      }
-      fs::path p(data->path.text);
-      if (p.is_relative()) p = fs::path(m_.directory_of(f)) / p;
-      s.data_path = p.lexically_normal().string();
-      std::optional<Unit> unit;
-      if (data->unit) {
-        try {
-          unit = parse_unit(data->unit->text);
-          if (!(unit->dim == dim::temperature)) {
-            report(DiagnosticEngine::make(DiagId::unit_mismatch, at, span_of(f, *data->unit),
-                                          "the unit of a data file", describe(dim::temperature),
-                                          describe(unit->dim)));
-            unit.reset();
-          } else {
-            s.data_scale = unit->scale;
-            s.data_offset = unit->offset - 273.15; // to degC, the unit of data files
-          }
-        } catch (const UnitError& e) {
-          report(
-              DiagnosticEngine::make(DiagId::unknown_unit, at, span_of(f, *data->unit), e.what()));
-        }
-      }
-      if (check_data_) check_data(net, s.data_path, at, span_of(f, data->path), unit);
+      apply_data(net, *data, scope, seen);
       continue;
     }
     const auto& a = std::get<ast::CaseAssign>(item);
@@ -1104,17 +923,6 @@ void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseI
   }
 }
 
-void Elaborator::warn_data_beyond_duration(const CaseSettings& s) {
-  const std::size_t after = rows_after(data_times_->table, *s.duration);
-  if (after == 0) return;
-  report(DiagnosticEngine::make(
-      DiagId::data_beyond_duration, data_times_->at, data_times_->mark,
-      fs::path(s.data_path).filename().string(),
-      after == 1 ? std::string("1 row") : fmt::format("{} rows", after), s.name,
-      fmt::format("{:g} s; last row at {:g} s", *s.duration, data_times_->table.time().back()),
-      after == 1 ? "it is" : "they are"));
-}
-
 void Elaborator::apply_setting(NetworkSpec& net, const ast::CaseAssign& a,
                                std::set<std::string>& seen) {
   static const KeySchema positive_time = builtin_key("", dim::time, true, "");
@@ -1143,6 +951,10 @@ void Elaborator::apply_setting(NetworkSpec& net, const ast::CaseAssign& a,
     const ast::Identifier* id = as_identifier(a.value, m_.file(f));
     if (id && id->name == "steady" && !value_decls_.count("steady")) {
       s.initial_steady = true;
+      return;
+    }
+    if (id && id->name == "data" && !value_decls_.count("data")) {
+      s.initial_data = true;
       return;
     }
     s.initial = number(*e, f,
@@ -1191,6 +1003,24 @@ void Elaborator::apply_setting(NetworkSpec& net, const ast::CaseAssign& a,
     times.push_back(*t);
   }
   if (ok) s.output_times = std::move(times);
+}
+
+std::string case_param_name(std::string_view node, std::string_view case_name) {
+  return fmt::format("{}.T0@{}", node, case_name);
+}
+
+std::optional<std::pair<double, double>> Elaborator::case_range(const ast::Range& r, const Place& p,
+                                                                Span at) {
+  const FileId f = case_->file;
+  auto lo = number(r.lo, f, p, at);
+  auto hi = number(r.hi, f, p, at);
+  if (!lo || !hi) return std::nullopt;
+  if (!(*lo < *hi)) {
+    report(DiagnosticEngine::make(DiagId::bad_range, at, span_of(f, r), "start temperature",
+                                  format_value(*lo, p.dim, true), format_value(*hi, p.dim, true)));
+    return std::nullopt;
+  }
+  return std::make_pair(*lo, *hi);
 }
 
 void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, const Scope* scope) {
@@ -1250,14 +1080,41 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
       report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what()));
       return;
     }
-    auto v = signal(a.value, f, p, at);
+    auto v = signal(a.value, f, p, at, obj);
     if (!v) return;
+    if (a.range) {
+      if (key != "T0" || scope) {
+        report(DiagnosticEngine::make(
+            DiagId::override_fixed_only, at, span_of(f, *a.range),
+            "a range in a case makes a node's start temperature unknown per case (NODE.T0 = "
+            "VALUE range LO .. HI), once per case, not in a loop"));
+        return;
+      }
+      auto range = case_range(*a.range, p, at);
+      if (!range) return;
+      const std::string name = case_param_name(obj, case_->name);
+      if (auto o = overrides_.find(name); o != overrides_.end()) v = Signal::of(o->second);
+      if (v->constant < range->first || v->constant > range->second) {
+        report(DiagnosticEngine::make(DiagId::param_outside_range, at, span_of(f, a.value.span()),
+                                      name, format_value(v->constant, p.dim, true),
+                                      format_value(range->first, p.dim, true),
+                                      format_value(range->second, p.dim, true)));
+        return;
+      }
+    }
     if (key == "T")
       node.T = *v;
     else if (key == "C")
       node.C = v->constant;
     else
       node.T0 = v->constant;
+    return;
+  }
+  if (a.range) {
+    report(DiagnosticEngine::make(
+        DiagId::override_fixed_only, at, span_of(f, *a.range),
+        "a range in a case makes a node's start temperature unknown per case (NODE.T0 = VALUE "
+        "range LO .. HI); an element's key is calibrated through a ranged param of the model"));
     return;
   }
   const int decl = m_.element_index(obj);
@@ -1326,102 +1183,7 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
     report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what()));
     return;
   }
-  if (auto v = signal(a.value, f, p, at)) e.values[*ks] = std::move(*v);
-}
-
-namespace {
-
-/// The temperatures a model prescribes, in degC: boundaries (over their signals), initial
-/// temperatures of nodes and of the case.
-std::pair<double, double> prescribed_band(const NetworkSpec& net) {
-  double lo = net.default_initial(), hi = lo;
-  auto take = [&](double k) {
-    lo = std::min(lo, k);
-    hi = std::max(hi, k);
-  };
-  const double end = net.settings.duration.value_or(0.0);
-  for (const auto& n : net.nodes) {
-    if (n.T0) take(*n.T0);
-    if (!n.boundary) continue;
-    if (n.T.kind() == Signal::Kind::expression) {
-      for (int k = 0; k <= 10; ++k)
-        take(n.T.at(end * k / 10.0));
-    } else {
-      take(n.T.constant);
-      for (double v : n.T.values())
-        take(v);
-      if (!n.T.is_constant()) take(n.T.values().empty() ? n.T.constant : n.T.values().front());
-    }
-  }
-  return {lo - 273.15, hi - 273.15};
-}
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-
-} // namespace
-
-void Elaborator::check_data(const NetworkSpec& net, const std::string& path, Span at, Span mark,
-                            const std::optional<Unit>& unit) {
-  try {
-    CsvTable t = read_csv(path);
-    check_measured(t);
-    data_times_ = DataTimes{CsvTable{path, {"time"}, {t.time()}}, at, mark};
-    for (std::size_t c = 1; c < t.columns.size(); ++c) {
-      if (m_.node_index(t.columns[c]) >= 0 || m_.declared_by_unparsed(t.columns[c])) continue;
-      Diagnostic d = DiagnosticEngine::make(DiagId::data_unknown_column, at, mark, t.columns[c]);
-      d.message += fmt::format(" (in {}, column {})", fs::path(path).filename().string(), c + 1);
-      std::vector<std::string> names;
-      for (const auto& n : net.nodes)
-        names.push_back(n.name);
-      if (auto s = closest_match(t.columns[c], names))
-        d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
-      report(std::move(d));
-    }
-    // Values hundreds of kelvin away from every temperature the model prescribes are most likely
-    // in another unit than the one they are read in (a fit would invent a huge heater).
-    constexpr double far = 150.0;
-    const auto [lo, hi] = prescribed_band(net);
-    const double scale = net.settings.data_scale, offset = net.settings.data_offset;
-    std::vector<double> medians;
-    std::string columns;
-    for (std::size_t c = 1; c < t.columns.size(); ++c) {
-      std::vector<double> v;
-      for (double x : t.cells[c])
-        if (!std::isnan(x)) v.push_back(scale * x + offset);
-      if (v.empty()) continue;
-      const double m = median(std::move(v));
-      if (m > lo - far && m < hi + far) return; // a column in the model's range: the unit fits
-      medians.push_back(m);
-      if (medians.size() <= 3)
-        columns += fmt::format("{}'{}'", columns.empty() ? "" : ", ", t.columns[c]);
-    }
-    if (medians.empty()) return;
-    const double m = median(medians);
-    const char* read_as = unit ? "in the declared unit" : "as degC";
-    std::string guess;
-    if (m - 273.15 > lo - far / 3 && m - 273.15 < hi + far / 3)
-      guess = " They look like kelvin: write data \"FILE\" [K].";
-    else if ((m - 32) / 1.8 > lo - far / 3 && (m - 32) / 1.8 < hi + far / 3)
-      guess = " They look like degF: write data \"FILE\" [degF].";
-    else if (unit && m + 273.15 > lo - far / 3 && m + 273.15 < hi + far / 3)
-      guess = " They look like degC: drop the unit.";
-    report(DiagnosticEngine::make(
-        DiagId::data_unit_suspect, at, mark,
-        fmt::format("the measured values of {} (median {:.4g} degC read {}) lie more than {:g} K "
-                    "from every temperature the model prescribes ({:.4g} .. {:.4g} degC): are "
-                    "they in another unit?{}",
-                    columns, m, read_as, far, lo, hi, guess)));
-  } catch (const CsvError& e) {
-    std::string msg = e.what();
-    if (e.row == 0)
-      report(DiagnosticEngine::make(DiagId::data_unreadable, at, mark, path,
-                                    msg.substr(std::min(msg.size(), path.size() + 2))));
-    else
-      report(DiagnosticEngine::make(DiagId::data_format, at, mark, msg));
-  }
+  if (auto v = signal(a.value, f, p, at, e.name)) e.values[*ks] = std::move(*v);
 }
 
 } // namespace thermnet::lang

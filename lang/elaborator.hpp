@@ -21,6 +21,10 @@ namespace thermnet::lang {
 /// Receives each problem found; may throw to stop at the first error.
 using Reporter = std::function<void(Diagnostic)>;
 
+/// The name of a node's start temperature calibrated in one case (`w.T0 = 20 range 15 .. 30` in
+/// case `lid`): `w.T0@lid`.
+std::string case_param_name(std::string_view node, std::string_view case_name);
+
 /// The schema of node statements (keys C, T0), checked like an element's.
 const ElementSchema& node_schema();
 /// The schema of boundary statements (key T).
@@ -45,6 +49,9 @@ public:
   /// True when a case block sets a param (its nodes and elements may then differ from the base
   /// model's).
   static bool sets_params(const CaseDecl& c);
+  /// True when some value reads another key (`P = film.P`): each case's network is then
+  /// elaborated on its own rather than applied to the base model's.
+  bool reads_keys() const { return !references_.empty(); }
   /// Names of consts and params looked up during run().
   const std::set<std::string, std::less<>>& used_names() const { return used_; }
   /// The value of a top-level const or param (evaluated on first use); throws EvalError.
@@ -89,8 +96,46 @@ private:
   Quantity instance_value(const Scope& instance, int index, Span use);
   std::optional<double> to_place(const Quantity& q, const Place& p, Span at, Span mark);
   std::optional<double> number(const ast::Expr& e, FileId f, const Place& p, Span at);
-  std::optional<Signal> signal(const ast::Value& v, FileId f, const Place& p, Span at);
-  std::optional<Signal> time_signal(const ast::Expr& e, FileId f, const Place& p, Span at);
+  // Values that change over time (lang/signal_elaboration.cpp).
+  /// The case's data file as tables of it read it.
+  struct CaseDataFile {
+    std::string path; ///< resolved path
+    CsvLayout layout; ///< its layout (the data statement's options)
+    double epoch = 0; ///< absolute time of the case's start (absolute layouts), s
+    Span at;          ///< the data statement
+    Span mark;        ///< its path
+  };
+  /// A table's column as a signal, in SI of the unit written after it (none: bare).
+  struct TableValues {
+    Signal signal;                ///< step (held) or pwl corners
+    std::optional<Dimension> dim; ///< the unit's dimension
+  };
+  std::optional<Signal> signal(const ast::Value& v, FileId f, const Place& p, Span at,
+                               std::string_view owner = {});
+  /// A value that reads another key (`P = 0.3 * sun.P`), elaborated once every key is final.
+  struct KeyReference {
+    std::string owner;       ///< node, boundary or element whose key it is
+    std::string kind;        ///< what the owner is ("heater", "boundary"), for messages
+    const KeySchema* key;    ///< the key it is the value of
+    const ast::Value* value; ///< as written
+    FileId file;             ///< where
+    const Scope* scope;      ///< its loop iteration or instance
+    Span at;                 ///< its statement
+    bool resolving = false;  ///< being elaborated (a reference back to it is a cycle)
+    bool done = false;       ///< elaborated
+  };
+  void defer(const ast::Value& v, FileId f, const Place& p, Span at, std::string_view owner);
+  void resolve_references(NetworkSpec& net);
+  void supersede(std::string_view owner, std::string_view key);
+  void resolve(KeyReference& r);
+  Quantity referenced_key(const ast::Ref& ref, FileId f, const Scope* scope, Span mark,
+                          Signal& out);
+  std::optional<Signal> whole_signal(const ast::SignalExpr& se, FileId f, const Place& p, Span at);
+  std::optional<Signal> expression_signal(const ast::Expr& e, FileId f, const Place& p, Span at);
+  Quantity embedded_signal(ast::Index node, FileId f, const Scope* scope);
+  std::optional<CsvLayout> layout_of(const ast::FileOptions& o, FileId f, Span at, bool table);
+  const CaseDataFile* case_data_file();
+  std::optional<TableValues> table_values(const ast::TableSignal& ts, FileId f, Span at);
   /// Reports a failed evaluation at the statement `at` (unless it was reported already).
   void report_at(const EvalError& err, Span at);
   bool check_range(double v, const Place& p, Span at, Span mark);
@@ -109,8 +154,16 @@ private:
                         const Scope* scope, std::set<std::string>& seen);
   void apply_setting(NetworkSpec& net, const ast::CaseAssign& a, std::set<std::string>& seen);
   void apply_override(NetworkSpec& net, const ast::CaseAssign& a, const Scope* scope);
-  void check_data(const NetworkSpec& net, const std::string& path, Span at, Span mark,
-                  const std::optional<Unit>& unit);
+  std::optional<std::pair<double, double>> case_range(const ast::Range& r, const Place& p, Span at);
+  // The data statement (lang/data_elaboration.cpp).
+  void apply_data(NetworkSpec& net, const ast::CaseData& data, const Scope* scope,
+                  std::set<std::string>& seen);
+  const ast::CaseData* first_data_statement() const;
+  std::optional<Unit> temperature_unit(const ast::UnitText& text, FileId f, Span at,
+                                       const char* what);
+  bool column_map(NetworkSpec& net, const ast::CaseData& data);
+  void check_data(const NetworkSpec& net, Span at, Span mark, const std::optional<Unit>& unit);
+  void initial_from_data(NetworkSpec& net);
   /// Warns about rows of the case's data file after its duration (read by check_data()).
   void warn_data_beyond_duration(const CaseSettings& s);
 
@@ -126,11 +179,18 @@ private:
     Span at;        ///< the data statement
     Span mark;      ///< its path
   };
-  std::optional<DataTimes> data_times_; ///< set by check_data()
-  bool structural_ = false;             // load time: params refused
-  const Scope* context_ = nullptr;      // scope of the declaration being elaborated
-  bool saw_time_ = false;               // the last evaluation used `time`
-  bool time_allowed_ = false;           // `time` may be used by the evaluation under way
+  std::optional<DataTimes> data_times_;             ///< set by check_data()
+  bool structural_ = false;                         // load time: params refused
+  const Scope* context_ = nullptr;                  // scope of the declaration being elaborated
+  bool saw_time_ = false;                           // the last evaluation used `time` or a signal
+  std::unordered_map<ast::Index, Signal> embedded_; // signals of the expression being compiled
+  std::optional<CaseDataFile> case_data_;           // set by case_data_file()
+  bool case_data_resolved_ = false;
+  const Place* constant_place_ = nullptr; // the place number() is evaluating for
+  Span statement_at_;                     // the statement of the expression being elaborated
+  std::vector<KeyReference> references_;  // values reading other keys, resolved last
+  NetworkSpec* net_ = nullptr;            // the network, while references are resolved
+  bool time_allowed_ = false;             // `time` may be used by the evaluation under way
   std::unordered_map<std::string_view, const ValueDecl*> value_decls_;
   std::unordered_map<std::string_view, Quantity> values_;
   std::unordered_map<std::string_view, std::pair<double, double>> ranges_;

@@ -69,6 +69,12 @@ Quantity Evaluator::node(ast::Index i) const {
   }
   case Op::call:
     return call(n);
+  case Op::signal:
+  case Op::ref:
+    if (!signals_)
+      fail(DiagnosticEngine::make(DiagId::signal_misplaced, span(n), span(n),
+                                  n.op == Op::ref ? "a key of another element" : "a signal"));
+    return signals_(i, file_.file_id);
   case Op::negate: {
     Quantity q = node(n.a);
     q.value = -q.value;

@@ -35,8 +35,13 @@ class Evaluator {
 public:
   /// Resolves a const/param name to its value.
   using Lookup = std::function<Quantity(const ast::Identifier&, FileId)>;
-  /// An evaluator for expressions written in `file`.
-  Evaluator(const ast::File& file, Lookup lookup) : file_(file), lookup_(std::move(lookup)) {}
+  /// Resolves a signal or a key reference standing in an expression (ExprNode::signal, ::ref, by
+  /// node index) to its value at t = 0 with its dimension; may throw EvalError.
+  using SignalLookup = std::function<Quantity(ast::Index node, FileId)>;
+  /// An evaluator for expressions written in `file`; without `signals`, a signal or a key
+  /// reference in an expression is an error.
+  Evaluator(const ast::File& file, Lookup lookup, SignalLookup signals = nullptr)
+      : file_(file), lookup_(std::move(lookup)), signals_(std::move(signals)) {}
   /// Evaluates an expression; throws EvalError on unknown names, unit errors or non-finite results.
   Quantity eval(const ast::Expr& e) const;
   /// The span of a tagged node of this file.
@@ -56,6 +61,7 @@ private:
 
   const ast::File& file_;
   Lookup lookup_;
+  SignalLookup signals_;
 };
 
 /// Formats an SI value with its unit for messages ("-5 W/K", "17 degC" for absolute temperatures).

@@ -155,6 +155,15 @@ struct ParamValue {
   std::optional<ast::Range> range; ///< calibration range
 };
 
+/// One option of a table or data statement: `hold`, `time = ...` or `separator = ...`.
+struct FileOption {
+  enum class Which : std::uint8_t { hold, time, separator };
+  Which which = Which::hold; ///< which option
+  ast::Tagged at;            ///< where it is written
+  ast::TimeOption time;      ///< `time = "COLUMN" [UNIT]`
+  ast::String separator;     ///< `separator = "..."`
+};
+
 // --- rules ------------------------------------------------------------------------------------
 
 // Rules whose name appears in messages carry it; the others are named for debugging only.
@@ -181,6 +190,13 @@ inline const x3::rule<class terminal_r, ast::Ref> terminal = "terminal node";
 inline const x3::rule<class point_r, ast::SignalPoint> signal_point = "'time: value' point";
 inline const x3::rule<class point_signal_r, ast::PointSignal> point_signal = "signal";
 inline const x3::rule<class table_signal_r, ast::TableSignal> table_signal = "table signal";
+inline const x3::rule<class file_option_r, FileOption> file_option =
+    "option ('hold', 'time = \"COLUMN\" [UNIT]' or 'separator = \";\"')";
+inline const x3::rule<class time_option_r, ast::TimeOption> time_option = "time column";
+inline const x3::rule<class key_ref_r, ast::Ref> key_ref = "key reference";
+inline const x3::rule<class column_name_r, ast::String> column_name = "column name";
+inline const x3::rule<class column_source_r, ast::ColumnSource> column_source = "column";
+inline const x3::rule<class column_map_r, ast::ColumnMap> column_map = "'NODE = COLUMN'";
 inline const x3::rule<class value_r, ast::Value> value = "value";
 inline const x3::rule<class key_value_r, ast::KeyValue> key_value = "key = value";
 inline const x3::rule<class keys_r, std::span<const ast::KeyValue>> keys = "keys";
@@ -373,9 +389,102 @@ inline const auto push_ref_part = [](auto& ctx) {
   _val(ctx).tail->rest.push_back(std::move(_attr(ctx)));
 };
 
+// signals and references in expressions
+/// An expression node standing for the matched step/pwl or table signal.
+inline const auto make_signal_node = [](auto& ctx) {
+  Builder& b = builder(ctx);
+  ast::ExprNode n;
+  n.op = Op::signal;
+  n.a = static_cast<ast::Index>(b.file.signals.size());
+  n.begin = _attr(ctx).begin;
+  n.end = _attr(ctx).end;
+  b.file.signals.emplace_back(std::move(_attr(ctx)));
+  _val(ctx) = b.add(n);
+};
+/// An expression node standing for the matched reference to a key (`film.P`).
+inline const auto make_ref_node = [](auto& ctx) {
+  Builder& b = builder(ctx);
+  ast::ExprNode n;
+  n.op = Op::ref;
+  n.a = static_cast<ast::Index>(b.file.expr_refs.size());
+  n.begin = _attr(ctx).begin;
+  n.end = _attr(ctx).end;
+  b.file.expr_refs.push_back(std::move(_attr(ctx)));
+  _val(ctx) = b.add(n);
+};
+inline const auto set_case_data_file = [](auto& ctx) { _val(ctx).case_data = true; };
+inline const auto set_option_time = [](auto& ctx) { _val(ctx).time = std::move(_attr(ctx)); };
+inline const auto set_option_separator = [](auto& ctx) {
+  _val(ctx).separator = std::move(_attr(ctx));
+};
+inline const auto option_hold = [](auto& ctx) {
+  _val(ctx).which = FileOption::Which::hold;
+  _val(ctx).at.begin = builder(ctx).off(_attr(ctx).begin());
+  _val(ctx).at.end = builder(ctx).off(_attr(ctx).end());
+};
+inline const auto option_time = [](auto& ctx) {
+  _val(ctx).which = FileOption::Which::time;
+  _val(ctx).at = _attr(ctx);
+  _val(ctx).time = std::move(_attr(ctx));
+};
+inline const auto option_separator = [](auto& ctx) {
+  _val(ctx).which = FileOption::Which::separator;
+  _val(ctx).separator = std::move(_attr(ctx));
+};
+/// Applies an option to the table or data statement being parsed (an option given twice, or
+/// `hold` in a data statement, is kept in `repeated` for the elaborator to report).
+inline const auto apply_file_option = [](auto& ctx) {
+  auto& target = _val(ctx);
+  FileOption& o = _attr(ctx);
+  ast::FileOptions& opts = target.options;
+  bool repeated = false;
+  if (o.which == FileOption::Which::hold) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(target)>, ast::TableSignal>) {
+      repeated = target.hold;
+      target.hold = true;
+    } else {
+      repeated = true; // no meaning in a data statement
+    }
+  } else if (o.which == FileOption::Which::time) {
+    repeated = opts.time.has_value();
+    if (!repeated) opts.time = std::move(o.time);
+  } else {
+    repeated = opts.separator.has_value();
+    o.at = o.separator;
+    if (!repeated) opts.separator = std::move(o.separator);
+  }
+  if (repeated) opts.misplaced.push_back(o.at);
+};
+/// Extends a table's span over the unit written after it.
+inline const auto set_table_unit = [](auto& ctx) {
+  Builder& b = builder(ctx);
+  ast::TableSignal& t = _val(ctx);
+  const char* close = b.base + _attr(ctx).end;
+  while (*close != ']')
+    ++close;
+  t.end = b.off(close + 1);
+  t.unit = std::move(_attr(ctx));
+};
+inline const auto make_name_string = [](auto& ctx) {
+  ast::String s;
+  s.begin = builder(ctx).off(_attr(ctx).begin());
+  s.end = builder(ctx).off(_attr(ctx).end());
+  s.text.assign(_attr(ctx).begin(), _attr(ctx).end());
+  _val(ctx) = std::move(s);
+};
+inline const auto set_mean = [](auto& ctx) { _val(ctx).mean = true; };
+inline const auto push_source = [](auto& ctx) {
+  _val(ctx).sources.push_back(std::move(_attr(ctx)));
+};
+inline const auto set_weight = [](auto& ctx) { _val(ctx).weight = builder(ctx).expr(_attr(ctx)); };
+inline const auto push_column_map = [](auto& ctx) {
+  _val(ctx).columns.push_back(std::move(_attr(ctx)));
+};
+inline const auto set_mapped = [](auto& ctx) { _val(ctx).mapped = true; };
+
 // values and statements
-inline const auto set_other = [](auto& ctx) {
-  _val(ctx).other = std::make_unique<ast::Value::Other>(std::move(_attr(ctx)));
+inline const auto set_value_ref = [](auto& ctx) {
+  _val(ctx).ref = std::make_unique<ast::Ref>(std::move(_attr(ctx)));
 };
 inline const auto set_key_span = [](auto& ctx) {
   _val(ctx).begin = _val(ctx).key.begin;
@@ -469,7 +578,13 @@ inline const auto callee_def =
     identifier[set<&Callee::id>] >>
     -raw[(lit('(') >> eps[start_args] >>
           -(expression[push_arg] >> *(lit(',') > expression[push_arg]))) > lit(')')][close_call];
-inline const auto primary_def = quantity[take] | callee[make_name_or_call] |
+// A name joined to a '[' or to '.' and a name is a reference (`film.P`, `h[3].P`), never a call.
+inline const auto ref_start =
+    &lexeme[ident_start >> *ident_char >> (lit('[') | (lit('.') >> ident_start))];
+inline const auto key_ref_def = ref_start >> ref[take];
+inline const auto primary_def = quantity[take] | point_signal[make_signal_node] |
+                                table_signal[make_signal_node] | key_ref[make_ref_node] |
+                                callee[make_name_or_call] |
                                 raw[(lit('(') >> expression[take]) > lit(')')][make_group];
 inline const auto signs_def = raw[*x3::char_("+-")][count_signs];
 inline const auto exponent_def = signs[set_tail_signs] >> primary[set<&PowerTail::operand>];
@@ -509,18 +624,24 @@ inline const auto point_signal_def =
     raw[((&keyword("step") | &keyword("pwl")) >> identifier[set<&ast::PointSignal::kind>] >>
          lit('(') >> signal_point[push_point] >> *(lit(',') > signal_point[push_point])) > lit(')')]
        [set_signal_end];
+inline const auto time_option_def =
+    raw[(keyword("time") >> lit('=')) > string_literal[set<&ast::TimeOption::column>] >
+        -unit[set<&ast::TimeOption::unit>]][span];
+inline const auto file_option_def =
+    raw[keyword("hold")][option_hold] | time_option[option_time] |
+    ((keyword("separator") > lit('=')) > string_literal[option_separator]);
+// `table(` followed by something else than a file name or `data` is a call (of an unknown
+// function); after the file, the rest is certain.
 inline const auto table_signal_def =
-    raw[(keyword("table") >> lit('(') >> string_literal[set<&ast::TableSignal::file>]) > lit(',') >
-        string_literal[set<&ast::TableSignal::column>] > lit(')')][span];
-// A name with an index or dots is a node reference (`sense = p[3]`), never an expression. Only a
-// name may start a signal or a reference: one look at the first character spares a number those
-// attempts.
-inline const auto value_def =
-    (&lexeme[ident_start] >>
-     (point_signal[set_other] | table_signal[set_other] |
-      (&lexeme[ident_start >> *ident_char >> (lit('[') | (lit('.') >> ident_start))] >>
-       ref[set_other]))) |
-    expression[set_expr<&ast::Value::expr>];
+    raw[(keyword("table") >> lit('(') >>
+         (string_literal[set<&ast::TableSignal::file>] | keyword("data")[set_case_data_file])) >
+        lit(',') > string_literal[set<&ast::TableSignal::column>] >
+        *(lit(',') > file_option[apply_file_option]) > lit(')')][span] >>
+    -unit[set_table_unit];
+// A lone name with an index or dots is a reference (`sense = p[3]`, `P = film.P`); followed by an
+// operator it is part of an expression.
+inline const auto value_def = (ref_start >> ref >> !x3::char_("-+*/^"))[set_value_ref] |
+                              expression[set_expr<&ast::Value::expr>];
 inline const auto key_value_def =
     (identifier[set<&ast::KeyValue::key>] > lit('=') > value[set<&ast::KeyValue::value>]) >>
     eps[set_key_span];
@@ -546,10 +667,15 @@ inline const auto param_stmt_def = keyword("param") > identifier[set<&ast::Param
 inline const auto node_stmt_def = (keyword("node") | keyword("boundary")[set_boundary]) >
                                   name_part[set<&ast::NodeStmt::name>] >
                                   keys[set<&ast::NodeStmt::keys>] > -string_literal[set_doc];
+inline const auto set_element_mean = [](auto& ctx) { _val(ctx).mean = true; };
+// `sensor s mean(a, b)`: a sensor reading the mean of several nodes.
+inline const auto mean_terminals = (keyword("mean") >> lit('('))[set_element_mean] >
+                                   ref[push_terminal] > *(lit(',') > ref[push_terminal]) > lit(')');
 inline const auto element_stmt_def = identifier[set<&ast::ElementStmt::kind>] >>
                                      name_part[set<&ast::ElementStmt::name>] >>
-                                     *terminal[push_terminal] >> eps[take_terminals] >>
-                                     keys[set<&ast::ElementStmt::keys>] >> -string_literal[set_doc];
+                                     (mean_terminals | *terminal[push_terminal]) >>
+                                     eps[take_terminals] >> keys[set<&ast::ElementStmt::keys>] >>
+                                     -string_literal[set_doc];
 inline const auto inner_element_def =
     (identifier[set<&ast::InnerElement::kind>] >> keys[set<&ast::InnerElement::keys>]) >>
     eps[set_inner_span];
@@ -606,17 +732,35 @@ inline const auto submodel_header_def = (keyword("submodel") >>
                                           *(lit(',') > identifier[push_terminal_name])) > lit(')') >
                                         *lit('\n') > lit('{');
 // `data` is a keyword only when not followed by '=' or '.' (a param or node may be called data).
+inline const auto column_name_def =
+    string_literal[take] | lexeme[raw[ident_start >> *ident_char]][make_name_string];
+inline const auto column_source_def =
+    raw[column_name[set<&ast::ColumnSource::column>] >> -(lit(':') > expression[set_weight])][span];
+inline const auto column_map_def =
+    raw[ref[set<&ast::ColumnMap::target>] > lit('=') >
+        (((keyword("mean") >> lit('('))[set_mean] > column_source[push_source] >
+          *(lit(',') > column_source[push_source]) > lit(')')) |
+         column_source[push_source]) > -unit[set<&ast::ColumnMap::unit>]][span];
+// `data` is a keyword only when not followed by '=' or '.' (a param or node may be called data).
 inline const auto case_data_def = (keyword("data") >> !(lit('=') | lit('.'))) >
                                   string_literal[set<&ast::CaseData::path>] >
-                                  -unit[set<&ast::CaseData::unit>];
+                                  -unit[set<&ast::CaseData::unit>] >
+                                  *file_option[apply_file_option] >
+                                  -((*lit('\n') >> lit('{'))[set_mapped] > separators >
+                                    *(column_map[push_column_map] >> separators) > lit('}'));
+inline const auto set_case_range = [](auto& ctx) {
+  _val(ctx).range = std::make_unique<ast::Range>(std::move(_attr(ctx)));
+};
 inline const auto case_assign_def = target[set_target] >
                                     lit('=') > value[set<&ast::CaseAssign::value>] >
-                                    *(lit(',') > expression[push_more]);
+                                    *(lit(',') > expression[push_more]) >
+                                    -(keyword("range") > range[set_case_range]);
 inline const auto case_item_def = case_data[take] | case_assign[take];
 
 BOOST_SPIRIT_DEFINE(identifier, string_literal, unit, quantity, callee, primary, signs, exponent,
                     power, signed_power, factor, term, summand, expression, index_item, index_list,
                     name_part, ref, target, terminal, signal_point, point_signal, table_signal,
+                    file_option, time_option, key_ref, column_name, column_source, column_map,
                     value, key_value, keys, model_stmt, include_stmt, plugin_stmt, const_stmt,
                     range, param_value, param_stmt, node_stmt, element_stmt, inner_element,
                     terminal_pair, composite_stmt, require_group, require_limit, require_stmt,

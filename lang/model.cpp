@@ -41,7 +41,8 @@ void check_topology(const Model& m, const Reporter& report) {
   std::vector<int> degree(n + 1, 0);
   std::vector<int> ids;
   for (const auto& e : m.elements()) {
-    if (e.nodes.size() < 2) continue; // a one-terminal source is not a link
+    if (e.nodes.size() < 2) continue;             // a one-terminal source is not a link
+    if (e.schema && e.schema->observes) continue; // nor is a sensor of several nodes
     ids.clear();
     for (const int i : e.nodes)
       ids.push_back(i < 0 ? unknown : i);
@@ -134,8 +135,9 @@ void Model::lint(DiagnosticEngine& diags) const {
   // A case that sets no param has the base model's nodes and elements (and their problems, all
   // reported by now): it takes the base network instead of elaborating them again.
   std::size_t reusing = 0;
+  const bool own_networks = reads_case_data() || base.reads_keys();
   for (const auto& c : cases_)
-    reusing += Elaborator::sets_params(c) ? 0 : 1;
+    reusing += own_networks || Elaborator::sets_params(c) ? 0 : 1;
   for (const auto& c : cases_) {
     if (diags.saturated()) {
       diags.stop_early();
@@ -143,7 +145,7 @@ void Model::lint(DiagnosticEngine& diags) const {
     }
     Elaborator ec(*this, collect, &c, {}, true);
     NetworkSpec net;
-    if (Elaborator::sets_params(c)) {
+    if (own_networks || Elaborator::sets_params(c)) {
       failed = false;
       net = ec.run();
     } else {
@@ -158,6 +160,13 @@ void Model::lint(DiagnosticEngine& diags) const {
     if (complete && !used.count(v.name))
       collect(DiagnosticEngine::make(v.is_param ? DiagId::unused_param : DiagId::unused_const,
                                      start_of(v.where), v.name_span, v.name));
+}
+
+bool Model::reads_case_data() const {
+  for (const auto& f : files_)
+    for (const auto& s : f->signals)
+      if (const auto* t = std::get_if<ast::TableSignal>(&s); t && t->case_data) return true;
+  return false;
 }
 
 void Model::remember(const std::string& case_name, NetworkSpec net) const {
@@ -239,6 +248,38 @@ std::vector<ParamInfo> Model::params() const {
       p.hi = r->second;
     }
     out.push_back(std::move(p));
+  }
+  // Start temperatures calibrated per case (`w.T0 = 20 range 15 .. 30` in a case block).
+  for (const auto& c : cases_) {
+    Elaborator ec(*this, fail, &c, {}, false);
+    for (const auto& item : c.stmt->items) {
+      const auto* a = std::get_if<ast::CaseAssign>(&item);
+      if (!a || !a->range || !a->value.as_expr()) continue;
+      const ast::Ref& path = a->target.path;
+      if (path.rest().empty() || path.rest().back().id.name != "T0") continue; // reported
+      ParamInfo p;
+      try {
+        std::string node = ec.reference_text(path, c.file, nullptr);
+        node.resize(node.size() - 3); // without ".T0"
+        p.name = case_param_name(node, c.name);
+        auto kelvin = [&](const ast::Expr& e) {
+          const Quantity q = ec.evaluate(e, c.file, nullptr);
+          return q.dim ? q.value : q.value + 273.15; // bare temperatures are degC
+        };
+        p.value = kelvin(*a->value.as_expr());
+        p.lo = kelvin(a->range->lo);
+        p.hi = kelvin(a->range->hi);
+      } catch (const EvalError& err) {
+        throw ModelError(err.diag);
+      }
+      p.dim = dim::temperature;
+      p.doc = fmt::format("start temperature of '{}' in case '{}'",
+                          p.name.substr(0, p.name.find(".T0@")), c.name);
+      p.file = c.file;
+      p.value_span = Span{c.file, a->value.expr.begin, a->value.expr.end};
+      p.case_name = c.name;
+      out.push_back(std::move(p));
+    }
   }
   return out;
 }

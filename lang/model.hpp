@@ -6,6 +6,7 @@
 #include "lang/name_index.hpp"
 #include "lang/network_spec.hpp"
 #include "lang/schema.hpp"
+#include "lang/table_cache.hpp"
 #include "lang/text_store.hpp"
 #include "lang/units.hpp"
 
@@ -156,6 +157,7 @@ struct ParamInfo {
   std::string doc;              ///< description
   FileId file = 0;              ///< declaring file
   Span value_span;              ///< the value expression (for rewriting the model)
+  std::string case_name;        ///< the case of a start temperature calibrated per case
   /// True when calibratable.
   bool ranged() const { return lo.has_value(); }
 };
@@ -301,6 +303,11 @@ public:
   int node_index(std::string_view name) const { return node_index_.find(name); }
   /// Index in elements() of the element with this full name, or -1.
   int element_index(std::string_view name) const { return element_index_.find(name); }
+  /// The CSV files the model's tables and data statements read, parsed once per file.
+  TableCache& tables() const { return tables_; }
+  /// True when a value reads the case's data file (`table(data, ...)`): each case's network is
+  /// then elaborated on its own.
+  bool reads_case_data() const;
   /// The first error that made a declaration unusable while loading (an unknown kind or node,
   /// wrong terminals, a bad loop or index), which instantiate() throws; empty when there is none.
   const std::optional<Diagnostic>& load_error() const { return load_error_; }
@@ -335,6 +342,7 @@ private:
   NameIndex<std::deque<NodeDecl>> node_index_{nodes_};
   NameIndex<std::deque<ElementDecl>> element_index_{elements_};
   std::unordered_map<std::string_view, int> submodel_index_;
+  mutable TableCache tables_;
   // Networks of cases without param overrides, elaborated once per run and shared.
   mutable std::mutex cache_mutex_;
   mutable std::map<std::string, std::shared_ptr<NetworkSpec>> cache_;

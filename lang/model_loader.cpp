@@ -526,7 +526,16 @@ private:
           d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *k));
         report(std::move(d), scope, true);
         valid = false;
-      } else if (static_cast<int>(e->nodes.size()) != schema->terminals) {
+      } else if (e->mean && !schema->observes) {
+        report(DiagnosticEngine::make(
+                   DiagId::wrong_terminals_text, at(f, s),
+                   Span{f, e->nodes.front().begin, e->nodes.back().end},
+                   fmt::format("only a sensor reads the mean of several nodes (sensor s mean(a, "
+                               "b)); element kind '{}' takes {} terminal node(s)",
+                               e->kind.name, schema->terminals)),
+               scope, true);
+        valid = false;
+      } else if (!e->mean && static_cast<int>(e->nodes.size()) != schema->terminals) {
         Span mark = e->nodes.empty() ? span(f, e->name)
                                      : Span{f, e->nodes.front().begin, e->nodes.back().end};
         report(DiagnosticEngine::make(DiagId::wrong_terminals, at(f, s), mark, e->kind.name,
@@ -566,6 +575,16 @@ private:
   /// Checks an instance's keys against its submodel's params (once per statement).
   void check_arguments(const ast::ElementStmt& s, const SubmodelDecl& sub, FileId f,
                        const Scope* scope, const std::string& name) {
+    if (s.mean) {
+      report(DiagnosticEngine::make(
+                 DiagId::wrong_terminals_text, at(f, s),
+                 Span{f, s.nodes.front().begin, s.nodes.back().end},
+                 fmt::format("only a sensor reads the mean of several nodes; submodel '{}' takes "
+                             "its {} terminal node(s) as a list",
+                             sub.name, sub.stmt->terminals.size())),
+             scope, true);
+      return;
+    }
     if (s.nodes.size() != sub.stmt->terminals.size()) {
       Span mark =
           s.nodes.empty() ? span(f, s.name) : Span{f, s.nodes.front().begin, s.nodes.back().end};

@@ -66,11 +66,22 @@ std::string_view ElementSpec::kind() const {
 }
 
 void ElementSpec::set_nodes(std::span<const int> nodes) {
-  if (nodes.empty() || nodes.size() > nodes_.size())
+  const bool many = schema && schema->observes; // a sensor of the mean of several nodes
+  if (nodes.empty() || (nodes.size() > nodes_.size() && !many) || nodes.size() > 255)
     throw std::invalid_argument(
         fmt::format("element '{}' has {} terminals (1 or 2 allowed)", name, nodes.size()));
-  std::copy(nodes.begin(), nodes.end(), nodes_.begin());
   terminals_ = static_cast<std::uint8_t>(nodes.size());
+  if (nodes.size() <= nodes_.size()) {
+    std::copy(nodes.begin(), nodes.end(), nodes_.begin());
+    if (Extras* x = extras_.get()) x->nodes.clear();
+    return;
+  }
+  extras_.make().nodes.assign(nodes.begin(), nodes.end());
+}
+
+std::span<const int> ElementSpec::nodes() const {
+  if (terminals_ > nodes_.size()) return extras_.get()->nodes;
+  return {nodes_.data(), terminals_};
 }
 
 std::span<const ElementSpec> ElementSpec::parts() const {

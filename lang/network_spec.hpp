@@ -1,6 +1,7 @@
 #pragma once
 /// A model instantiated for one case and one set of param values: resolved names, values in SI.
 
+#include "lang/csv.hpp"
 #include "lang/requirement.hpp"
 #include "lang/schema.hpp"
 #include "lang/signal.hpp"
@@ -40,6 +41,8 @@ public:
   Rare& operator=(Rare&&) noexcept = default;
   /// The value, or nullptr if none was made.
   const T* get() const { return p_.get(); }
+  /// The value to modify, or nullptr if none was made.
+  T* get() { return p_.get(); }
   /// The value, made (default) on first use.
   T& make() {
     if (!p_) p_ = std::make_unique<T>();
@@ -138,9 +141,10 @@ public:
 
   /// Kind name: the schema's, "series"/"parallel" for a composite ("" when neither is set).
   std::string_view kind() const;
-  /// Terminal node indices (one or two, as the kind's schema says).
-  std::span<const int> nodes() const { return {nodes_.data(), terminals_}; }
-  /// Sets the terminal node indices (one or two; throws std::invalid_argument otherwise).
+  /// Terminal node indices (one or two, as the kind's schema says; a sensor of a mean: several).
+  std::span<const int> nodes() const;
+  /// Sets the terminal node indices (one or two, several for a sensor whose schema is set; throws
+  /// std::invalid_argument otherwise).
   void set_nodes(std::span<const int> nodes);
   /// Composite mode (none for an element of a kind).
   Composite composite() const { return composite_; }
@@ -171,6 +175,7 @@ private:
     /// Node-valued keys (names viewing the schema's) and their node indices, in the order given.
     std::vector<std::pair<std::string_view, int>> node_keys;
     std::vector<ElementSpec> parts; ///< inner elements of a composite
+    std::vector<int> nodes;         ///< terminals of a sensor of more than two nodes
   };
   std::array<int, 2> nodes_{-1, -1};      // terminal node indices
   std::uint8_t terminals_ = 0;            // how many of nodes_ are used
@@ -178,18 +183,37 @@ private:
   Rare<Extras> extras_;                   // node-valued keys and parts, when any
 };
 
+/// One measured series of a case's data file as a column map gives it: what it is compared with,
+/// and the columns (their weighted mean) it is read from.
+struct DataSeries {
+  std::string target;               ///< node, boundary or sensor (full name)
+  std::vector<std::string> columns; ///< the file's columns
+  std::vector<double> weights;      ///< their weights, summing to 1
+  double scale = 1.0;               ///< a mean m is scale * m + offset degC
+  double offset = 0.0;              ///< (from the unit written after the columns)
+  Span where;                       ///< the map's entry
+};
+
 /// Settings of the case the network was instantiated for.
 struct CaseSettings {
-  std::string name = "default";     ///< case name
-  std::optional<double> duration;   ///< simulated time, s
-  std::optional<double> initial;    ///< initial temperature of nodes without T0, K
-  bool initial_steady = false;      ///< `initial = steady`: start from the steady state at t = 0
-  std::optional<double> output;     ///< output interval, s
-  std::vector<double> output_times; ///< listed output times, s (`output = 0, 100, 250`)
-  std::string data_path;            ///< measured data file (resolved path), if any
-  double data_scale = 1.0;          ///< a data value v is data_scale * v + data_offset degC
-  double data_offset = 0.0;         ///< (from the unit of `data "file.csv" [K]`)
-  Span where;                       ///< the case statement (empty for the implicit default)
+  std::string name = "default";   ///< case name
+  std::optional<double> duration; ///< simulated time, s
+  std::optional<double> initial;  ///< initial temperature of nodes without T0, K
+  bool initial_steady = false;    ///< `initial = steady`: start from the steady state at t = 0
+  /// `initial = data`: measured nodes start at their first measured values (their T0), the
+  /// others at the steady state around them at t = 0.
+  bool initial_data = false;
+  std::optional<double> output;        ///< output interval, s
+  std::vector<double> output_times;    ///< listed output times, s (`output = 0, 100, 250`)
+  std::string data_path;               ///< measured data file (resolved path), if any
+  double data_scale = 1.0;             ///< a data value v is data_scale * v + data_offset degC
+  double data_offset = 0.0;            ///< (from the unit of `data "file.csv" [K]`)
+  CsvLayout data_layout;               ///< the data file's time column and separator
+  double data_epoch = 0.0;             ///< absolute time of the case's start (absolute layouts), s
+  bool data_mapped = false;            ///< a column map names the series (other columns unused)
+  std::vector<DataSeries> data_series; ///< the column map
+  Span data_where;                     ///< the data statement
+  Span where;                          ///< the case statement (empty for the implicit default)
 };
 
 /// A network ready for the kernel: nodes, boundaries and elements in SI.

@@ -65,6 +65,9 @@ struct ElementSchema {
   std::function<double(const KeyValues&)> conductance;
   /// True for heat sources (not allowed on boundaries).
   bool is_source = false;
+  /// True for a sensor: it reads its terminal (or the mean of several, `mean(a, b)`), carries no
+  /// heat, and a measured series of its node is compared with its reading.
+  bool observes = false;
 
   /// The key schema of a name, or nullptr.
   const KeySchema* key(std::string_view name) const;

@@ -2,6 +2,8 @@
 
 #include "lang/time_program.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 
 namespace thermnet::lang {
@@ -52,6 +54,36 @@ double Signal::at(double time) const {
   if (kind == Kind::step) return v[k - 1];
   double w = (time - t[k - 1]) / (t[k] - t[k - 1]);
   return v[k - 1] + w * (v[k] - v[k - 1]);
+}
+
+std::string Signal::text() const {
+  switch (kind()) {
+  case Kind::constant:
+    return fmt::format("{:.17g}", constant);
+  case Kind::expression: {
+    std::string out = shape_->program->text();
+    if (shape_->scale != 1.0) out = fmt::format("({:.17g} * {})", shape_->scale, out);
+    if (shape_->offset != 0.0) out = fmt::format("({} + {:.17g})", out, shape_->offset);
+    return out;
+  }
+  case Kind::step:
+  case Kind::pwl:
+    break;
+  }
+  std::string out = kind() == Kind::step ? "step(" : "pwl(";
+  for (std::size_t i = 0; i < shape_->t.size(); ++i)
+    out += fmt::format("{}{:.17g}: {:.17g}", i ? ", " : "", shape_->t[i], shape_->v[i]);
+  return out + ")";
+}
+
+bool Signal::same_as(const Signal& other) const {
+  if (kind() != other.kind()) return false;
+  if (is_constant()) return constant == other.constant;
+  const Shape& a = *shape_;
+  const Shape& b = *other.shape_;
+  if (kind() != Kind::expression) return a.t == b.t && a.v == b.v;
+  return a.scale == b.scale && a.offset == b.offset &&
+         (a.program == b.program || a.program->text() == b.program->text());
 }
 
 Signal Signal::scaled(double factor) const {

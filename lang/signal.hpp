@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace thermnet::lang {
@@ -21,8 +22,10 @@ struct Signal {
   /// What a signal other than a constant holds.
   struct Shape {
     Kind kind = Kind::constant; ///< shape of the signal
-    std::vector<double> t;      ///< corner times, increasing (step, pwl)
-    std::vector<double> v;      ///< values at the corners (step: held until the next corner)
+    /// Corner times, increasing (step, pwl); for an expression, the corners of the signals it
+    /// reads (where it may jump or bend).
+    std::vector<double> t;
+    std::vector<double> v; ///< values at the corners (step: held until the next corner)
     /// The expression of the time (kind == expression): its value is program(t) * scale + offset.
     std::shared_ptr<const TimeProgram> program;
     double scale = 1.0;  ///< factor on the program's value (expression)
@@ -54,10 +57,16 @@ struct Signal {
   bool is_constant() const { return kind() == Kind::constant; }
   /// The shape: constant unless corners or an expression were made.
   Kind kind() const { return shape_ ? shape_->kind : Kind::constant; }
-  /// Corner times, increasing (empty for a constant or an expression).
+  /// Corner times, increasing (empty for a constant; for an expression, those of the signals it
+  /// reads).
   const std::vector<double>& times() const;
   /// Values at the corners (empty for a constant or an expression).
   const std::vector<double>& values() const;
+  /// The signal as text in SI numbers, for messages (`pwl(0: 293.15, 60: 300)`, an expression's
+  /// program).
+  std::string text() const;
+  /// True when both signals have the same value at every time (same kind, corners and program).
+  bool same_as(const Signal& other) const;
   /// Times where the signal jumps or bends (where an integrator should restart).
   const std::vector<double>& corners() const { return times(); }
   /// The corners and expression, made (empty, of kind constant) on first use, to be filled in.

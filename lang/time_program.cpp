@@ -65,7 +65,7 @@ template <typename Visit> void postfix(const ast::File& file, ast::Index root, V
       stack.push_back({child});
       continue;
     }
-    visit(n);
+    visit(n, fr.node);
     stack.pop_back();
   }
 }
@@ -146,9 +146,21 @@ double TimeProgram::at(double t) const {
       stack[top++] = acc;
       break;
     }
+    case Code::signal:
+      stack[top++] = signals[op.count].at(t);
+      break;
     }
   }
   return top ? stack[top - 1] : 0.0;
+}
+
+std::vector<double> TimeProgram::corners() const {
+  std::vector<double> out;
+  for (const Signal& s : signals)
+    out.insert(out.end(), s.corners().begin(), s.corners().end());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
 }
 
 std::string TimeProgram::text() const {
@@ -218,6 +230,9 @@ std::string TimeProgram::text() const {
       stack.push_back(fmt::format("{}({})", op.code == Code::min ? "min" : "max", args));
       break;
     }
+    case Code::signal:
+      stack.push_back(signals[op.count].text());
+      break;
     }
   }
   return stack.empty() ? std::string() : stack.back();
@@ -225,7 +240,8 @@ std::string TimeProgram::text() const {
 
 std::shared_ptr<const TimeProgram>
 compile_time_program(const ast::File& file, ast::Index root,
-                     const std::function<double(const ast::Identifier&)>& value_of) {
+                     const std::function<double(const ast::Identifier&)>& value_of,
+                     const std::function<Signal(ast::Index node)>& signal_of) {
   using NodeOp = ast::ExprNode::Op;
   auto program = std::make_shared<TimeProgram>();
   std::size_t depth = 0;
@@ -234,8 +250,14 @@ compile_time_program(const ast::File& file, ast::Index root,
     depth = depth - static_cast<std::size_t>(pops) + static_cast<std::size_t>(pushes);
     program->max_depth = std::max(program->max_depth, depth);
   };
-  postfix(file, root, [&](const ast::ExprNode& n) {
+  postfix(file, root, [&](const ast::ExprNode& n, ast::Index index) {
     switch (n.op) {
+    case NodeOp::signal:
+    case NodeOp::ref:
+      if (!signal_of) throw std::logic_error("compile_time_program: a signal without signal_of");
+      program->signals.push_back(signal_of(index));
+      emit(Code::signal, 0, 1, 0, static_cast<std::uint32_t>(program->signals.size() - 1));
+      break;
     case NodeOp::number:
       emit(Code::constant, 0, 1, n.value);
       break;

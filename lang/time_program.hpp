@@ -3,6 +3,7 @@
 /// (`T = 20 - 0.02 * time`): compiled once into a small stack program, evaluated at any time.
 
 #include "lang/ast.hpp"
+#include "lang/signal.hpp"
 
 #include <functional>
 #include <memory>
@@ -11,7 +12,9 @@
 
 namespace thermnet::lang {
 
-/// An expression of the time `t` (in s) whose every other name is already a number, in SI.
+/// An expression of the time `t` (in s) whose every other name is already a number, in SI; the
+/// signals standing in it (step, pwl, table, another element's key) are kept whole and evaluated
+/// at `t`.
 class TimeProgram {
 public:
   /// One instruction of the postfix program.
@@ -35,10 +38,11 @@ public:
       sqrt,
       abs,
       min,
-      max
+      max,
+      signal
     };
     Code code = Code::constant; ///< the operation
-    std::uint32_t count = 0;    ///< number of arguments of min and max
+    std::uint32_t count = 0;    ///< number of arguments of min and max; index of a signal
     double value = 0;           ///< the constant
   };
 
@@ -48,15 +52,20 @@ public:
   /// (fully parenthesised: `(20 - (0.02 * time))`).
   std::string text() const;
 
-  std::vector<Op> ops;       ///< the program, in postfix order
-  std::size_t max_depth = 0; ///< deepest stack it needs
+  std::vector<Op> ops;         ///< the program, in postfix order
+  std::size_t max_depth = 0;   ///< deepest stack it needs
+  std::vector<Signal> signals; ///< the signals the program reads (Code::signal)
+  /// The times where one of its signals jumps or bends, sorted, without repeats.
+  std::vector<double> corners() const;
 };
 
 /// Compiles the expression rooted at `root` of `file`: `time` stays the time, every other name is
-/// replaced by `value_of(name)` (SI), a number with a unit by its SI value. The expression must
-/// already have been evaluated once (which checked its names, units and functions).
+/// replaced by `value_of(name)` (SI), a number with a unit by its SI value, a signal or key
+/// reference by `signal_of(node)`. The expression must already have been evaluated once (which
+/// checked its names, units and functions).
 std::shared_ptr<const TimeProgram>
 compile_time_program(const ast::File& file, ast::Index root,
-                     const std::function<double(const ast::Identifier&)>& value_of);
+                     const std::function<double(const ast::Identifier&)>& value_of,
+                     const std::function<Signal(ast::Index node)>& signal_of = nullptr);
 
 } // namespace thermnet::lang

@@ -23,21 +23,23 @@ namespace {
 /// unwinding through integrate() frees it.
 struct Abandon {};
 
-/// Simulates one case from t = 0 to its last measured time and calls visit(k, all) at each
-/// measured time k with the temperatures of every node and boundary (K, spec order).
+/// Simulates one case from t = 0 to its last measured time and calls visit(k, sim) at each
+/// measured time k with the simulated value of every measured series (K, series order).
 template <class Visit>
 void run_case(lang::NetworkSpec spec, const MeasuredData& data, const SolverOptions& solver,
               Visit&& visit) {
   if (data.times.empty()) return;
   Network net(std::move(spec));
   std::vector<double> T = start_state(net, solver);
-  std::vector<double> all(net.spec().nodes.size());
+  std::vector<double> all(net.spec().nodes.size()), sim(data.series.size());
   std::size_t k = 0;
   integrate(
       net, T, 0.0, data.times.back(), data.times,
       [&](double t, const std::vector<double>& x) {
         net.expand(t, x.data(), all.data());
-        visit(k++, all);
+        for (std::size_t s = 0; s < sim.size(); ++s)
+          sim[s] = simulated_value(net, data.series[s], t, x.data(), all.data());
+        visit(k++, sim);
       },
       solver);
   if (k != data.times.size())
@@ -130,11 +132,11 @@ Evaluation CalibrationProblem::evaluate(const std::vector<double>& x,
       const MeasuredData& data = data_[c];
       ++ev.simulations;
       run_case(model_->instantiate(cases_[c], pv), data, opt.solver,
-               [&](std::size_t k, const std::vector<double>& all) {
-                 for (const auto& s : data.series) {
-                   const double m = s.values[k];
+               [&](std::size_t k, const std::vector<double>& sim) {
+                 for (std::size_t s = 0; s < sim.size(); ++s) {
+                   const double m = data.series[s].values[k];
                    if (std::isnan(m)) continue;
-                   const double r = all[static_cast<std::size_t>(s.node_index)] - m;
+                   const double r = sim[s] - m;
                    ev.sse += r * r;
                    ++ev.points;
                    if (opt.keep_residuals) residuals.push_back(r);
@@ -167,10 +169,9 @@ CalibrationProblem::compare(const std::vector<double>& x, const SolverOptions& s
     cc.measured = data_[c];
     cc.simulated.assign(cc.measured.series.size(), {});
     run_case(model_->instantiate(cases_[c], pv), cc.measured, solver,
-             [&](std::size_t, const std::vector<double>& all) {
-               for (std::size_t s = 0; s < cc.measured.series.size(); ++s)
-                 cc.simulated[s].push_back(
-                     all[static_cast<std::size_t>(cc.measured.series[s].node_index)]);
+             [&](std::size_t, const std::vector<double>& sim) {
+               for (std::size_t s = 0; s < sim.size(); ++s)
+                 cc.simulated[s].push_back(sim[s]);
              });
     out.push_back(std::move(cc));
   }

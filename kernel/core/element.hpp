@@ -8,6 +8,7 @@
 #include "lang/network_spec.hpp"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,8 @@ public:
   virtual double power_in(double /*t*/, const double* /*T*/) const { return 0.0; }
   /// Heat flowing from its first terminal to its second, W (two-terminal links).
   virtual double flow(double /*t*/, const double* /*T*/) const { return 0.0; }
+  /// What it reads, K, for a sensor (an element whose schema `observes`); nothing otherwise.
+  virtual std::optional<double> sensor_reading(const double* /*T*/) const { return std::nullopt; }
 };
 
 /// A two-terminal link with a constant conductance G: Q = G (T_a - T_b).

@@ -1,17 +1,15 @@
-// load_measured(): a case's CSV data file matched to the network's nodes, degC (or the unit the
-// case declares for it) -> K.
+// load_measured(): a case's CSV data file, read in the layout and with the column map its data
+// statement gives, matched to the network's nodes; values in K.
 
 #include "kernel/core/measured_data.hpp"
+
+#include "lang/measured_series.hpp"
 
 #include <fmt/format.h>
 
 #include <cmath>
 
 namespace thermnet {
-
-namespace {
-constexpr double kZeroCelsius = 273.15;
-} // namespace
 
 std::size_t MeasuredData::points() const {
   std::size_t n = 0;
@@ -21,32 +19,81 @@ std::size_t MeasuredData::points() const {
   return n;
 }
 
+namespace {
+
+/// The sensor (spec element) a series of `target` is compared with: the sensor so named, else the
+/// one sensor that reads node `target` alone; -1 for none. Throws CsvError when several do.
+int sensor_of(const lang::NetworkSpec& spec, const std::string& target, const std::string& path,
+              std::size_t column) {
+  const int node = spec.node_index(target);
+  int found = -1;
+  std::string names;
+  for (std::size_t e = 0; e < spec.elements.size(); ++e) {
+    const auto& el = spec.elements[e];
+    if (!el.schema || !el.schema->observes) continue;
+    if (el.name == target) return static_cast<int>(e);
+    if (node < 0 || el.nodes().size() != 1 || el.nodes()[0] != node) continue;
+    names += fmt::format("{}'{}'", names.empty() ? "" : ", ", el.name);
+    if (found >= 0)
+      throw lang::CsvError(path, 1, column,
+                           fmt::format("node '{}' is read by the sensors {}: name the sensor the "
+                                       "series is compared with (data \"FILE\" {{ SENSOR = "
+                                       "COLUMN }})",
+                                       target, names));
+    found = static_cast<int>(e);
+  }
+  return found;
+}
+
+bool is_sensor(const lang::NetworkSpec& spec, const std::string& name) {
+  for (const auto& el : spec.elements)
+    if (el.schema && el.schema->observes && el.name == name) return true;
+  return false;
+}
+
+} // namespace
+
+double simulated_value(Network& net, const MeasuredSeries& s, double t, const double* x,
+                       const double* all) {
+  if (s.sensor < 0) return all[static_cast<std::size_t>(s.node_index)];
+  return net.sensor_reading(static_cast<std::size_t>(s.sensor), t, x);
+}
+
 MeasuredData load_measured(const std::string& path, const lang::NetworkSpec& spec) {
-  lang::CsvTable table = lang::read_csv(path);
+  // The case's own data file is read as its data statement says (layout, unit, column map); any
+  // other file (a command line's) in the default layout, every column naming a node.
+  const bool own = path == spec.settings.data_path;
+  lang::CaseSettings settings;
+  if (own) settings = spec.settings;
+  lang::CsvTable table = lang::read_csv(path, settings.data_layout);
   lang::check_measured(table);
+  const std::vector<double> times = lang::case_times(table, settings);
   // Rows after the case's duration are not used (lint warns about them: data-beyond-duration).
-  const std::size_t used =
-      table.rows() -
-      (spec.settings.duration ? lang::rows_after(table, *spec.settings.duration) : 0);
+  std::size_t used = times.size();
+  if (spec.settings.duration) {
+    const double end = *spec.settings.duration;
+    const double last = end + 1e-9 * std::max(1.0, std::abs(end)); // the round-off of `end`
+    while (used > 0 && times[used - 1] > last)
+      --used;
+  }
   MeasuredData data;
   data.path = path;
-  data.times.assign(table.time().begin(), table.time().begin() + static_cast<long>(used));
-  // The case's own data file may declare its unit (`data "run.csv" [K]`): values to degC first.
-  const bool own = path == spec.settings.data_path;
-  const double scale = own ? spec.settings.data_scale : 1.0;
-  const double offset = own ? spec.settings.data_offset : 0.0;
-  for (std::size_t c = 1; c < table.columns.size(); ++c) {
-    const std::string& name = table.columns[c];
-    int index = spec.node_index(name);
-    if (index < 0)
-      throw lang::CsvError(path, 1, c + 1,
-                           fmt::format("column '{}' names no node or boundary of the model", name));
+  data.times.assign(times.begin(), times.begin() + static_cast<long>(used));
+  const auto series = lang::measured_series(table, settings, [&](const std::string& name) {
+    return spec.node_index(name) >= 0 || is_sensor(spec, name);
+  });
+  for (const auto& v : series) {
     MeasuredSeries s;
-    s.node = name;
+    s.sensor = sensor_of(spec, v.target, path, v.column);
+    const int index = s.sensor >= 0 ? spec.elements[static_cast<std::size_t>(s.sensor)].nodes()[0]
+                                    : spec.node_index(v.target);
+    if (index < 0)
+      throw lang::CsvError(
+          path, 1, v.column,
+          fmt::format("'{}' names no node, boundary or sensor of the model", v.target));
+    s.node = spec.nodes[static_cast<std::size_t>(index)].name;
     s.node_index = index;
-    s.values.assign(table.cells[c].begin(), table.cells[c].begin() + static_cast<long>(used));
-    for (double& v : s.values)
-      if (!std::isnan(v)) v = scale * v + offset + kZeroCelsius;
+    s.values.assign(v.kelvin.begin(), v.kelvin.begin() + static_cast<long>(used));
     data.series.push_back(std::move(s));
   }
   if (data.points() == 0)

@@ -128,6 +128,7 @@ Network::Network(lang::NetworkSpec spec, const ElementRegistry& registry) : spec
       links_.add(link->a(), link->b(), link->conductance());
     } else {
       piece.element = static_cast<int>(elements_.size());
+      if (e.schema && e.schema->observes) sensors_.emplace_back(spec_element, piece.element);
       elements_.push_back(std::move(element));
     }
     pieces_.push_back(piece);
@@ -190,6 +191,24 @@ void Network::expand(double t, const double* T, double* all) const {
     all[b] = spec_.nodes[static_cast<std::size_t>(b)].T.at(t);
 }
 
+double Network::sensor_reading(std::size_t e, double t, const double* T) {
+  for (const auto& [spec_element, element] : sensors_)
+    if (static_cast<std::size_t>(spec_element) == e) {
+      load(t, T);
+      if (auto r = elements_[static_cast<std::size_t>(element)]->sensor_reading(T_all_.data()))
+        return *r;
+    }
+  throw std::invalid_argument(
+      fmt::format("element '{}' is not a sensor", spec_.elements.at(e).name));
+}
+
+std::vector<int> Network::sensor_elements() const {
+  std::vector<int> out;
+  for (const auto& [spec_element, element] : sensors_)
+    out.push_back(spec_element);
+  return out;
+}
+
 void Network::load(double t, const double* T) {
   expand(t, T, T_all_.data());
   std::copy(T + unknown_nodes_.size(), T + size(), T_all_.begin() + spec_.nodes.size());
@@ -213,6 +232,7 @@ void Network::stamp_all(double t, const double* T, bool with_jacobian) {
 }
 
 void Network::heat_balance(double t, const double* T, double* F) {
+  if (!inputs_.empty()) inputs_.at(spec_, t);
   stamp_all(t, T, false);
   for (std::size_t u = 0; u < unknown_nodes_.size(); ++u)
     F[u] = F_all_[static_cast<std::size_t>(unknown_nodes_[u])];
@@ -274,16 +294,20 @@ std::vector<double> Network::initial_state() const {
   T0.reserve(static_cast<std::size_t>(size()));
   for (int i : unknown_nodes_)
     T0.push_back(spec_.nodes[static_cast<std::size_t>(i)].T0.value_or(spec_.default_initial()));
-  if (state_count_ == 0) return T0;
+  start_states(T0);
+  return T0;
+}
+
+void Network::start_states(std::vector<double>& x) const {
+  x.resize(static_cast<std::size_t>(size()), 0.0);
+  if (state_count_ == 0) return;
   std::vector<double> all(spec_.nodes.size());
-  expand(0.0, T0.data(), all.data());
-  T0.resize(static_cast<std::size_t>(size()), 0.0);
+  expand(0.0, x.data(), all.data());
   for (std::size_t s = 0; s < state_owner_.size();) {
     const Element& e = *elements_[static_cast<std::size_t>(state_owner_[s])];
-    e.initial_states(all.data(), T0.data() + unknown_nodes_.size() + s);
+    e.initial_states(all.data(), x.data() + unknown_nodes_.size() + s);
     s += static_cast<std::size_t>(e.state_count());
   }
-  return T0;
 }
 
 double Network::source_power(double t, const double* T) {

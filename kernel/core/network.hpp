@@ -4,6 +4,7 @@
 
 #include "kernel/core/element.hpp"
 #include "kernel/core/element_registry.hpp"
+#include "kernel/core/input_check.hpp"
 #include "kernel/core/link_batch.hpp"
 #include "kernel/core/thermal_system.hpp"
 #include "lang/network_spec.hpp"
@@ -48,6 +49,9 @@ public:
   /// The unknowns at t = 0: temperatures T0, else the case's initial, else 20 degC (K), then the
   /// elements' internal states as they start from those temperatures.
   std::vector<double> initial_state() const;
+  /// Sets the internal states in x (after its temperature_count() temperatures) to where they
+  /// start from those temperatures at t = 0.
+  void start_states(std::vector<double>& x) const;
   /// Temperatures of every node, spec order (unknowns from T, boundaries from their signals at
   /// t), K; `all` has one entry per spec node (internal states are not written).
   void expand(double t, const double* T, double* all) const;
@@ -61,6 +65,11 @@ public:
   void element_heat(double t, const double* T, std::vector<std::vector<double>>& heat);
   /// True when spec element e switches by events (a thermostat).
   bool element_switches(std::size_t e) const;
+  /// The reading of sensor spec element e at (t, T) (T: all unknowns), K; throws
+  /// std::invalid_argument when e is not a sensor.
+  double sensor_reading(std::size_t e, double t, const double* T);
+  /// The spec elements that are sensors, in spec order.
+  std::vector<int> sensor_elements() const;
 
 private:
   /// Loads T_all_: every node as expand() does, then the internal states.
@@ -85,8 +94,10 @@ private:
     int element = -1; ///< index into elements_, or -1
   };
   std::vector<Piece> pieces_;
-  std::vector<double> F_piece_;   // scratch of element_heat, kept zero between uses
-  std::vector<int> event_offset_; // per element: first event index
+  std::vector<std::pair<int, int>> sensors_; // sensors: spec element, index into elements_
+  InputCheck inputs_{spec_};                 // expression-valued inputs, checked as time goes
+  std::vector<double> F_piece_;              // scratch of element_heat, kept zero between uses
+  std::vector<int> event_offset_;            // per element: first event index
   int event_count_ = 0;
   // Scratch sized once: temperatures, heat balance and Jacobian values of every node, then the
   // internal states (node array index spec_.nodes.size() + k holds state k).

@@ -48,11 +48,45 @@ SolverStats steady_with_switches(Network& net, std::vector<double>& T, const Sol
   }
 }
 
+/// `initial = data`: the nodes without a T0 start at the steady state at t = 0 around those that
+/// have one (measured nodes start at their first measured value), which are held there.
+void settle_nodes_without_start(Network& net, std::vector<double>& T, const SolverOptions& o,
+                                SolverStats* stats) {
+  const lang::NetworkSpec& spec = net.spec();
+  lang::NetworkSpec held = spec;
+  bool any_free = false;
+  for (auto& n : held.nodes) {
+    if (n.boundary) continue;
+    if (n.T0) {
+      n.boundary = true;
+      n.T = lang::Signal::of(*n.T0);
+    } else {
+      any_free = true;
+    }
+  }
+  if (!any_free) return;
+  Network partial(std::move(held));
+  std::vector<double> x = partial.initial_state();
+  SolverStats s = steady_with_switches(partial, x, o);
+  if (stats) *stats = s;
+  std::vector<int> unknown_of(spec.nodes.size(), -1);
+  for (std::size_t u = 0; u < net.unknown_nodes().size(); ++u)
+    unknown_of[static_cast<std::size_t>(net.unknown_nodes()[u])] = static_cast<int>(u);
+  for (std::size_t u = 0; u < partial.unknown_nodes().size(); ++u)
+    T[static_cast<std::size_t>(unknown_of[static_cast<std::size_t>(partial.unknown_nodes()[u])])] =
+        x[u];
+  T.resize(static_cast<std::size_t>(net.temperature_count()));
+  net.start_states(T);
+}
+
 } // namespace
 
 std::vector<double> start_state(Network& net, const SolverOptions& solver, SolverStats* stats) {
   std::vector<double> T = net.initial_state();
-  if (net.spec().settings.initial_steady) {
+  if (net.spec().settings.initial_data) {
+    settle_nodes_without_start(net, T, solver, stats);
+    if (net.event_count() > 0) net.init_events(0.0, T.data());
+  } else if (net.spec().settings.initial_steady) {
     SolverStats s = steady_with_switches(net, T, solver);
     if (stats) *stats = s;
   } else if (net.event_count() > 0) {
@@ -64,9 +98,13 @@ std::vector<double> start_state(Network& net, const SolverOptions& solver, Solve
 SolverStats simulate(Network& net, const SimulationOptions& opt, const RowCallback& row,
                      EnergyTotals* energy) {
   const auto& settings = net.spec().settings;
-  std::vector<double> all(net.spec().nodes.size());
+  const std::size_t nodes = net.spec().nodes.size();
+  const std::vector<int> sensors = opt.sensors ? net.sensor_elements() : std::vector<int>{};
+  std::vector<double> all(nodes + sensors.size());
   auto record = [&](double t, const std::vector<double>& x) {
     net.expand(t, x.data(), all.data());
+    for (std::size_t k = 0; k < sensors.size(); ++k)
+      all[nodes + k] = net.sensor_reading(static_cast<std::size_t>(sensors[k]), t, x.data());
     row(t, all);
   };
   SolverStats steady;

@@ -16,7 +16,10 @@ struct SimulationOptions {
   std::optional<double> duration; ///< overrides the case's duration, s
   std::optional<double> output;   ///< overrides the case's output interval or listed times, s
   bool steady = false;            ///< solve the steady state at t = 0 instead of a transient
-  SolverOptions solver;           ///< tolerances and linear solver
+  /// Append each sensor's reading (K, Network::sensor_elements() order) to every row, after the
+  /// nodes and boundaries.
+  bool sensors = false;
+  SolverOptions solver; ///< tolerances and linear solver
 };
 
 /// Temperatures of every node (nodes and boundaries, spec order) at each output time, in K.

@@ -34,17 +34,24 @@ SolverOptions diagnosis_solver() {
 
 /// Simulates a case at the measured times: temperatures of every node (spec order), K.
 std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
-                                               const std::vector<double>& times) {
+                                               const std::vector<double>& times,
+                                               const MeasuredData* measured,
+                                               std::vector<Series>* series) {
   std::vector<std::vector<double>> out;
   if (times.empty()) return out;
   Network net(std::move(spec));
   const SolverOptions solver = diagnosis_solver();
   std::vector<double> T = start_state(net, solver);
   std::vector<double> all(net.spec().nodes.size());
+  if (series) series->assign(measured->series.size(), {});
   integrate(
       net, T, 0.0, times.back(), times,
       [&](double t, const std::vector<double>& x) {
         net.expand(t, x.data(), all.data());
+        if (series)
+          for (std::size_t s = 0; s < measured->series.size(); ++s)
+            (*series)[s].push_back(
+                simulated_value(net, measured->series[s], t, x.data(), all.data()));
         out.push_back(all);
       },
       solver);
@@ -84,12 +91,9 @@ CaseSims Engine::model_sims(const Hypothesis* h, const Candidate* c, const std::
       const lang::ParamValues ov = h->overrides(*c, p);
       lang::NetworkSpec spec = ov.empty() ? ce.spec : model_.instantiate(ce.name, ov);
       h->extend(*c, p, spec);
-      const auto all = simulate_case(std::move(spec), ce.times());
+      std::vector<Series> cs;
+      simulate_case(std::move(spec), ce.times(), &ce.measured, &cs);
       simulations_.fetch_add(1, std::memory_order_relaxed);
-      std::vector<Series> cs(ce.measured.series.size());
-      for (std::size_t s = 0; s < ce.measured.series.size(); ++s)
-        for (const auto& row : all)
-          cs[s].push_back(row[static_cast<std::size_t>(ce.measured.series[s].node_index)]);
       sims.push_back(std::move(cs));
     }
   }

@@ -172,9 +172,13 @@ private:
   mutable std::vector<RefitBatch> batches_;         // timing of the refits (main thread only)
 };
 
-/// Simulates a case at the measured times: temperatures of every node (spec order), K.
+/// Simulates a case at the measured times: temperatures of every node (spec order), K; with
+/// `measured`, also the simulated value of each of its series into `series` (a node's
+/// temperature, or its sensor's reading).
 std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
-                                               const std::vector<double>& times);
+                                               const std::vector<double>& times,
+                                               const MeasuredData* measured = nullptr,
+                                               std::vector<Series>* series = nullptr);
 
 /// Two candidates at the same site with the same mechanism.
 bool same_candidate(const Candidate& a, const Candidate& b);

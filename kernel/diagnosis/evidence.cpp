@@ -57,11 +57,8 @@ void Engine::simulate_baseline() {
   // The declared model's series, the noise floor and the screen's evidence.
   std::vector<double> sigmas;
   for (auto& ce : ev_.cases) {
-    const auto all_nodes = simulate_case(ce.spec, ce.times());
-    ce.simulated.assign(ce.measured.series.size(), {});
+    const auto all_nodes = simulate_case(ce.spec, ce.times(), &ce.measured, &ce.simulated);
     for (std::size_t s = 0; s < ce.measured.series.size(); ++s) {
-      for (const auto& row : all_nodes)
-        ce.simulated[s].push_back(row[static_cast<std::size_t>(ce.measured.series[s].node_index)]);
       const auto& node = ce.spec.nodes[static_cast<std::size_t>(ce.measured.series[s].node_index)];
       if (!node.boundary) sigmas.push_back(estimate_noise(ce.measured.series[s].values));
     }

@@ -27,9 +27,7 @@ std::string signal_text(const lang::Signal& s, const std::string& unit) {
 }
 
 bool same_signal(const lang::Signal& a, const lang::Signal& b) {
-  return a.kind() == b.kind() &&
-         (a.is_constant() ? a.constant == b.constant
-                          : a.times() == b.times() && a.values() == b.values());
+  return a.same_as(b);
 }
 
 std::vector<int> named_heaters(const lang::NetworkSpec& spec) {

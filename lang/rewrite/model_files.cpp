@@ -36,21 +36,17 @@ struct PathCollector {
   void add(const ast::String& s, PathKind kind) const {
     out.push_back({s.begin, s.end, s.text, kind});
   }
-  void value(const ast::Value& v) const {
-    if (const auto* t = v.as_table()) add(t->file, PathKind::table);
-  }
-  void keys(ast::KeyList kvs) const {
-    for (const auto& kv : kvs)
-      value(kv.value);
+  /// The file names of the tables standing in a file's expressions.
+  void tables(const ast::File& file) const {
+    for (const auto& s : file.signals)
+      if (const auto* t = std::get_if<ast::TableSignal>(&s); t && !t->case_data)
+        add(t->file, PathKind::table);
   }
   void operator()(const ast::IncludeStmt& s) const { add(s.path, PathKind::include); }
   void operator()(const ast::PluginStmt& s) const { add(s.path, PathKind::plugin); }
-  void operator()(const ast::NodeStmt& s) const { keys(s.keys); }
-  void operator()(const ast::ElementStmt& s) const { keys(s.keys); }
-  void operator()(const ast::CompositeStmt& s) const {
-    for (const auto& part : s.parts)
-      keys(part.keys);
-  }
+  void operator()(const ast::NodeStmt&) const {}
+  void operator()(const ast::ElementStmt&) const {}
+  void operator()(const ast::CompositeStmt&) const {}
   void operator()(const ast::ForStmt& s) const {
     for (const auto& b : s.body)
       std::visit(*this, b);
@@ -63,10 +59,8 @@ struct PathCollector {
     for (const auto& item : items) {
       if (const auto* d = std::get_if<ast::CaseData>(&item))
         add(d->path, PathKind::data);
-      else if (const auto* a = std::get_if<ast::CaseAssign>(&item))
-        value(a->value);
-      else
-        this->items(std::get<ast::CaseFor>(item).items);
+      else if (const auto* loop = std::get_if<ast::CaseFor>(&item))
+        this->items(loop->items);
     }
   }
   void operator()(const ast::CaseStmt& s) const { items(s.items); }
@@ -149,6 +143,9 @@ ModelFiles collect_files(const lang::SourceManager& sources, lang::FileId root,
     FileRefs info;
     for (const auto& s : file.statements)
       std::visit(PathCollector{info.refs}, s);
+    PathCollector{info.refs}.tables(file);
+    std::sort(info.refs.begin(), info.refs.end(),
+              [](const PathRef& a, const PathRef& b) { return a.begin < b.begin; });
     for (const auto& r : info.refs) {
       const fs::path named = real_path(resolve(sources.path(f), r.text));
       std::optional<lang::FileId> target;
@@ -218,11 +215,13 @@ std::map<lang::FileId, fs::path> destinations(const lang::SourceManager& sources
 std::string rewritten_text(const lang::SourceManager& sources, lang::FileId f,
                            const std::vector<ParamUpdate>& updates, const FileRefs& info,
                            const std::set<lang::FileId>& changed,
-                           const std::map<lang::FileId, fs::path>& dest) {
+                           const std::map<lang::FileId, fs::path>& dest,
+                           std::vector<TextEdit> edits) {
   const fs::path from_dir = directory_of(sources.path(f));
   const fs::path to_dir = directory_of(dest.at(f));
   const bool moved = real_path(from_dir) != real_path(to_dir);
-  std::vector<TextEdit> edits = param_edits(sources, f, updates);
+  const auto params = param_edits(sources, f, updates);
+  edits.insert(edits.end(), params.begin(), params.end());
   for (std::size_t k = 0; k < info.refs.size(); ++k) {
     const PathRef& r = info.refs[k];
     std::optional<std::string> path;
@@ -270,7 +269,7 @@ std::vector<InputFile> files_read(const lang::SourceManager& sources, lang::File
 
 std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lang::FileId root,
                                          const std::vector<ParamUpdate>& updates,
-                                         const std::string& out) {
+                                         const std::string& out, std::vector<TextEdit> root_edits) {
   const ModelFiles m = collect_files(sources, root);
   const std::set<lang::FileId> changed = changed_files(m, root, updates);
   const std::map<lang::FileId, fs::path> dest = destinations(sources, m, changed, root, out);
@@ -278,7 +277,9 @@ std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lan
   for (lang::FileId f : m.order)
     if (changed.count(f))
       result.push_back({dest.at(f).string(),
-                        rewritten_text(sources, f, updates, m.refs.at(f), changed, dest), f});
+                        rewritten_text(sources, f, updates, m.refs.at(f), changed, dest,
+                                       f == root ? std::move(root_edits) : std::vector<TextEdit>{}),
+                        f});
   return result;
 }
 

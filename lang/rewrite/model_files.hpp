@@ -4,6 +4,7 @@
 /// written in the copies adjusted so that the new model reads the copies and the original data.
 
 #include "lang/rewrite/param_values.hpp"
+#include "lang/rewrite/text_edit.hpp"
 
 #include <stdexcept>
 #include <string>
@@ -43,8 +44,10 @@ std::vector<InputFile> files_read(const lang::SourceManager& sources, lang::File
 /// are re-expressed from the new directory when it differs from the original's. Files that do not
 /// change are not copied; the user's inputs are never targets. Throws RewriteError when `out`
 /// names an input of the model (the model itself, an included, data, table or plugin file).
+/// `root_edits` are further edits of the root file's original text (case blocks extended).
 std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lang::FileId root,
                                          const std::vector<ParamUpdate>& updates,
-                                         const std::string& out);
+                                         const std::string& out,
+                                         std::vector<TextEdit> root_edits = {});
 
 } // namespace thermnet::rewrite

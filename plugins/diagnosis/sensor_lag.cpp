@@ -3,6 +3,7 @@
 // residual regressed on the simulated slope (T_meas ~ T_sim - tau dT_sim/dt).
 #include "kernel/diagnosis/diagnosis.hpp"
 #include "kernel/diagnosis/hypothesis.hpp"
+#include "kernel/diagnosis/sensor_statements.hpp"
 
 #include <fmt/format.h>
 
@@ -71,9 +72,13 @@ public:
   }
 
   std::string statement(const Candidate& c, const std::vector<double>& p,
-                        const Evidence&) const override {
-    return fmt::format("# sensor_lag: the sensor of {} reads through a first-order lag, tau = {} s",
-                       c.nodes[0], netlist_number(p[0]));
+                        const Evidence& ev) const override {
+    return sensor_statement(ev, "sensor_lag", c.nodes[0], "tau", p[0], "s");
+  }
+
+  CaseLines case_statements(const Candidate& c, const std::vector<double>& p,
+                            const Evidence& ev) const override {
+    return sensor_case_lines(ev, c.nodes[0], "tau", p[0], "s");
   }
 };
 
@@ -83,7 +88,8 @@ HypothesisPlugin make_sensor_lag() {
           .create = [] { return std::make_unique<SensorLag>(); },
           .screen = "the residual against the simulated slope",
           .fitted = "tau [s]",
-          .writes = "a comment (measurement side)"};
+          .writes = "sensor diag_sensor_lag_a a tau = ... (or the key of a sensor the model has, "
+                    "in every case)"};
 }
 
 } // namespace

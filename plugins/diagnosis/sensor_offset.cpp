@@ -1,6 +1,7 @@
 // Hypothesis 'sensor_offset': a sensor reads its node with a constant bias. Measurement-side: the
 // correction is added to the simulated series; the start is the mean residual.
 #include "kernel/diagnosis/hypothesis.hpp"
+#include "kernel/diagnosis/sensor_statements.hpp"
 
 #include <fmt/format.h>
 
@@ -52,11 +53,13 @@ public:
   }
 
   std::string statement(const Candidate& c, const std::vector<double>& p,
-                        const Evidence&) const override {
-    return fmt::format("# sensor_offset: the sensor of {} reads {} K too {}; subtract {} K from "
-                       "its measured column",
-                       c.nodes[0], netlist_number(std::abs(p[0])), p[0] >= 0 ? "high" : "low",
-                       netlist_number(p[0]));
+                        const Evidence& ev) const override {
+    return sensor_statement(ev, "sensor_offset", c.nodes[0], "offset", p[0], "K");
+  }
+
+  CaseLines case_statements(const Candidate& c, const std::vector<double>& p,
+                            const Evidence& ev) const override {
+    return sensor_case_lines(ev, c.nodes[0], "offset", p[0], "K");
   }
 };
 
@@ -66,7 +69,8 @@ HypothesisPlugin make_sensor_offset() {
           .create = [] { return std::make_unique<SensorOffset>(); },
           .screen = "the mean residual (fitted directly)",
           .fitted = "offset [K]",
-          .writes = "a comment (measurement side)"};
+          .writes = "sensor diag_sensor_offset_a a offset = ... (or the key of a sensor the model "
+                    "has, in every case)"};
 }
 
 } // namespace

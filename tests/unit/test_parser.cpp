@@ -70,6 +70,22 @@ struct Parsed {
     REQUIRE(s != nullptr);
     return *s;
   }
+  /// The step/pwl signal a value consists of, or nullptr.
+  const ast::PointSignal* point_signal(const ast::Value& v) const {
+    const ast::SignalExpr* se = signal(v);
+    return se ? std::get_if<ast::PointSignal>(se) : nullptr;
+  }
+  /// The table a value consists of, or nullptr.
+  const ast::TableSignal* table(const ast::Value& v) const {
+    const ast::SignalExpr* se = signal(v);
+    return se ? std::get_if<ast::TableSignal>(se) : nullptr;
+  }
+  /// The signal a value consists of, or nullptr.
+  const ast::SignalExpr* signal(const ast::Value& v) const {
+    const ast::Expr* e = v.as_expr();
+    if (!e || !e->valid() || file.node(e->root).op != ast::ExprNode::Op::signal) return nullptr;
+    return &file.signals[file.node(e->root).a];
+  }
 };
 
 auto parse(const std::string& text) {
@@ -188,7 +204,7 @@ TEST_CASE("parser: node and boundary statements") {
   CHECK(b.boundary);
   CHECK(b.name.id.name == "ambient");
   REQUIRE(b.keys.size() == 1);
-  const auto* sig = b.keys[0].value.as_point_signal();
+  const auto* sig = p->point_signal(b.keys[0].value);
   REQUIRE(sig != nullptr);
   CHECK(sig->kind.name == "pwl");
   REQUIRE(sig->points.size() == 2);
@@ -218,7 +234,7 @@ TEST_CASE("parser: two-terminal and one-terminal elements") {
   REQUIRE(h.nodes.size() == 1);
   CHECK(h.nodes[0].id.name == "plate1");
   REQUIRE(h.keys.size() == 1);
-  const auto* sig = h.keys[0].value.as_point_signal();
+  const auto* sig = p->point_signal(h.keys[0].value);
   REQUIRE(sig != nullptr);
   CHECK(sig->kind.name == "step");
   CHECK(sig->points.size() == 2);
@@ -273,7 +289,7 @@ TEST_CASE("parser: table signal") {
   auto p = parse("heater h n P = table(\"power.csv\", \"P1\")\n");
   CHECK(p->diags.all().empty());
   const auto& h = p->stmt<ast::ElementStmt>(0);
-  const auto* t = h.keys[0].value.as_table();
+  const auto* t = p->table(h.keys[0].value);
   REQUIRE(t != nullptr);
   CHECK(t->file.text == "power.csv");
   CHECK(t->column.text == "P1");
@@ -324,7 +340,7 @@ TEST_CASE("parser: case block with every kind of setting") {
   REQUIRE(film->target.path.rest().size() == 1);
   CHECK(film->target.path.rest()[0].id.name == "P");
   CHECK(p->text_of(film->target) == "film.P");
-  CHECK(film->value.as_point_signal() != nullptr);
+  CHECK(p->point_signal(film->value) != nullptr);
   const auto* param = std::get_if<ast::CaseAssign>(&c.items[5]);
   REQUIRE(param != nullptr);
   CHECK(param->target.path.id.name == "h_gap");
@@ -697,4 +713,73 @@ TEST_CASE("parser: a node reference as a value, and an index must follow its nam
   CHECK(p->text_of(*r) == "p[3]");
   // `x [K]` is not an index (nor a unit: units follow numbers).
   CHECK(parse("const y = x [K]\n")->codes() == std::vector<std::string>{"syntax"});
+}
+
+TEST_CASE("parser: signals and key references stand in expressions") {
+  auto p = parse("heater sun n P = Aw * table(\"w.csv\", \"I_sol\", hold, time = \"t\" [h], "
+                 "separator = \";\") [W/m^2] + 0.5 * film.P + pwl(0: 1, 10: 2)\n"
+                 "heater copy n P = film.P\n");
+  CHECK(p->diags.all().empty());
+  const auto& h = p->stmt<ast::ElementStmt>(0);
+  REQUIRE(p->file.signals.size() == 2);
+  const auto* t = std::get_if<ast::TableSignal>(&p->file.signals[0]);
+  REQUIRE(t != nullptr);
+  CHECK(t->hold);
+  CHECK_FALSE(t->case_data);
+  REQUIRE(t->options.time);
+  CHECK(t->options.time->column.text == "t");
+  REQUIRE(t->options.time->unit);
+  CHECK(t->options.time->unit->text == "h");
+  REQUIRE(t->options.separator);
+  CHECK(t->options.separator->text == ";");
+  REQUIRE(t->unit);
+  CHECK(t->unit->text == "W/m^2");
+  CHECK(p->text_of(*t).ends_with("[W/m^2]"));
+  REQUIRE(p->file.expr_refs.size() == 1);
+  CHECK(p->text_of(p->file.expr_refs[0]) == "film.P");
+  CHECK(std::holds_alternative<ast::PointSignal>(p->file.signals[1]));
+  CHECK(p->signal(h.keys[0].value) == nullptr); // an expression of signals, not one signal
+  const auto& copy = p->stmt<ast::ElementStmt>(1);
+  REQUIRE(copy.keys[0].value.as_reference() != nullptr);
+  CHECK(p->text_of(*copy.keys[0].value.as_reference()) == "film.P");
+}
+
+TEST_CASE("parser: table(data, ...), a data statement's layout and column map, mean terminals") {
+  auto p = parse("boundary room T = table(data, \"t1\")\n"
+                 "sensor probe mean(a, b[2]) tau = 3\n"
+                 "case c {\n"
+                 "  data \"run.csv\" [K] time = \"stamp\" [unix ns] separator = \";\" {\n"
+                 "    air = mean(t2, \"t 3\": 2) [degF]\n"
+                 "    room = t1\n"
+                 "  }\n"
+                 "  w.T0 = 20 range 10 .. 30\n"
+                 "}\n");
+  INFO(render_text(p->diags));
+  CHECK(p->diags.all().empty());
+  const auto* t = p->table(p->stmt<ast::NodeStmt>(0).keys[0].value);
+  REQUIRE(t != nullptr);
+  CHECK(t->case_data);
+  const auto& s = p->stmt<ast::ElementStmt>(1);
+  CHECK(s.mean);
+  REQUIRE(s.nodes.size() == 2);
+  CHECK(p->text_of(s.nodes[1]) == "b[2]");
+  const auto& c = p->stmt<ast::CaseStmt>(2);
+  const auto* d = std::get_if<ast::CaseData>(&c.items[0]);
+  REQUIRE(d != nullptr);
+  REQUIRE(d->unit);
+  CHECK(d->unit->text == "K");
+  REQUIRE(d->options.time);
+  CHECK(d->options.time->unit->text == "unix ns");
+  CHECK(d->mapped);
+  REQUIRE(d->columns.size() == 2);
+  CHECK(d->columns[0].mean);
+  REQUIRE(d->columns[0].sources.size() == 2);
+  CHECK(d->columns[0].sources[1].column.text == "t 3");
+  REQUIRE(d->columns[0].sources[1].weight);
+  CHECK(d->columns[0].unit->text == "degF");
+  CHECK(d->columns[1].sources[0].column.text == "t1");
+  const auto* a = std::get_if<ast::CaseAssign>(&c.items[1]);
+  REQUIRE(a != nullptr);
+  REQUIRE(a->range != nullptr);
+  CHECK(p->text_of(*a->range) == "10 .. 30");
 }

@@ -1,0 +1,87 @@
+#include "lang/measured_series.hpp"
+
+#include "lang/display_text.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+
+namespace thermnet::lang {
+namespace {
+
+constexpr double kZeroCelsius = 273.15;
+
+/// Fails at the first value below absolute zero.
+void check_above_absolute_zero(const CsvTable& t, const SeriesValues& s,
+                               const std::vector<std::size_t>& columns) {
+  for (std::size_t r = 0; r < s.kelvin.size(); ++r)
+    if (s.kelvin[r] < 0.0) {
+      std::size_t c = columns.front();
+      for (std::size_t k : columns) // the column that brought the mean below 0 K: the lowest
+        if (t.cells[k][r] < t.cells[c][r]) c = k;
+      throw CsvError(t.path, t.line_of(r), t.file_columns[c],
+                     fmt::format("{} is below absolute zero ({:.6g} degC) as a temperature of "
+                                 "'{}' (is the file's unit the one it is read in?)",
+                                 fmt::format("{:g}", t.cells[c][r]), s.kelvin[r] - kZeroCelsius,
+                                 excerpt_for_display(s.target)));
+    }
+}
+
+} // namespace
+
+std::vector<double> case_times(const CsvTable& t, const CaseSettings& s) {
+  std::vector<double> times = t.time();
+  if (t.absolute_time)
+    for (double& x : times)
+      x -= s.data_epoch;
+  return times;
+}
+
+std::vector<SeriesValues> measured_series(const CsvTable& t, const CaseSettings& s,
+                                          const std::function<bool(const std::string&)>& known) {
+  std::vector<SeriesValues> out;
+  const std::size_t rows = t.rows();
+  if (!s.data_mapped) {
+    for (std::size_t c = 1; c < t.columns.size(); ++c) {
+      if (!known(t.columns[c]))
+        throw CsvError(t.path, 1, t.file_columns[c],
+                       fmt::format("column '{}' names no node or boundary of the model",
+                                   excerpt_for_display(t.columns[c])));
+      t.check_numbers(c);
+      SeriesValues v{t.columns[c], std::vector<double>(rows), t.file_columns[c]};
+      for (std::size_t r = 0; r < rows; ++r) {
+        const double x = t.cells[c][r];
+        v.kelvin[r] = std::isnan(x) ? x : s.data_scale * x + s.data_offset + kZeroCelsius;
+      }
+      check_above_absolute_zero(t, v, {c});
+      out.push_back(std::move(v));
+    }
+    return out;
+  }
+  for (const DataSeries& d : s.data_series) {
+    std::vector<std::size_t> columns;
+    for (const std::string& name : d.columns) {
+      const int c = t.column_index(name);
+      if (c <= 0)
+        throw CsvError(t.path, 1, 0,
+                       c == 0 ? fmt::format("column '{}' is the time", excerpt_for_display(name))
+                              : fmt::format("there is no column '{}'", excerpt_for_display(name)));
+      t.check_numbers(static_cast<std::size_t>(c));
+      columns.push_back(static_cast<std::size_t>(c));
+    }
+    SeriesValues v{d.target, std::vector<double>(rows), t.file_columns[columns.front()]};
+    for (std::size_t r = 0; r < rows; ++r) {
+      double mean = 0.0;
+      for (std::size_t k = 0; k < columns.size(); ++k)
+        mean += d.weights[k] * t.cells[columns[k]][r]; // a missing cell makes the mean missing
+      v.kelvin[r] = std::isnan(mean) ? std::numeric_limits<double>::quiet_NaN()
+                                     : d.scale * mean + d.offset + kZeroCelsius;
+    }
+    check_above_absolute_zero(t, v, columns);
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
+} // namespace thermnet::lang

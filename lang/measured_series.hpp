@@ -1,0 +1,32 @@
+#pragma once
+/// The measured series of a case's data file, as its data statement maps them: each compared with
+/// a node, boundary or sensor, read from one column or the weighted mean of several, in the unit
+/// written, with the case's time from its start.
+
+#include "lang/csv.hpp"
+#include "lang/network_spec.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace thermnet::lang {
+
+/// One measured series: what it is compared with, and its values in K (NaN where missing).
+struct SeriesValues {
+  std::string target;         ///< node, boundary or sensor
+  std::vector<double> kelvin; ///< one per row of the file
+  std::size_t column = 0;     ///< the file's (first) column it is read from, 1-based
+};
+
+/// The times of a data file's rows from the case's start, s (absolute layouts: minus the epoch).
+std::vector<double> case_times(const CsvTable& t, const CaseSettings& s);
+
+/// The series of a case's data file `t` (read with s.data_layout): without a column map every
+/// column other than the time names its target; with one, only the map's. Throws CsvError (row
+/// and column) on a column that names nothing `known` accepts, a column the map names that the
+/// file lacks, on/off words in a temperature column and a temperature below absolute zero.
+std::vector<SeriesValues> measured_series(const CsvTable& t, const CaseSettings& s,
+                                          const std::function<bool(const std::string&)>& known);
+
+} // namespace thermnet::lang
