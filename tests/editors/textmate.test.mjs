@@ -158,10 +158,10 @@ describe('extension package', () => {
     assert.ok(new RegExp(conf.indentationRules.decreaseIndentPattern).test('}'));
   });
 
-  test('snippets: node boundary conduction radiation heater thermostat series case', () => {
+  test('snippets: node boundary conduction radiation heater thermostat sensor table series case campaign data', () => {
     const snippets = JSON.parse(readFileSync(join(extDir, 'snippets', 'tnet.json'), 'utf8'));
     const prefixes = Object.values(snippets).flatMap((s) => [].concat(s.prefix));
-    for (const p of ['node', 'boundary', 'conduction', 'radiation', 'heater', 'thermostat', 'series', 'case']) {
+    for (const p of ['node', 'boundary', 'conduction', 'radiation', 'heater', 'thermostat', 'sensor', 'table', 'series', 'case', 'campaign', 'data']) {
       assert.ok(prefixes.includes(p), `no snippet with prefix ${p}`);
     }
     for (const [name, s] of Object.entries(snippets)) {
@@ -182,6 +182,33 @@ describe('extension package', () => {
     assert.ok(first(conduction.body).scopes.includes('entity.name.type.element.tnet'));
     const node = Object.values(snippets).find((s) => [].concat(s.prefix).includes('node'));
     assert.ok(first(node.body).scopes.includes('storage.type.tnet'));
+    const byPrefix = (p) => Object.values(snippets).find((s) => [].concat(s.prefix).includes(p));
+    // Scopes of a word (its first occurrence) in a tokenized text.
+    const scopesIn = (lines, word) => {
+      for (const l of lines) {
+        const t = l.tokens.find((k) => k.text === word);
+        if (t) return t.scopes;
+      }
+      assert.fail(`"${word}" is not a token of: ${lines.map((l) => l.text).join(' / ')}`);
+    };
+    const sensor = tokenize(expand(byPrefix('sensor').body));
+    assert.ok(scopesIn(sensor, 'sensor').includes('entity.name.type.element.tnet'));
+    assert.ok(scopesIn(sensor, 'tau').includes('variable.parameter.key.tnet'));
+    const table = tokenize('heater h n P = ' + expand(byPrefix('table').body));
+    assert.ok(scopesIn(table, 'data').includes('variable.language.data.tnet'));
+    assert.ok(scopesIn(table, 'hold').includes('keyword.other.option.tnet'));
+    const campaign = tokenize(expand(byPrefix('campaign').body));
+    assert.ok(scopesIn(campaign, 'data').includes('constant.language.tnet')); // initial = data
+    assert.ok(campaign[3].tokens.find((t) => t.text === 'data').scopes.includes('keyword.other.case.tnet'));
+    assert.ok(scopesIn(campaign, 'time').includes('keyword.other.option.tnet'));
+    assert.ok(scopesIn(campaign, 'column').includes('variable.other.column.tnet'));
+    // the data statement alone, where it stands: in a case
+    const data = tokenize('case c {\n' + expand(byPrefix('data').body) + '\n}\nnode after C = 1');
+    assert.ok(scopesIn(data, 'data').includes('keyword.other.case.tnet'));
+    assert.ok(scopesIn(data, 'node').includes('variable.other.node.tnet'));
+    assert.ok(scopesIn(data, 'mean').includes('support.function.mean.tnet'));
+    assert.ok(scopesIn(data, 't3').includes('variable.other.column.tnet'));
+    assert.ok(scopesIn(data, 'after').includes('entity.name.variable.node.tnet'), 'the case ends after the map');
   });
 });
 
@@ -500,5 +527,121 @@ describe('loops, submodels and time (samples/loops.tnet)', () => {
     expectScope(F, 21, 'data', 'meta.block.case.tnet');
     expectScope(F, 23, 'node', 'storage.type.tnet');
     expectNoScope(F, 23, 'node', ['meta.block']);
+  });
+});
+
+describe('real campaigns (samples/campaign.tnet)', () => {
+  const F = 'campaign.tnet';
+
+  test('table(data, ...): the case data file as the first argument', () => {
+    expectScope(F, 8, 'table', 'support.function.signal.tnet');
+    expectScope(F, 8, 'data', 'variable.language.data.tnet');
+    expectNoScope(F, 8, 'data', ['keyword.other.case', 'variable.other']);
+    expectScope(F, 8, 't1', 'string.quoted.double.tnet');
+    expectScope(F, 8, ')', 'punctuation.section.parens.end.tnet');
+    expectScope(F, 29, 'data', 'variable.language.data.tnet'); // in a case override
+  });
+
+  test('table options: hold, time = "COLUMN" [UNIT], separator = "SEP", a unit after the table', () => {
+    expectScope(F, 10, 'hold', 'keyword.other.option.tnet');
+    expectScope(F, 10, 'hold', 'meta.table.tnet');
+    expectScope(F, 13, 'hold', 'keyword.other.option.tnet');
+    expectScope(F, 9, 'time', 'keyword.other.option.tnet');
+    expectNoScope(F, 9, 'time', ['variable.language', 'variable.parameter']);
+    expectScope(F, 9, 'unix s', 'keyword.other.unit.tnet');
+    expectScope(F, 9, 'separator', 'keyword.other.option.tnet');
+    expectScope(F, 9, ';', 'string.quoted.double.tnet');
+    expectScope(F, 9, 'degC', 'keyword.other.unit.tnet');
+    expectNoScope(F, 9, 'degC', ['meta.table']); // the unit follows the table
+    expectScope(F, 13, 'time', 'keyword.other.option.tnet');
+    expectScope(F, 13, 'h', 'keyword.other.unit.tnet');
+  });
+
+  test('signals inside expressions', () => {
+    expectScope(F, 10, 'V', 'variable.other.tnet');
+    expectScope(F, 10, '*', 'keyword.operator.arithmetic.tnet', { nth: 2 });
+    expectScope(F, 10, 'table', 'support.function.signal.tnet');
+    expectScope(F, 11, 'Aw', 'variable.other.tnet');
+    expectScope(F, 11, 'W/m^2', 'keyword.other.unit.tnet');
+    expectScope(F, 13, 'W/kW', 'keyword.other.unit.tnet');
+  });
+
+  test("references to another element's key: lamp.P, h[2].P, out.T", () => {
+    expectScope(F, 12, 'lamp', 'variable.other.element.tnet');
+    expectScope(F, 12, '.', 'punctuation.accessor.tnet', { nth: 2 });
+    expectScope(F, 12, 'P', 'variable.parameter.key.tnet', { nth: 2 });
+    expectScope(F, 12, 'h', 'variable.other.element.tnet');
+    expectScope(F, 12, '2', 'meta.index.tnet');
+    expectScope(F, 12, 'P', 'variable.parameter.key.tnet', { nth: 3 });
+    expectScope(F, 33, 'out', 'variable.other.element.tnet');
+    expectScope(F, 33, 'T', 'variable.parameter.key.tnet', { nth: 2 });
+    // a number with a fraction is not a reference
+    expectScope(F, 33, '0.9', 'constant.numeric.tnet');
+  });
+
+  test('the sensor kind and its mean(...) terminals', () => {
+    expectScope(F, 14, 'sensor', 'entity.name.type.element.tnet');
+    expectScope(F, 14, 'probe', 'entity.name.function.element.tnet');
+    expectScope(F, 14, 'air', 'variable.other.node.tnet');
+    expectScope(F, 14, 'tau', 'variable.parameter.key.tnet');
+    expectScope(F, 14, 'offset', 'variable.parameter.key.tnet');
+    expectScope(F, 15, 'sensor', 'entity.name.type.element.tnet');
+    expectScope(F, 15, 'avg', 'entity.name.function.element.tnet');
+    expectScope(F, 15, 'mean', 'support.function.mean.tnet');
+    expectScope(F, 15, 'air', 'variable.other.node.tnet');
+    expectScope(F, 15, 'wall', 'variable.other.node.tnet');
+    expectScope(F, 15, 'tau', 'variable.parameter.key.tnet');
+    expectScope(F, 16, 'conductance', 'entity.name.type.element.tnet');
+  });
+
+  test('case settings: initial = data, NODE.T0 = VALUE range LO .. HI', () => {
+    expectScope(F, 19, 'initial', 'keyword.other.case.tnet');
+    expectScope(F, 19, 'data', 'constant.language.tnet');
+    expectScope(F, 20, 'wall', 'variable.other.element.tnet');
+    expectScope(F, 20, 'T0', 'variable.parameter.key.tnet');
+    expectScope(F, 20, 'range', 'keyword.other.tnet');
+    expectScope(F, 20, '..', 'keyword.operator.range.tnet');
+    expectScope(F, 20, '30', 'constant.numeric.tnet');
+  });
+
+  test('data statements: options and column maps on one line and over several', () => {
+    expectScope(F, 21, 'data', 'keyword.other.case.tnet');
+    expectScope(F, 21, 'time', 'keyword.other.option.tnet');
+    expectScope(F, 21, 'time', 'string.quoted.double.tnet', { nth: 2 });
+    expectScope(F, 21, 'unix ns', 'keyword.other.unit.tnet');
+    expectScope(F, 21, '{', 'punctuation.section.block.begin.tnet');
+    expectScope(F, 21, 'air', 'variable.other.node.tnet');
+    expectScope(F, 21, 'mean', 'support.function.mean.tnet');
+    expectScope(F, 21, 't2', 'variable.other.column.tnet');
+    expectScope(F, 21, 't3', 'variable.other.column.tnet');
+    expectScope(F, 21, '}', 'meta.block.data.tnet');
+    expectScope(F, 22, '}', 'punctuation.section.block.end.tnet');
+    expectNoScope(F, 22, '}', ['meta.block.data']);
+    expectScope(F, 25, 'K', 'keyword.other.unit.tnet');
+    expectScope(F, 25, 'separator', 'keyword.other.option.tnet');
+    expectScope(F, 25, '{', 'meta.block.data.tnet');
+    expectScope(F, 26, 'probe', 'variable.other.node.tnet');
+    expectScope(F, 26, 'yTi', 'variable.other.column.tnet');
+    expectScope(F, 26, 'K', 'keyword.other.unit.tnet');
+    expectScope(F, 27, 'avg', 'variable.other.node.tnet');
+    expectScope(F, 27, 't2', 'variable.other.column.tnet');
+    expectScope(F, 27, '2', 'constant.numeric.tnet'); // a weight (the 2 of t2 is part of a word)
+    expectScope(F, 27, 't 3 (C)', 'string.quoted.double.tnet');
+    expectScope(F, 27, '1', 'constant.numeric.tnet');
+    // after the map, the case goes on and its overrides are overrides again
+    expectScope(F, 29, 'lamp', 'variable.other.element.tnet');
+    expectNoScope(F, 29, 'lamp', ['meta.block.data', 'meta.statement.data']);
+    expectScope(F, 29, 'hold', 'keyword.other.option.tnet');
+    expectScope(F, 31, 'node', 'storage.type.tnet');
+    expectNoScope(F, 31, 'node', ['meta.block']);
+    // a one-line case: ';' between map entries, the map's '}' then the case's
+    expectScope(F, 32, 'tab', 'string.quoted.double.tnet');
+    expectScope(F, 32, 'air', 'variable.other.node.tnet');
+    expectScope(F, 32, ';', 'punctuation.terminator.statement.tnet', { nth: 2 });
+    expectScope(F, 32, 'wall', 'variable.other.node.tnet');
+    expectScope(F, 32, '}', 'meta.block.data.tnet');
+    expectScope(F, 32, '}', 'punctuation.section.block.end.tnet', { nth: 2 });
+    expectNoScope(F, 32, '}', ['meta.block.data'], { nth: 2 });
+    expectScope(F, 33, 'after2', 'entity.name.variable.node.tnet');
   });
 });

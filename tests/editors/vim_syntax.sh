@@ -176,6 +176,76 @@ features.tnet|56|\"|1|tnetEscape
 features.tnet|56|quoted|1|tnetString
 features.tnet|56|# word|1|tnetString
 features.tnet|56|esc_after|1|tnetName
+campaign.tnet|8|table|1|tnetSignal
+campaign.tnet|8|data|1|tnetDataRef
+campaign.tnet|8|t1|1|tnetString
+campaign.tnet|9|time|1|tnetOption
+campaign.tnet|9|unix s|1|tnetUnit
+campaign.tnet|9|separator|1|tnetOption
+campaign.tnet|9|degC|1|tnetUnit
+campaign.tnet|10|V|1|
+campaign.tnet|10|data|1|tnetDataRef
+campaign.tnet|10|hold|1|tnetOption
+campaign.tnet|11|W/m^2|1|tnetUnit
+campaign.tnet|12|lamp|1|tnetKeyRef
+campaign.tnet|12|P|2|tnetKeyRef
+campaign.tnet|12|h|1|tnetKeyRef
+campaign.tnet|12|2|1|tnetNumber
+campaign.tnet|12|0.5|1|tnetNumber
+campaign.tnet|13|hold|1|tnetOption
+campaign.tnet|13|time|1|tnetOption
+campaign.tnet|14|sensor|1|tnetKind
+campaign.tnet|14|probe|1|tnetElementName
+campaign.tnet|14|air|1|tnetNodeRef
+campaign.tnet|14|offset|1|tnetKey
+campaign.tnet|15|sensor|1|tnetKind
+campaign.tnet|15|avg|1|tnetElementName
+campaign.tnet|15|mean|1|tnetMean
+campaign.tnet|15|air|1|tnetMeanNode
+campaign.tnet|15|wall|1|tnetMeanNode
+campaign.tnet|15|tau|1|tnetKey
+campaign.tnet|16|conductance|1|tnetKind
+campaign.tnet|19|initial|1|tnetCaseKey
+campaign.tnet|19|data|1|tnetSteady
+campaign.tnet|20|wall|1|tnetCaseTarget
+campaign.tnet|20|T0|1|tnetKey
+campaign.tnet|20|range|1|tnetCaseRange
+campaign.tnet|20|..|1|tnetRangeOp
+campaign.tnet|21|data|1|tnetCaseKey
+campaign.tnet|21|time|1|tnetDataOption
+campaign.tnet|21|unix ns|1|tnetUnit
+campaign.tnet|21|{|1|tnetBrace
+campaign.tnet|21|air|1|tnetMapTarget
+campaign.tnet|21|mean|1|tnetMean
+campaign.tnet|21|t2|1|tnetMeanColumn
+campaign.tnet|21|t3|1|tnetMeanColumn
+campaign.tnet|25|K|1|tnetUnit
+campaign.tnet|25|time|1|tnetDataOption
+campaign.tnet|25|separator|1|tnetDataOption
+campaign.tnet|25|;|1|tnetString
+campaign.tnet|26|probe|1|tnetMapTarget
+campaign.tnet|26|yTi|1|tnetMapColumn
+campaign.tnet|26|K|1|tnetUnit
+campaign.tnet|27|avg|1|tnetMapTarget
+campaign.tnet|27|t2|1|tnetMeanColumn
+campaign.tnet|27|2|1|tnetNumber
+campaign.tnet|27|t 3 (C)|1|tnetString
+campaign.tnet|28|}|1|tnetBrace
+campaign.tnet|29|lamp|1|tnetCaseTarget
+campaign.tnet|29|P|1|tnetKey
+campaign.tnet|29|data|1|tnetDataRef
+campaign.tnet|29|hold|1|tnetOption
+campaign.tnet|31|node|1|tnetStatement
+campaign.tnet|32|tab|1|tnetString
+campaign.tnet|32|air|1|tnetMapTarget
+campaign.tnet|32|t2|1|tnetMapColumn
+campaign.tnet|32|;|2|tnetTerminator
+campaign.tnet|32|wall|1|tnetMapTarget
+campaign.tnet|32|t3|1|tnetMeanColumn
+campaign.tnet|32|}|2|tnetBrace
+campaign.tnet|33|after2|1|tnetName
+campaign.tnet|33|out|1|tnetKeyRef
+campaign.tnet|33|0.9|1|tnetNumber
 EOF
 
 cat >"$work/check.vim" <<'EOF'

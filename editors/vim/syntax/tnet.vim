@@ -1,7 +1,8 @@
 " Vim syntax file
 " Language:    thermnet model language (.tnet)
 " Reference:   docs/language.md (the whole language: loops, submodels, time,
-"              listed output times and data units included)
+"              listed output times, data units, signals in expressions, table
+"              options, sensors and data statements with column maps included)
 
 if exists('b:current_syntax')
   finish
@@ -33,6 +34,8 @@ syn region  tnetUnit         matchgroup=tnetUnitBracket start="\[" end="\]" onel
 syn region  tnetString       start=+"+ skip=+\\[\\"]+ end=+"+ end=+$+ oneline contains=tnetEscape
 syn match   tnetEscape       +\\[\\"]+ contained
 syn match   tnetSignal       "\<\%(step\|pwl\|table\)\ze\s*("
+" table(data, "COLUMN" [, hold] [, time = "NAME" [UNIT]] [, separator = "SEP"])
+syn match   tnetDataRef      "\%(\<table\s*(\s*\)\@<=\<data\>\ze\s*[,)]"
 syn match   tnetFunction     "\<\%(sqrt\|exp\|log10\|log\|sin\|cos\|tan\|abs\|min\|max\|pow\)\ze\s*("
 syn match   tnetConstant     "\<\%(pi\|sigma\)\>\%(\s*[=(]\)\@!"
 " The simulation time in seconds (in boundary temperatures and source powers)
@@ -45,11 +48,16 @@ syn match   tnetComment      "#.*$" contains=tnetTodo,@Spell
 syn match   tnetKey          "\<\h\w*\ze\s*="
 " A param's range: param NAME = EXPR range LO .. HI
 syn match   tnetRange        "\%(\%(^\|;\)\s*param\>[^;#]*\)\@<=\<range\>\%(\s*[=(]\)\@!"
+" Options of a table (after its keys: `time =` is an option there, not a key)
+syn match   tnetOption       "\%(\<table\s*([^)]*\)\@<=\<hold\>\%(\s*[=(.]\)\@!"
+syn match   tnetOption       "\%(\<table\s*([^)]*\)\@<=\<\%(time\|separator\)\>\ze\s*=\%(=\)\@!"
+" OBJECT.KEY in a value: another element's key or a boundary's T (lamp.P, h[2].P)
+syn match   tnetKeyRef       "\%([[:alnum:]_.\]]\)\@<!\<\h\w*\%(\[[^]]*\]\)\=\%(\.\h\w*\%(\[[^]]*\]\)\=\)*\.\h\w*\>\%(\s*[=(\[]\|\.\)\@!" contains=tnetIndex
 
 " Indices glued to a name: p[i, j + 1] (a unit follows a number, after a blank)
 syn region  tnetIndex        matchgroup=tnetIndexBracket start="\%(\<\h\w*\)\@<=\[" end="\]" oneline contains=@tnetExpr
 
-syn cluster tnetExpr contains=tnetOperator,tnetDelimiter,tnetRangeOp,tnetNumber,tnetUnit,tnetIndex,tnetTime,tnetString,tnetSignal,tnetFunction,tnetConstant,tnetContinuation,tnetComment
+syn cluster tnetExpr contains=tnetOperator,tnetDelimiter,tnetRangeOp,tnetNumber,tnetUnit,tnetIndex,tnetTime,tnetString,tnetSignal,tnetDataRef,tnetOption,tnetKeyRef,tnetFunction,tnetConstant,tnetContinuation,tnetComment
 
 " ------------------------------------------------------- element statements
 " KIND NAME NODE_A [NODE_B] key = EXPR ...
@@ -57,11 +65,14 @@ syn cluster tnetExpr contains=tnetOperator,tnetDelimiter,tnetRangeOp,tnetNumber,
 " statement followed by two more names. Defined first: the statement keywords
 " below win over it.
 exe 'syn match tnetKind "' . s:sos . '\<\h\w*\>\ze\s\+\h\w*\%(\[[^]]*\]\)\=\s\+' . s:bare . '" nextgroup=tnetElementName skipwhite'
-syn match   tnetKind         "\%(\%(^\|[;{]\)\s*\)\@<=\<\%(conductance\|resistor\|conduction\|cylinder_conduction\|contact\|convection\|radiation\|heater\|thermostat\|annulus_convection\|cavity_convection\)\>" nextgroup=tnetElementName skipwhite
-exe 'syn match tnetElementName "\<\h\w*\>\%(\[[^]]*\]\)\=\%(\s*\%(=\|(\)\)\@!" contained contains=tnetIndex nextgroup=tnetNodeRef,tnetBlock,tnetHeaderCont skipwhite'
+syn match   tnetKind         "\%(\%(^\|[;{]\)\s*\)\@<=\<\%(conductance\|resistor\|conduction\|cylinder_conduction\|contact\|convection\|radiation\|heater\|thermostat\|sensor\|annulus_convection\|cavity_convection\)\>" nextgroup=tnetElementName skipwhite
+exe 'syn match tnetElementName "\<\h\w*\>\%(\[[^]]*\]\)\=\%(\s*\%(=\|(\)\)\@!" contained contains=tnetIndex nextgroup=tnetNodeRef,tnetMeanTerms,tnetBlock,tnetHeaderCont skipwhite'
 exe 'syn match tnetNodeRef "\<\h\w*\>\%(\[[^]]*\]\)\=\%(\.\h\w*\%(\[[^]]*\]\)\=\)*\%(\s*\%(=\|(\|\.\%(\.\)\@!\)\)\@!" contained contains=tnetIndex nextgroup=tnetNodeRef,tnetBlock,tnetHeaderCont skipwhite'
 " a '\' continuation among the terminals: they go on on the next line
 syn match   tnetHeaderCont   "\\\ze\s*$" contained nextgroup=tnetNodeRef,tnetBlock skipwhite skipnl
+" sensor NAME mean(NODE, ...): a sensor reading the mean of several nodes
+syn region  tnetMeanTerms    matchgroup=tnetMean start="\<mean\s*(" end=")" oneline contained contains=tnetMeanNode,tnetDelimiter
+syn match   tnetMeanNode     "\<\h\w*\>\%(\[[^]]*\]\)\=\%(\.\h\w*\%(\[[^]]*\]\)\=\)*" contained contains=tnetIndex
 " thermostat ... sense = NODE
 syn match   tnetNodeRef      "\%(\<sense\s*=\s*\)\@<=\<\h\w*\>\%(\s*[(.]\)\@!"
 
@@ -92,14 +103,23 @@ syn match   tnetName         "\<\h\w*\%(\[[^]]*\]\)\=" contained contains=tnetIn
 syn match   tnetCaseName     "\<\h\w*\>" contained nextgroup=tnetCaseBlock skipwhite skipnl
 
 " ---------------------------------------------------------------- case blocks
-syn region  tnetCaseBlock    matchgroup=tnetBrace start="{" end="}" contained contains=tnetKey,tnetCaseTarget,tnetCaseKey,tnetSteady,tnetTerminator,tnetLoop,tnetLoopVar,tnetCaseInner,@tnetExpr
+syn region  tnetCaseBlock    matchgroup=tnetBrace start="{" end="}" contained contains=tnetKey,tnetCaseTarget,tnetCaseKey,tnetSteady,tnetCaseRange,tnetDataOption,tnetDataMap,tnetTerminator,tnetLoop,tnetLoopVar,tnetCaseInner,@tnetExpr
 syn region  tnetCaseInner    matchgroup=tnetBrace start="{" end="}" contained contains=tnetKey,tnetCaseTarget,tnetTerminator,tnetLoop,tnetLoopVar,tnetCaseInner,@tnetExpr
 " ELEMENT.key = ... / BOUNDARY.T = ...
 syn match   tnetCaseTarget   "\<\h\w*\%(\[[^]]*\]\)\=\%(\.\h\w*\%(\[[^]]*\]\)\=\)*\ze\.\h\w*\s*=" contained contains=tnetIndex nextgroup=tnetAccessor
 syn match   tnetAccessor     "\." contained nextgroup=tnetKey
 syn match   tnetCaseKey      "\<\%(duration\|initial\|output\)\ze\s*=" contained
 syn match   tnetCaseKey      +\%(\%(^\|[{;]\)\s*\)\@<=\<data\>\ze\s*"+ contained
-syn match   tnetSteady       "\%(\<initial\s*=\s*\)\@<=\<steady\>" contained
+syn match   tnetSteady       "\%(\<initial\s*=\s*\)\@<=\<\%(steady\|data\)\>" contained
+" NODE.T0 = VALUE range LO .. HI: a start temperature calibrated in this case
+syn match   tnetCaseRange    "\<range\>\ze\s[^=(]*\.\." contained
+" data "FILE" [UNIT] [time = "COLUMN" [UNIT]] [separator = "SEP"] [{ NODE = COLUMN ... }]
+syn match   tnetDataOption   +\%(\<data\s*"[^"]*"\%([^{#;"]\|"[^"]*"\)*\)\@<=\<\%(time\|separator\)\>\ze\s*=+ contained
+syn region  tnetDataMap      matchgroup=tnetBrace start=+\%(\<data\s*"[^"]*"\%([^{#;"]\|"[^"]*"\)*\)\@<={+ end=+}+ contained contains=tnetMapTarget,tnetMapColumn,tnetMapMean,tnetString,tnetUnit,tnetNumber,tnetOperator,tnetDelimiter,tnetTerminator,tnetComment,tnetContinuation
+syn match   tnetMapTarget    "\<\h\w*\%(\[[^]]*\]\)\=\%(\.\h\w*\%(\[[^]]*\]\)\=\)*\ze\s*=" contained contains=tnetIndex
+syn match   tnetMapColumn    "\%(=\s*\)\@<=\<\h\w*\>\%(\s*(\)\@!" contained
+syn region  tnetMapMean      matchgroup=tnetMean start="\<mean\s*(" end=")" contained contains=tnetMeanColumn,tnetString,tnetNumber,tnetOperator,tnetDelimiter,tnetUnit
+syn match   tnetMeanColumn   "\%([(,]\s*\)\@<=\<\h\w*\>" contained
 
 " ---------------------------------------------------------------- highlighting
 hi def link tnetComment      Comment
@@ -115,6 +135,16 @@ hi def link tnetTerminal     Identifier
 hi def link tnetTime         Constant
 hi def link tnetIndexBracket Delimiter
 hi def link tnetRange        Keyword
+hi def link tnetCaseRange    tnetRange
+hi def link tnetOption       Keyword
+hi def link tnetDataOption   tnetOption
+hi def link tnetDataRef      Constant
+hi def link tnetKeyRef       Identifier
+hi def link tnetMean         Function
+hi def link tnetMeanNode     tnetNodeRef
+hi def link tnetMapTarget    Identifier
+hi def link tnetMapColumn    String
+hi def link tnetMeanColumn   tnetMapColumn
 hi def link tnetCaseKey      Keyword
 hi def link tnetKind         Type
 hi def link tnetInnerKind    tnetKind
