@@ -23,10 +23,11 @@ class Items {
 public:
   explicit Items(std::string prefix) : prefix_(std::move(prefix)) {}
   void add(const std::string& label, int kind, const std::string& detail,
-           const std::string& doc = {}) {
+           const std::string& doc = {}, const std::string& insert = {}) {
     if (label.compare(0, prefix_.size(), prefix_) != 0 || !seen_.insert(label).second) return;
     nlohmann::json item = {{"label", label}, {"kind", kind}, {"detail", detail}};
     if (!doc.empty()) item["documentation"] = {{"kind", "markdown"}, {"value", doc}};
+    if (!insert.empty()) item["insertText"] = insert;
     list_.push_back(std::move(item));
   }
   nlohmann::json take() { return std::move(list_); }
@@ -99,15 +100,105 @@ void add_value_items(Items& items, const lang::Model& m, const std::string& kind
       add_nodes(items, m);
       return;
     }
-  if (key == "initial") items.add("steady", item_keyword, "start from the steady state");
+  if (key == "initial") {
+    items.add("steady", item_keyword, "start from the steady state");
+    items.add("data", item_keyword,
+              "measured nodes start at their first measured value, the others at the steady state "
+              "around them");
+  }
   items.add("time", item_keyword, "the simulation time [s] (in a boundary's T or a power)");
   add_values(items, m);
 }
 
+/// The options of a table or data statement not written yet (`time` and `separator` are
+/// completed with their ` = `).
+void add_file_options(Items& items, const std::vector<std::string>& given, bool hold) {
+  auto fresh = [&](const char* o) {
+    return std::find(given.begin(), given.end(), o) == given.end();
+  };
+  if (hold && fresh("hold"))
+    items.add("hold", item_keyword, "each row's value holds until the next row (a switch)");
+  if (fresh("time"))
+    items.add("time", item_keyword, "time = \"COLUMN\" [UNIT]: the time column and its unit",
+              "`[s]`, `[min]`, `[h]`, `[day]`, `[unix s]`, `[unix ms]`, `[unix us]`, `[unix ns]` "
+              "or `[iso]`",
+              "time = ");
+  if (fresh("separator"))
+    items.add("separator", item_keyword, "separator = \";\": the field separator (\",\" if none)",
+              {}, "separator = ");
+}
+
+/// The options written in a token list (`hold`, and `time`/`separator` followed by `=`).
+std::vector<std::string> options_given(const std::vector<std::string>& tokens, std::size_t from) {
+  std::vector<std::string> out;
+  for (std::size_t k = from; k < tokens.size(); ++k)
+    if (tokens[k] == "hold" || ((tokens[k] == "time" || tokens[k] == "separator") &&
+                                k + 1 < tokens.size() && tokens[k + 1] == "="))
+      out.push_back(tokens[k]);
+  return out;
+}
+
+/// Completions inside the arguments of a `table(` the cursor stands in, if it stands in one:
+/// `data` for the file, the options after the column; nothing where a string goes (the files a
+/// model names are never read to offer their columns).
+bool table_argument_items(Items& items, const std::vector<std::string>& tokens) {
+  int depth = 0;
+  for (std::size_t i = tokens.size(); i-- > 0;) {
+    if (tokens[i] == ")") {
+      ++depth;
+    } else if (tokens[i] == "(" && depth > 0) {
+      --depth;
+    } else if (tokens[i] == "(") {
+      if (i == 0 || tokens[i - 1] != "table") return false;
+      std::size_t commas = 0;
+      int d = 0;
+      for (std::size_t k = i + 1; k < tokens.size(); ++k) {
+        if (tokens[k] == "(") ++d;
+        if (tokens[k] == ")") --d;
+        if (d == 0 && tokens[k] == ",") ++commas;
+      }
+      if (tokens.back() == "(")
+        items.add("data", item_keyword, "the case's own data file");
+      else if (commas >= 2 && tokens.back() == ",")
+        add_file_options(items, options_given(tokens, i + 1), true);
+      return true;
+    }
+  }
+  return false;
+}
+
+/// Completions in a data statement: its options after the file; in its column map, the nodes,
+/// boundaries and sensors as targets and `mean` after `=`.
+void data_items(Items& items, const lang::Model& m, const StatementContext& ctx) {
+  if (ctx.block == "data") { // inside the column map
+    if (ctx.tokens.empty()) {
+      add_nodes(items, m);
+      for (const auto& e : m.elements())
+        if (const lang::ElementSchema* s = element_catalog().find(element_kind(m, e.name));
+            s && s->observes)
+          items.add(std::string(e.name), item_variable, "sensor");
+    } else if (ctx.tokens.size() == 2 && ctx.tokens.back() == "=") {
+      items.add("mean", item_keyword, "mean(a, b) or mean(a: 2, b: 1): the mean of columns");
+    }
+    return;
+  }
+  if (ctx.tokens.size() >= 2 && !ctx.value_position())
+    add_file_options(items, options_given(ctx.tokens, 1), false);
+}
+
 /// Completions inside a case block.
 void case_items(Items& items, const lang::Model& m, const StatementContext& ctx) {
+  if (ctx.block == "data" || (!ctx.tokens.empty() && ctx.tokens.front() == "data")) {
+    data_items(items, m, ctx);
+    return;
+  }
   if (ctx.value_position()) {
     add_value_items(items, m, "case", ctx.current_key());
+    return;
+  }
+  // NODE.T0 = VALUE: the start temperature may be calibrated in this case
+  if (ctx.tokens.size() >= 3 && ctx.tokens[1] == "=" && ctx.tokens.front().ends_with(".T0")) {
+    items.add("range", item_keyword, "range LO .. HI: a start temperature calibrated in the case");
     return;
   }
   if (!ctx.tokens.empty()) return;
@@ -137,7 +228,8 @@ nlohmann::json completion(const Document& doc, std::size_t at) {
       add_inner_names(items, m, ctx.object); // `u1.` of an instance
     return items.take();
   }
-  if (ctx.block == "case") {
+  if (table_argument_items(items, ctx.tokens)) return items.take();
+  if (ctx.block == "case" || ctx.block == "data") {
     case_items(items, m, ctx);
     return items.take();
   }
@@ -158,19 +250,29 @@ nlohmann::json completion(const Document& doc, std::size_t at) {
   }
 
   const std::string& first = ctx.tokens.front();
+  const lang::ElementSchema* schema = element_catalog().find(first);
+  // sensor NAME mean(NODE, ...): the nodes it averages
+  if (schema && schema->observes && ctx.tokens.size() >= 4 && ctx.tokens[2] == "mean" &&
+      ctx.tokens[3] == "(" &&
+      std::find(ctx.tokens.begin(), ctx.tokens.end(), ")") == ctx.tokens.end()) {
+    if (ctx.tokens.back() == "(" || ctx.tokens.back() == ",") add_nodes(items, m);
+    return items.take();
+  }
   if (ctx.value_position()) {
     add_value_items(items, m, first, ctx.current_key());
     return items.take();
   }
   const std::size_t positional = ctx.positional_count();
   const bool keys_started = positional < ctx.tokens.size();
-  if (const lang::ElementSchema* s = element_catalog().find(first)) {
+  if (const lang::ElementSchema* s = schema) {
     // KIND NAME NODE... key = value ...; inside a block: KIND key = value ...
     const std::size_t terminals_end = ctx.inner ? 1 : 2 + static_cast<std::size_t>(s->terminals);
-    if (!keys_started && !ctx.inner && positional >= 2 && positional < terminals_end)
+    if (!keys_started && !ctx.inner && positional >= 2 && positional < terminals_end) {
       add_nodes(items, m);
-    else if (keys_started || positional >= terminals_end)
+      if (s->observes) items.add("mean", item_keyword, "mean(a, b): the mean of several nodes");
+    } else if (keys_started || positional >= terminals_end) { // after `mean(a, b)` too
       add_keys(items, first, ctx.given_keys());
+    }
   } else if (first == "series" || first == "parallel") {
     if (positional == 2 || positional == 3) add_nodes(items, m);
   } else if (first == "node" || first == "boundary") {

@@ -1,5 +1,6 @@
 #include "cli/lsp/hover.hpp"
 
+#include "cli/lsp/file_hover.hpp"
 #include "cli/lsp/navigation.hpp"
 #include "cli/lsp/position.hpp"
 #include "cli/lsp/schema_text.hpp"
@@ -9,6 +10,8 @@
 #include <fmt/format.h>
 
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace thermnet::cli::lsp {
 namespace {
@@ -52,6 +55,20 @@ std::optional<std::string> keyword_hover(const Word& w, const StatementContext& 
   if (w.text == "time" && !ctx.tokens.empty())
     return std::string("**time** — the simulation time in seconds (in a boundary's T, a source's "
                        "power and their case overrides)");
+  if (w.text == "mean" && ctx.tokens.size() == 2 && element_catalog().find(ctx.tokens.front()))
+    return std::string("**mean**(NODE, ...) — the sensor reads the mean temperature of these "
+                       "nodes");
+  if (ctx.block != "case") return std::nullopt;
+  if (w.text == "data" && ctx.tokens == std::vector<std::string>{"initial", "="})
+    return std::string("**initial = data** — every node measured in the case starts at its first "
+                       "measured value, every other node without a `T0` at the steady state "
+                       "around them at t = 0");
+  if (w.text == "range" && ctx.tokens.size() >= 3 && ctx.tokens[1] == "=" &&
+      ctx.tokens.front().ends_with(".T0"))
+    return fmt::format("**range** — the start temperature of `{}` is calibrated in this case "
+                       "(`{}@CASE` in the reports of calibrate, diagnose and sensitivity)",
+                       ctx.tokens.front().substr(0, ctx.tokens.front().size() - 3),
+                       ctx.tokens.front());
   return std::nullopt;
 }
 
@@ -94,13 +111,21 @@ std::optional<std::string> declaration_hover(const Document& doc, const std::str
 
 nlohmann::json hover(const Document& doc, std::size_t at) {
   const std::string& text = doc.text();
+  // A table or a data statement is described from the model's text, never from the file.
+  std::optional<SpanText> about = table_hover(doc.model(), doc.root(), at);
+  if (!about) about = data_statement_hover(doc.model(), doc.root(), at, text);
+  if (about)
+    return {{"contents", {{"kind", "markdown"}, {"value", about->markdown}}},
+            {"range", range_json(text, about->begin, about->end)}};
   std::optional<CodeWord> cw = code_word_at(text, at);
   if (!cw) return nullptr;
   const Word* w = &cw->word;
   const StatementContext& ctx = cw->where;
   std::optional<std::string> md;
   const lang::ElementSchema* kind = element_catalog().find(w->text);
-  if (followed_by_assignment(text, *w)) md = key_hover(doc, *cw);
+  // A key: `eps1 =`, `film.P =` in a case, or `lamp.P` read in a value.
+  if (followed_by_assignment(text, *w) || (w->begin > 0 && text[w->begin - 1] == '.'))
+    md = key_hover(doc, *cw);
   if (!md && kind && ctx.tokens.empty() && ctx.object.empty()) md = kind_markdown(*kind);
   if (!md) md = keyword_hover(*w, ctx);
   if (!md && loop_variable(text, *w)) md = fmt::format("**{}** — loop variable", w->text);

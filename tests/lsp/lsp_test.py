@@ -322,6 +322,163 @@ check("completion in a value offers time", "time" in labels, labels)
 s.notify("textDocument/didClose", {"textDocument": ldoc})
 s.next(lambda m: m.get("method") == "textDocument/publishDiagnostics")
 
+# ----------------------------------------------------------------------------- real campaigns
+# The forms of recorded campaigns: signals in expressions, table options, sensors, data statements
+# with column maps, initial = data and per-case start temperatures. The files the model reads hold
+# values and columns the model never names: no hover or completion may show them.
+CAMPAIGN = """model incubator
+param C_air = 600 [J/K] range 20 .. 5000 "air, heater and box"
+param G_box = 0.5 [W/K] range 0.02 .. 5
+const V = 12 [V]
+boundary room T = table(data, "t1")
+node air C = C_air
+node wall C = 100
+conductance box air room G = G_box
+conductance skin wall air G = 1
+heater lamp air P = V * 1.4 [A] * table(data, "heater_on", hold)
+heater sun wall P = 0.5 [m^2] * table("sun.csv", "I_sol", time = "Time" [h], separator = ";") [W/m^2]
+heater copy wall P = 0.5 * lamp.P
+sensor probe air tau = 35 [s]
+sensor avg mean(air, wall)
+case run {
+  duration = 4 [s]
+  initial = data
+  wall.T0 = 20 range 15 .. 30
+  data "run.csv" time = "time" [unix s] { probe = mean(t2, t3) }
+}
+"""
+SECRETS = ["SECRET_COLUMN_XYZ", "4242.4242", "20.123456", "1610000000"]
+with open(os.path.join(work, "run.csv"), "w") as f:
+    f.write("time,t1,t2,t3,heater_on,SECRET_COLUMN_XYZ\n1610000000,20.123456,21,21.5,True,4242.4242\n"
+            "1610000002,20,22,22.5,False,1\n1610000004,20,23,23.5,True,2\n")
+with open(os.path.join(work, "sun.csv"), "w") as f:
+    f.write("Time;I_sol;SECRET_COLUMN_XYZ\n0;100;4242.4242\n1;200;1\n")
+curi = "file://" + os.path.join(work, "campaign.tnet")
+cdoc = {"uri": curi}
+s.notify("textDocument/didOpen",
+         {"textDocument": {"uri": curi, "languageId": "tnet", "version": 1, "text": CAMPAIGN}})
+cd = s.diagnostics(1)
+check("the campaign model lints without errors in the server", not [d for d in cd if d["severity"] == 1], cd)
+shown = [json.dumps(cd)]
+
+
+def chover(rid, needle, occurrence=0, offset=1):
+    r = s.request(rid, "textDocument/hover",
+                  {"textDocument": cdoc, "position": pos(CAMPAIGN, needle, occurrence, offset)})
+    res = r.get("result") or {}
+    text = (res.get("contents") or {}).get("value", "")
+    shown.append(text)
+    return text, res
+
+
+text, res = chover(100, "table(data, \"t1\")")
+check("hover on table(data, ...) names the column, the case's data file and each case's file",
+      "column `t1` of the case's data file" in text and "case `run`: `run.csv`" in text
+      and "linear between rows" in text, res)
+check("  ... its range is the whole table", res.get("range") == span(CAMPAIGN, 'table(data, "t1")'), res)
+text, res = chover(101, "hold)")
+check("hover on hold says the value is held", "held (`hold`)" in text and "`heater_on`" in text, res)
+text, res = chover(102, "I_sol")
+check("hover inside a table's column string shows its file, time column, separator and unit",
+      "column `I_sol` of `sun.csv`" in text and "column `Time` [h]" in text
+      and "separator: `;`" in text and "unit: [W/m^2]" in text, res)
+text, res = chover(103, "data \"run.csv\"")
+check("hover on a data statement shows its file, time column and column map",
+      "measured data of case `run`: `run.csv`" in text and "column `time` [unix s]" in text
+      and "`probe` with the mean of `t2`, `t3`" in text, res)
+text, res = chover(104, "probe = mean")
+check("hover on a column map's target is the sensor's declaration",
+      "**probe**" in text and "element of kind `sensor`" in text, res)
+text, res = chover(105, "lamp.P", 0, 5)
+check("hover on the key of lamp.P read in a value is the heater's P",
+      "key of `heater`" in text and "**P**" in text, res)
+text, res = chover(106, "sensor probe")
+check("hover on the sensor kind shows its keys from the schema",
+      "**sensor**" in text and "tau" in text and "offset" in text and "gain" in text, res)
+text, res = chover(107, "mean(air")
+check("hover on a sensor's mean(...) explains it", "mean temperature of these nodes" in text, res)
+text, res = chover(108, "data\n  wall", 0, 1)
+check("hover on initial = data explains where nodes start", "first measured value" in text, res)
+text, res = chover(109, "range 15")
+check("hover on range in a case names the calibrated start temperature",
+      "calibrated in this case" in text and "`wall.T0@CASE`" in text, res)
+check("no hover or diagnostic shows a column, value or time stamp the model does not name",
+      not [x for x in SECRETS if any(x in t for t in shown)], [x for x in SECRETS if any(x in t for t in shown)])
+
+r = s.request(110, "textDocument/documentSymbol", {"textDocument": cdoc})
+names = [(x["name"], x["detail"]) for x in (r.get("result") or [])]
+check("documentSymbol lists the sensors", ("probe", "sensor") in names and ("avg", "sensor") in names
+      and ("run", "case") in names, names)
+
+CEDIT = CAMPAIGN + """heater e1 air P = table(
+heater e2 air P = 2 * table(data, "t1", 
+heater e3 air P = table(data, "t1", hold, 
+heater e4 air P = table("sun.csv", 
+sensor s2 air 
+sensor s3 
+sensor s4 mean(
+case edit {
+  duration = 1
+  initial = 
+  wall.T0 = 20 
+  data "run.csv" 
+  data "run.csv" time = "time" [unix s] {
+    
+    probe = 
+  }
+}
+"""
+s.notify("textDocument/didChange", {"textDocument": {"uri": curi, "version": 2},
+                                    "contentChanges": [{"text": CEDIT}]})
+s.diagnostics(2)
+
+
+def ccomplete(rid, needle, offset):
+    r = s.request(rid, "textDocument/completion",
+                  {"textDocument": cdoc, "position": pos(CEDIT, needle, 0, offset)})
+    res = r.get("result")
+    items = res.get("items", []) if isinstance(res, dict) else (res or [])
+    shown.append(json.dumps(items))
+    return {i["label"]: i for i in items}
+
+
+got = ccomplete(120, "table(\n", 6)
+check("completion after table( offers data", set(got) == {"data"}, list(got))
+got = ccomplete(121, "\"t1\", \n", 6)
+check("completion after a table's column offers hold, time = and separator =",
+      set(got) == {"hold", "time", "separator"} and got["time"].get("insertText") == "time = "
+      and got["separator"].get("insertText") == "separator = ", got)
+got = ccomplete(122, "hold, \n", 6)
+check("  ... without the options already given", set(got) == {"time", "separator"}, list(got))
+got = ccomplete(123, "\"sun.csv\", \n", 11)
+check("completion where a table's column goes offers nothing (files are not read for names)",
+      got == {}, list(got))
+got = ccomplete(124, "sensor s2 air \n", 14)
+check("completion after a sensor's node offers its keys from the schema",
+      {"tau", "offset", "gain"} <= set(got) and "air" not in got, list(got))
+got = ccomplete(125, "sensor s3 \n", 10)
+check("completion at a sensor's terminal offers nodes and mean",
+      {"air", "wall", "room", "mean"} <= set(got), list(got))
+got = ccomplete(126, "mean(\ncase", 5)
+check("completion inside a sensor's mean( offers nodes", {"air", "wall"} <= set(got)
+      and "C_air" not in got, list(got))
+got = ccomplete(127, "initial = \n", 10)
+check("completion of initial = offers steady and data", {"steady", "data"} <= set(got), list(got))
+got = ccomplete(128, "wall.T0 = 20 \n", 13)
+check("completion after a case's NODE.T0 = VALUE offers range", set(got) == {"range"}, list(got))
+got = ccomplete(129, "data \"run.csv\" \n", 15)
+check("completion after a data statement's file offers its options (no hold)",
+      set(got) == {"time", "separator"}, list(got))
+got = ccomplete(130, "{\n    \n", 6)
+check("completion in a column map offers nodes, boundaries and sensors",
+      {"air", "wall", "room", "probe", "avg"} <= set(got) and "lamp" not in got, list(got))
+got = ccomplete(131, "probe = \n", 8)
+check("completion after a column map's = offers mean", set(got) == {"mean"}, list(got))
+check("no completion shows a column, value or time stamp the model does not name",
+      not [x for x in SECRETS if any(x in t for t in shown)], [x for x in SECRETS if any(x in t for t in shown)])
+s.notify("textDocument/didClose", {"textDocument": cdoc})
+s.next(lambda m: m.get("method") == "textDocument/publishDiagnostics")
+
 # ----------------------------------------------------------------------------- scale
 # 50,000 nodes, each isolated (one warning each): the diagnostics and the symbols must come back
 # (they used to take minutes: positions were computed from the start of the text each time). The
