@@ -54,7 +54,7 @@ SimulateRequest simulate_request(const std::string& case_name,
                                  const std::map<std::string, double>& params,
                                  const std::vector<std::string>& nodes,
                                  std::optional<double> duration, std::optional<double> output,
-                                 double rtol, double atol, bool steady) {
+                                 double rtol, double atol, bool steady, bool sensors) {
   SimulateRequest q;
   q.case_name = case_name;
   for (const auto& [k, v] : params)
@@ -65,6 +65,7 @@ SimulateRequest simulate_request(const std::string& case_name,
   q.rtol = rtol;
   q.atol = atol;
   q.steady = steady;
+  q.sensors = sensors;
   return q;
 }
 
@@ -100,7 +101,9 @@ PYBIND11_MODULE(_thermnet, m) {
       "Loads element/optimizer/estimator/hypothesis kinds from a plugin library (like --plugin).");
 
   py::class_<PyResult>(m, "Result", "Temperatures of a simulation: times [s], temperatures [degC]")
-      .def_readonly("nodes", &PyResult::nodes, "node names, one per column of temperatures")
+      .def_readonly("nodes", &PyResult::nodes,
+                    "node names (then sensor names with sensors=True), one per column of "
+                    "temperatures")
       .def_readonly("times", &PyResult::times, "output times, s (1-D numpy array)")
       .def_readonly("temperatures", &PyResult::temperatures,
                     "temperatures, degC: a (len(times), len(nodes)) numpy array")
@@ -157,10 +160,10 @@ PYBIND11_MODULE(_thermnet, m) {
           "simulate",
           [](const ModelSession& s, const std::string& case_name,
              const std::map<std::string, double>& params, const std::vector<std::string>& nodes,
-             std::optional<double> duration, std::optional<double> output, double rtol,
-             double atol) {
-            SimulateRequest q =
-                simulate_request(case_name, params, nodes, duration, output, rtol, atol, false);
+             std::optional<double> duration, std::optional<double> output, double rtol, double atol,
+             bool sensors) {
+            SimulateRequest q = simulate_request(case_name, params, nodes, duration, output, rtol,
+                                                 atol, false, sensors);
             thermnet::SimulationResult r;
             {
               py::gil_scoped_release release;
@@ -171,13 +174,15 @@ PYBIND11_MODULE(_thermnet, m) {
           py::arg("case") = "", py::arg("params") = std::map<std::string, double>{},
           py::arg("nodes") = std::vector<std::string>{}, py::arg("duration") = py::none(),
           py::arg("output") = py::none(), py::arg("rtol") = 1e-6, py::arg("atol") = 1e-6,
-          "Simulates a case (params in SI, duration/output in s); returns a Result.")
+          py::arg("sensors") = false,
+          "Simulates a case (params in SI, duration/output in s); returns a Result. With "
+          "sensors=True each sensor's reading follows the nodes as a column named after it.")
       .def(
           "steady",
           [](const ModelSession& s, const std::string& case_name,
              const std::map<std::string, double>& params, const std::vector<std::string>& nodes) {
             SimulateRequest q = simulate_request(case_name, params, nodes, std::nullopt,
-                                                 std::nullopt, 1e-6, 1e-6, true);
+                                                 std::nullopt, 1e-6, 1e-6, true, false);
             thermnet::SimulationResult r;
             {
               py::gil_scoped_release release;

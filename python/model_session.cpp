@@ -33,7 +33,7 @@ LoadError error_at(const lang::Diagnostic& d, const lang::SourceManager& sources
 std::size_t column_of(const SimulationResult& r, const std::string& name) {
   auto it = std::find(r.names.begin(), r.names.end(), name);
   if (it != r.names.end()) return static_cast<std::size_t>(it - r.names.begin());
-  std::string msg = fmt::format("the model has no node or boundary '{}'", name);
+  std::string msg = fmt::format("the model has no node, boundary or sensor '{}'", name);
   if (auto s = lang::closest_match(name, r.names)) msg += fmt::format("; did you mean '{}'?", *s);
   throw std::invalid_argument(msg);
 }
@@ -131,11 +131,17 @@ SimulationResult ModelSession::simulate(const SimulateRequest& q) const {
   opt.duration = q.duration;
   opt.output = q.output;
   opt.steady = q.steady;
+  opt.sensors = q.sensors;
   opt.solver.rtol = q.rtol;
   opt.solver.atol = q.atol;
   try {
     Network net(model_->instantiate(q.case_name, q.params));
-    return select_nodes(thermnet::simulate(net, opt), q.nodes);
+    SimulationResult r = thermnet::simulate(net, opt);
+    // The rows carry the sensors' readings after the nodes; name their columns as the CLI does.
+    if (q.sensors && r.names.size() == net.spec().nodes.size())
+      for (int e : net.sensor_elements())
+        r.names.push_back(net.spec().elements[static_cast<std::size_t>(e)].name);
+    return select_nodes(std::move(r), q.nodes);
   } catch (const lang::ModelError& e) {
     throw load_error_of(e, *sources_);
   }

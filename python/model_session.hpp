@@ -39,6 +39,7 @@ struct SimulateRequest {
   std::optional<double> duration; ///< duration override, s
   std::optional<double> output;   ///< output interval override, s
   bool steady = false;            ///< steady state at t = 0
+  bool sensors = false;           ///< add each sensor's reading after the nodes (`--sensors`)
   double rtol = 1e-6;             ///< relative tolerance
   double atol = 1e-6;             ///< absolute tolerance, K
 };
@@ -69,8 +70,10 @@ public:
   /// Case names, declaration order (empty when the model has none).
   std::vector<std::string> case_names() const;
 
-  /// Simulates a case; the result keeps only the requested nodes (all when none). Throws
-  /// LoadError for model errors, std::invalid_argument for unknown params or nodes, SolverError.
+  /// Simulates a case; the result keeps only the requested nodes (all when none; with `sensors`,
+  /// the sensors' readings follow the nodes as columns named after the sensors and may be
+  /// requested like nodes). Throws LoadError for model errors, std::invalid_argument for unknown
+  /// params or nodes, SolverError.
   SimulationResult simulate(const SimulateRequest& request) const;
   /// `thermnet calibrate --json` report of a calibration run.
   nlohmann::ordered_json calibrate(const CalibrateRequest& request) const;

@@ -6,6 +6,7 @@ import csv
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -19,6 +20,8 @@ import thermnet
 EXE = os.environ["THERMNET_EXE"]
 SRC = os.environ["THERMNET_SOURCE_DIR"]
 CAMERA = os.path.join(SRC, "models", "aerial_camera", "camera.tnet")
+INCUBATOR = os.path.join(SRC, "models", "incubator", "incubator.tnet")
+HOUSE = os.path.join(SRC, "models", "armadillo", "house_2r2c.tnet")
 
 TWO_PLATES = """model two_plates
 param h_gap = 4 [W/(m^2*K)] range 1 .. 10 "gas gap convection"
@@ -168,10 +171,150 @@ class SimulateTest(unittest.TestCase):
         self.assertIn("case99", str(ctx.exception))
         with self.assertRaisesRegex(ValueError, "no param 'k77'; did you mean 'k7'"):
             self.model.simulate(case="case01", params={"k77": 1.0})
-        with self.assertRaisesRegex(ValueError, "no node or boundary 'lens9'"):
+        with self.assertRaisesRegex(ValueError, "no node, boundary or sensor 'lens9'"):
             self.model.simulate(case="case01", nodes=["lens9"])
         with self.assertRaises(TypeError):
             self.model.simulate(case="case01", params={"k7": "high"})
+
+
+def read_columns(path, names):
+    """Columns of a CSV file as floats (on/off words as 1/0), by name."""
+    words = {"true": 1.0, "false": 0.0}
+
+    def value(cell):
+        word = cell.strip().lower()
+        return words[word] if word in words else float(cell)
+
+    with open(path, newline="", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    return {n: np.array([value(r[n]) for r in rows]) for n in names}
+
+
+def lagged(times, values, tau):
+    """An independent first-order lag dR/dt = (T - R)/tau of a series taken as linear between its
+    samples (exact for such a series), starting in equilibrium."""
+    out = [values[0]]
+    for k in range(1, len(times)):
+        h = times[k] - times[k - 1]
+        slope = (values[k] - values[k - 1]) / h
+        decay = np.exp(-h / tau)
+        out.append(values[k] - tau * slope + (out[-1] - values[k - 1] + tau * slope) * decay)
+    return np.array(out)
+
+
+def incubator_by_hand(rows, on, room, t_air0, times, C=600.0, G=0.5, P=12 * 1.4):
+    """The published 2-parameter incubator, C dT/dt = G (room - T) + P on(t), solved exactly
+    between breakpoints: `on` held from each row to the next, `room` linear between rows and
+    constant after the last (as thermnet's held and linear tables are)."""
+    a = G / C
+    marks = np.union1d(rows, times)
+    marks = marks[(marks >= 0) & (marks <= times[-1])]
+    temp, out = t_air0, {0.0: t_air0}
+    for u, v in zip(marks[:-1], marks[1:]):
+        k = max(0, np.searchsorted(rows, u, side="right") - 1)
+        r0 = np.interp(u, rows, room)
+        slope = (room[k + 1] - room[k]) / (rows[k + 1] - rows[k]) if u < rows[-1] else 0.0
+        # T(t) = Tp(t) + (T(u) - Tp(u)) exp(-a (t - u)) with Tp = r0 + s (t - u) - s/a + P on/(a C)
+        tp = lambda t: r0 + slope * (t - u) - slope / a + P * on[k] / (a * C)
+        temp = tp(v) + (temp - tp(u)) * np.exp(-a * (v - u))
+        out[float(v)] = temp
+    return np.array([out[float(t)] for t in times])
+
+
+class CampaignTest(unittest.TestCase):
+    """The published models of recorded campaigns (issue 28): the incubator and the Armadillo Box
+    read their CSV files as published (UNIX time stamps, True/False heater, a column map with the
+    mean of two sensors, `Time` and `xi`), simulate, read sensors and calibrate like the CLI."""
+
+    def test_incubator_loads_and_simulates_from_the_published_files(self):
+        m = thermnet.Model.load(INCUBATOR)
+        self.assertEqual(m.cases, ["random_on_off", "ramp", "lid_opening"])
+        self.assertEqual(m.nodes, ["room", "air"])
+        self.assertEqual(set(m.params), {"C_air", "G_box"})
+        r = m.simulate(case="random_on_off")
+        self.assertEqual(r.times[0], 0.0)
+        self.assertEqual(r.times[-1], 4585.0)
+        data = read_columns(os.path.join(SRC, "models", "incubator", "random_on_off_sequences_1.csv"),
+                            ["time", "t1", "t2", "t3", "heater_on"])
+        air, room = r.nodes.index("air"), r.nodes.index("room")
+        # initial = data: the air starts at the mean of its two sensors' first readings, and the
+        # room follows the file's t1 (a boundary read from the case's own file).
+        self.assertAlmostEqual(r.temperatures[0, air], (data["t2"][0] + data["t3"][0]) / 2, places=9)
+        elapsed = data["time"] - data["time"][0]
+        np.testing.assert_allclose(r.temperatures[:, room], np.interp(r.times, elapsed, data["t1"]),
+                                   atol=1e-9)
+        # The whole run against the model's equation solved exactly by hand: the lamp held on
+        # and off as the file's True/False column says, the room linear between rows. (The
+        # difference shrinks with the tolerances: 4.5e-3 K at 1e-6, 6e-4 K at 1e-8, 1e-5 K at
+        # 1e-10.)
+        fine = m.simulate(case="random_on_off", rtol=1e-8, atol=1e-8)
+        by_hand = incubator_by_hand(elapsed, data["heater_on"], data["t1"],
+                                    fine.temperatures[0, air], fine.times)
+        np.testing.assert_allclose(fine.temperatures[:, air], by_hand, atol=2e-3)
+        self.assertGreater(np.ptp(by_hand), 0.5)  # the lamp's switching moves the air
+        out = cli("simulate", INCUBATOR, "--case", "random_on_off")
+        rows = list(csv.reader(out.splitlines()))
+        self.assertEqual(rows[0][1:], r.nodes)
+        self.assertEqual(len(rows) - 1, len(r.times))
+        self.assertEqual(rows[-1][1:], same_digits(rows[-1][1:], r.temperatures[-1]))
+
+    def test_sensor_readings_as_the_cli_prints_them(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            for name in ("random_on_off_sequences_1.csv", "ramp_up_cool_down.csv",
+                         "lid_opening_experiment_jan_2021.csv"):
+                shutil.copy(os.path.join(SRC, "models", "incubator", name), tmp)
+            with open(INCUBATOR, encoding="utf-8") as f:
+                text = f.read().replace("node air C = C_air",
+                                        "node air C = C_air\nsensor probe air tau = 35 [s] offset = 0.4")
+            path = os.path.join(tmp, "probe.tnet")
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(text)
+            m = thermnet.Model.load(path)
+            r = m.simulate(case="ramp", output=1, sensors=True)
+            self.assertEqual(r.nodes, ["room", "air", "probe"])
+            rows = list(csv.reader(cli("simulate", path, "--case", "ramp", "--output", "1",
+                                       "--sensors").splitlines()))
+            self.assertEqual(rows[0][1:], r.nodes)
+            for k in (0, 1000, len(rows) - 2):
+                self.assertEqual(rows[k + 1][1:], same_digits(rows[k + 1][1:], r.temperatures[k]))
+            # The reading is offset + the air lagged by 35 s (an independent integration of the
+            # simulated air temperature, exact for an air temperature linear between seconds).
+            air, probe = r.temperatures[:, 1], r.temperatures[:, 2]
+            np.testing.assert_allclose(probe, 0.4 + lagged(r.times, air, 35.0), atol=0.01)
+            self.assertGreater(np.abs(probe - 0.4 - air).max(), 0.2)  # the lag is visible
+            only = m.simulate(case="ramp", output=1, sensors=True, nodes=["probe"])
+            np.testing.assert_array_equal(only.temperatures[:, 0], probe)
+            without = m.simulate(case="ramp", output=1)
+            self.assertEqual(without.nodes, ["room", "air"])
+            with self.assertRaisesRegex(ValueError, "no node, boundary or sensor 'probe'"):
+                m.simulate(case="ramp", nodes=["probe"])
+
+    def test_house_simulates_with_a_start_temperature_fitted_per_case(self):
+        m = thermnet.Model.load(HOUSE)
+        self.assertEqual(m.cases, ["sequence"])
+        te0 = m.params["Te.T0@sequence"]
+        self.assertAlmostEqual(te0["value"], 293.15)  # 20 degC, SI
+        self.assertEqual((te0["lo"], te0["hi"]), (278.15, 313.15))
+        r = m.simulate()
+        self.assertAlmostEqual(r.times[-1], 89.5 * 3600)
+        data = read_columns(os.path.join(SRC, "models", "armadillo", "statespace.csv"), ["Time", "xi"])
+        ti, te = r.nodes.index("Ti"), r.nodes.index("Te")
+        self.assertAlmostEqual(r.temperatures[0, ti], data["xi"][0], places=9)  # initial = data
+        self.assertAlmostEqual(r.temperatures[0, te], 20.0, places=9)
+        warmer = m.simulate(params={"Te.T0@sequence": 303.15})
+        self.assertAlmostEqual(warmer.temperatures[0, te], 30.0, places=9)
+
+    def test_house_calibrates_like_the_cli(self):
+        m = thermnet.Model.load(HOUSE)
+        py = m.calibrate(method="lm")
+        self.assertLessEqual(py["rmse"], 0.13)
+        self.assertEqual(without_wall(py), without_wall(cli_json("calibrate", HOUSE, "--method", "lm")))
+        self.assertIn("Te.T0@sequence", py["params"])
+        # The fitted params, passed back as they are, reproduce the fit's residual.
+        fitted = m.simulate(params=py["params"])
+        data = read_columns(os.path.join(SRC, "models", "armadillo", "statespace.csv"), ["Time", "xi"])
+        ti = np.interp(data["Time"], fitted.times, fitted.temperatures[:, fitted.nodes.index("Ti")])
+        self.assertAlmostEqual(float(np.sqrt(np.mean((ti - data["xi"]) ** 2))), py["rmse"], delta=0.01)
 
 
 class GilTest(unittest.TestCase):
