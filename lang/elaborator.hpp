@@ -18,6 +18,10 @@
 
 namespace thermnet::lang {
 
+/// Longest chain of keys read through one another (`a.P` reads `b.P`, which reads `c.P` ...) that
+/// is resolved; each link is a level of recursion.
+inline constexpr std::size_t max_reference_depth = 100;
+
 /// Receives each problem found; may throw to stop at the first error.
 using Reporter = std::function<void(Diagnostic)>;
 
@@ -189,8 +193,12 @@ private:
   const Place* constant_place_ = nullptr; // the place number() is evaluating for
   Span statement_at_;                     // the statement of the expression being elaborated
   std::vector<KeyReference> references_;  // values reading other keys, resolved last
-  NetworkSpec* net_ = nullptr;            // the network, while references are resolved
-  bool time_allowed_ = false;             // `time` may be used by the evaluation under way
+  // "OBJECT.KEY" -> its entries in references_ (a lookup per key set or read instead of a scan of
+  // every reference, which made models with many references quadratic)
+  std::unordered_map<std::string, std::vector<std::size_t>> reference_of_;
+  std::size_t resolve_depth_ = 0; // references being resolved, each through the next
+  NetworkSpec* net_ = nullptr;    // the network, while references are resolved
+  bool time_allowed_ = false;     // `time` may be used by the evaluation under way
   std::unordered_map<std::string_view, const ValueDecl*> value_decls_;
   std::unordered_map<std::string_view, Quantity> values_;
   std::unordered_map<std::string_view, std::pair<double, double>> ranges_;

@@ -268,11 +268,15 @@ void Elaborator::defer(const ast::Value& v, FileId f, const Place& p, Span at,
   kind = kind.substr(0, kind.find(' '));
   references_.push_back(
       KeyReference{std::string(owner), kind, p.key, &v, f, context_, at, false, false});
+  reference_of_[fmt::format("{}.{}", owner, p.key->name)].push_back(references_.size() - 1);
 }
 
 void Elaborator::supersede(std::string_view owner, std::string_view key) {
-  for (auto& r : references_)
-    if (r.owner == owner && r.key->name == key) r.done = true;
+  if (references_.empty()) return;
+  if (const auto it = reference_of_.find(fmt::format("{}.{}", owner, key));
+      it != reference_of_.end())
+    for (const std::size_t i : it->second)
+      references_[i].done = true;
 }
 
 // Every value that reads another key, once the case and the values set from outside the model
@@ -287,6 +291,7 @@ void Elaborator::resolve_references(NetworkSpec& net) {
 
 void Elaborator::resolve(KeyReference& r) {
   if (r.done) return;
+  Restore<std::size_t> depth(resolve_depth_, resolve_depth_ + 1);
   r.resolving = true;
   Restore<const Scope*> context(context_, r.scope);
   const std::string what = fmt::format("{} of {} '{}'", r.key->name, r.kind, r.owner);
@@ -317,12 +322,19 @@ Quantity Elaborator::referenced_key(const ast::Ref& ref, FileId f, const Scope* 
   const auto fail = [&](std::string message) {
     throw EvalError(DiagnosticEngine::make(DiagId::bad_signal, mark, mark, std::move(message)));
   };
-  for (auto& r : references_)
-    if (r.owner == object && r.key->name == key) {
+  if (const auto it = reference_of_.find(fmt::format("{}.{}", object, key));
+      it != reference_of_.end())
+    for (const std::size_t i : it->second) {
+      KeyReference& r = references_[i];
       if (r.resolving)
         throw EvalError(DiagnosticEngine::make(
             DiagId::cycle, mark, mark, fmt::format("{}.{}", object, key),
             fmt::format("{}.{} reads itself through the keys it reads", object, key)));
+      // Each key read through the next is a level of recursion: bound it (a hostile model's
+      // chain of 20,000 keys overflowed the stack).
+      if (!r.done && resolve_depth_ >= max_reference_depth)
+        fail(fmt::format("'{}' is read through a chain of more than {} keys that read one another",
+                         full, max_reference_depth));
       resolve(r);
     }
   if (const int n = m_.node_index(object); n >= 0) {
