@@ -48,32 +48,39 @@ struct CalibrateOptions {
 };
 
 std::atomic<bool> g_interrupted{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "the SIGINT flag must be lock-free");
+static_assert(std::atomic<bool>::is_always_lock_free, "the interrupt flag must be lock-free");
 
-extern "C" void on_sigint(int) {
+extern "C" void on_interrupt(int) {
   g_interrupted.store(true);
 }
 
-/// Installs the one-shot SIGINT handler for its lifetime and restores the previous one after.
-class SigintGuard {
+/// Installs a one-shot handler of SIGINT (Ctrl-C) for its lifetime and restores the previous one
+/// after. Under mpirun also of SIGTERM: mpirun passes a Ctrl-C on to the ranks as SIGTERM (and
+/// kills them a second later), so that is a rank's Ctrl-C. A single process keeps SIGTERM's
+/// meaning: terminate at once, writing nothing.
+class InterruptGuard {
 public:
-  SigintGuard() {
+  InterruptGuard() {
     g_interrupted = false;
     struct sigaction sa {};
-    sa.sa_handler = on_sigint;
+    sa.sa_handler = on_interrupt;
     sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESETHAND; // a second Ctrl-C terminates as usual
-    installed_ = sigaction(SIGINT, &sa, &old_) == 0;
+    sa.sa_flags = SA_RESETHAND; // a second signal terminates as usual
+    const std::size_t count = process_group().size() > 1 ? std::size(kSignals) : 1;
+    for (std::size_t k = 0; k < count; ++k)
+      installed_[k] = sigaction(kSignals[k], &sa, &old_[k]) == 0;
   }
-  ~SigintGuard() {
-    if (installed_) sigaction(SIGINT, &old_, nullptr);
+  ~InterruptGuard() {
+    for (std::size_t k = 0; k < std::size(kSignals); ++k)
+      if (installed_[k]) sigaction(kSignals[k], &old_[k], nullptr);
   }
-  SigintGuard(const SigintGuard&) = delete;
-  SigintGuard& operator=(const SigintGuard&) = delete;
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
 
 private:
-  struct sigaction old_ {};
-  bool installed_ = false;
+  static constexpr int kSignals[] = {SIGINT, SIGTERM};
+  struct sigaction old_[std::size(kSignals)]{};
+  bool installed_[std::size(kSignals)] = {};
 };
 
 std::string default_method() {
@@ -210,7 +217,7 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
   {
     ProgressBar bar(progress_wanted());
     settings.on_progress = [&bar](const Progress& p) { bar.update(p); };
-    SigintGuard guard;
+    InterruptGuard guard;
     settings.cancel = &g_interrupted;
     r = plugin->create()->run(problem, settings);
     bar.finish();
@@ -225,8 +232,12 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
     std::cerr << fmt::format("{}: note: {}\n", me, note);
   write_outputs(o, *model, problem, r);
   if (r.cancelled) {
+    // Under mpirun only rank 0 writes; the others say so (their words are shown only if they
+    // differ from rank 0's).
     std::cerr << fmt::format("{}: interrupted; {}\n", me,
-                             r.found ? "best result so far written" : "no result to write");
+                             !r.found                      ? "no result to write"
+                             : process_group().rank() == 0 ? "best result so far written"
+                                                           : "rank 0 writes the best result");
     return exit_failure;
   }
   if (!r.found) {
