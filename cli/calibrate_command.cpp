@@ -1,30 +1,32 @@
 // `thermnet calibrate MODEL [--method NAME] [--samples N] [--tolerance T] [--seed S] [--threads N]
 //  [-o CALIBRATED.tnet] [--json REPORT.json] [--plot OUT.svg] [--case NAME ...]`
 //
-// Ctrl-C sets a flag the optimizer polls: it stops drawing samples, returns the best so far, and
-// the command still writes its outputs, then exits 1 with "interrupted; best result so far
-// written". A second Ctrl-C kills the process (the handler is one-shot).
+// Ctrl-C (under mpirun also SIGTERM, which mpirun sends the ranks for a Ctrl-C) sets a flag the
+// optimizer polls: it stops drawing samples, returns the best so far, and the command still writes
+// its outputs, then exits 1 with "interrupted; best result so far written". A second signal kills
+// the process (the handlers are one-shot).
 
 #include "cli/calibrate_command.hpp"
 
 #include "cli/calibration_report.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/option_rules.hpp"
 #include "cli/output_files.hpp"
 #include "cli/param_overrides.hpp"
 #include "cli/progress_bar.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/calibration/optimizer.hpp"
+#include "kernel/core/process_group.hpp"
 #include "lang/rewrite/model_files.hpp"
 
 #include <fmt/format.h>
 
 #include <atomic>
-#include <charconv>
-#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <iostream>
+#include <iterator>
 #include <memory>
 #include <thread>
 
@@ -46,32 +48,39 @@ struct CalibrateOptions {
 };
 
 std::atomic<bool> g_interrupted{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "the SIGINT flag must be lock-free");
+static_assert(std::atomic<bool>::is_always_lock_free, "the interrupt flag must be lock-free");
 
-extern "C" void on_sigint(int) {
+extern "C" void on_interrupt(int) {
   g_interrupted.store(true);
 }
 
-/// Installs the one-shot SIGINT handler for its lifetime and restores the previous one after.
-class SigintGuard {
+/// Installs a one-shot handler of SIGINT (Ctrl-C) for its lifetime and restores the previous one
+/// after. Under mpirun also of SIGTERM: mpirun passes a Ctrl-C on to the ranks as SIGTERM (and
+/// kills them a second later), so that is a rank's Ctrl-C. A single process keeps SIGTERM's
+/// meaning: terminate at once, writing nothing.
+class InterruptGuard {
 public:
-  SigintGuard() {
+  InterruptGuard() {
     g_interrupted = false;
     struct sigaction sa {};
-    sa.sa_handler = on_sigint;
+    sa.sa_handler = on_interrupt;
     sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESETHAND; // a second Ctrl-C terminates as usual
-    installed_ = sigaction(SIGINT, &sa, &old_) == 0;
+    sa.sa_flags = SA_RESETHAND; // a second signal terminates as usual
+    const std::size_t count = process_group().size() > 1 ? std::size(kSignals) : 1;
+    for (std::size_t k = 0; k < count; ++k)
+      installed_[k] = sigaction(kSignals[k], &sa, &old_[k]) == 0;
   }
-  ~SigintGuard() {
-    if (installed_) sigaction(SIGINT, &old_, nullptr);
+  ~InterruptGuard() {
+    for (std::size_t k = 0; k < std::size(kSignals); ++k)
+      if (installed_[k]) sigaction(kSignals[k], &old_[k], nullptr);
   }
-  SigintGuard(const SigintGuard&) = delete;
-  SigintGuard& operator=(const SigintGuard&) = delete;
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
 
 private:
-  struct sigaction old_ {};
-  bool installed_ = false;
+  static constexpr int kSignals[] = {SIGINT, SIGTERM};
+  struct sigaction old_[std::size(kSignals)]{};
+  bool installed_[std::size(kSignals)] = {};
 };
 
 std::string default_method() {
@@ -96,23 +105,6 @@ CLI::Validator method_validator() {
         return msg + fmt::format(" (methods: {})", fmt::join(reg.names(), ", "));
       },
       "METHOD");
-}
-
-/// A validator for numbers: whole (integers) or real, positive or at least zero.
-CLI::Validator number_validator(bool whole, bool allow_zero) {
-  const std::string what = fmt::format("{} {}number", allow_zero ? "a non-negative" : "a positive",
-                                       whole ? "whole " : "");
-  return CLI::Validator(
-      [=](std::string& text) -> std::string {
-        double v = 0;
-        const char* b = text.data();
-        const char* e = text.data() + text.size();
-        auto [p, ec] = std::from_chars(b, e, v);
-        const bool ok = ec == std::errc() && p == e && std::isfinite(v) &&
-                        (allow_zero ? v >= 0 : v > 0) && (!whole || v == std::floor(v));
-        return ok ? std::string() : fmt::format("'{}' is not {}", text, what);
-      },
-      whole ? "INT" : "NUMBER");
 }
 
 /// Writes the requested outputs as one unit: nothing is written unless everything could be.
@@ -194,6 +186,7 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
     std::cerr << fmt::format("{}: error: unknown method '{}'\n", me, method);
     return exit_usage;
   }
+  refuse_repeated_cases(o.cases);
   CalibrationProblem problem(*model, o.cases);
   if (problem.dimension() == 0) {
     std::cerr << fmt::format("{}: error: no param in {} has a range; nothing to calibrate "
@@ -224,7 +217,7 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
   {
     ProgressBar bar(progress_wanted());
     settings.on_progress = [&bar](const Progress& p) { bar.update(p); };
-    SigintGuard guard;
+    InterruptGuard guard;
     settings.cancel = &g_interrupted;
     r = plugin->create()->run(problem, settings);
     bar.finish();
@@ -239,8 +232,12 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
     std::cerr << fmt::format("{}: note: {}\n", me, note);
   write_outputs(o, *model, problem, r);
   if (r.cancelled) {
+    // Under mpirun only rank 0 writes; the others say so (their words are shown only if they
+    // differ from rank 0's).
     std::cerr << fmt::format("{}: interrupted; {}\n", me,
-                             r.found ? "best result so far written" : "no result to write");
+                             !r.found                      ? "no result to write"
+                             : process_group().rank() == 0 ? "best result so far written"
+                                                           : "rank 0 writes the best result");
     return exit_failure;
   }
   if (!r.found) {
@@ -259,14 +256,14 @@ void add_calibrate_command(CLI::App& app, int& status) {
   cmd->add_option("MODEL", o->model, "model file (.tnet)")->required();
   cmd->add_option("--method", o->method, methods_help())->check(method_validator());
   cmd->add_option("--samples", o->samples, "number of samples (default: 3000 for mc and lhs)")
-      ->check(number_validator(true, false));
+      ->check(rule_validator(positive_whole_rule, "INT"));
   cmd->add_option("--tolerance", o->tolerance,
                   "acceptance limit |T_sim - T_meas| in degC (K), default 5")
-      ->check(number_validator(false, false));
+      ->check(rule_validator(positive_number_rule, "NUMBER"));
   cmd->add_option("--seed", o->seed, "random seed (same seed, same result), default 1")
-      ->check(number_validator(true, true));
+      ->check(rule_validator(non_negative_whole_rule, "INT"));
   cmd->add_option("--threads", o->threads, "worker threads (default 0: all cores)")
-      ->check(number_validator(true, true));
+      ->check(rule_validator(non_negative_whole_rule, "INT"));
   cmd->add_option("-o,--out", o->out,
                   "write the model with the calibrated values in place (comments and layout "
                   "kept, units as written); params declared in included files go to rewritten "

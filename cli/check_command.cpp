@@ -36,6 +36,7 @@ int run_check(const CheckOptions& o, lang::SourceManager& sources) {
                              o.model);
     return exit_failure;
   }
+  refuse_repeated_cases(o.cases);
   std::vector<std::string> cases = o.cases;
   if (cases.empty()) cases = model->run_case_names();
   std::vector<CheckedRun> runs;

@@ -9,6 +9,7 @@
 #include "cli/design_search.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/option_rules.hpp"
 #include "cli/output_files.hpp"
 #include "cli/param_overrides.hpp"
 #include "cli/requirement_report.hpp"
@@ -172,6 +173,7 @@ int run_design(const DesignOptions& o, lang::SourceManager& sources) {
                              me, o.model);
     return exit_failure;
   }
+  refuse_repeated_cases(o.cases);
   std::vector<std::string> cases;
   for (const auto& c : o.cases.empty() ? model->run_case_names() : o.cases)
     cases.push_back(model->resolve_case(c));
@@ -290,7 +292,7 @@ void add_design_command(CLI::App& app, int& status) {
                   "budget of the compass search, in evaluations (default 300)");
   cmd->add_option("--seed", o->seed, "random seed of the samples (same seed, same design)");
   cmd->add_option("--threads", o->threads, "workers of the sample stage (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(rule_validator(non_negative_whole_rule, "INT"));
   cmd->add_option("-o,--out", o->out,
                   "write the model with the designed values in place (as calibrate -o); only "
                   "when every requirement is met");

@@ -5,6 +5,7 @@
 
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/option_rules.hpp"
 #include "cli/output_files.hpp"
 #include "cli/param_overrides.hpp"
 #include "cli/run_command.hpp"
@@ -49,6 +50,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   if (!o.events.empty()) {
     opt.events = read_events(o.events, model->run_case_names());
   }
+  refuse_repeated_cases(o.cases);
   opt.cases = o.cases;
   opt.threads = o.threads;
   opt.top = o.top;
@@ -172,8 +174,9 @@ void add_diagnose_command(CLI::App& app, int& status) {
   sub->add_option("--write", o->write, "write the model with the best finding applied");
   sub->add_option("--plot", o->plot, "write an SVG of before/after curves of the worst nodes");
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
-  sub->add_option("--top", o->top, "most findings reported")->check(CLI::PositiveNumber);
+      ->check(rule_validator(non_negative_whole_rule, "INT"));
+  sub->add_option("--top", o->top, "most findings reported")
+      ->check(rule_validator(positive_whole_rule, "INT"));
   add_set_option(sub, o->sets, "; the model diagnosed has them (--write does not write them)");
   sub->add_option("--events", o->events,
                   "CSV of known events (case,event,start,end in s; empty case: every case): "

@@ -1,5 +1,6 @@
 #include "cli/estimate_command.hpp"
 
+#include "cli/csv_writer.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/output_files.hpp"
@@ -10,6 +11,7 @@
 #include "kernel/core/network.hpp"
 #include "kernel/estimation/estimator.hpp"
 #include "lang/csv.hpp"
+#include "lang/diagnostics.hpp"
 #include "lang/path_policy.hpp"
 #include "plot/svg_plot.hpp"
 
@@ -47,10 +49,9 @@ std::string cell(double v) {
 }
 
 std::string csv_header(const std::vector<std::string>& columns) {
-  std::string s = "time";
-  for (const auto& c : columns)
-    s += "," + c;
-  return s + "\n";
+  std::vector<std::string> fields{"time"};
+  fields.insert(fields.end(), columns.begin(), columns.end());
+  return csv_line(fields);
 }
 
 std::string csv_row(const EstimateRow& r) {
@@ -283,6 +284,20 @@ int run_method(EstimateOptions& o, lang::SourceManager& sources) {
     }
     std::cerr << fmt::format("{}: error: unknown method '{}' (available: {})\n", who, o.method,
                              names);
+    return exit_usage;
+  }
+  // Every option given must be one of the method's: a misspelt one would be ignored.
+  for (const auto& [key, value] : o.settings.values()) {
+    if (is_method_option(*plugin, key)) continue;
+    std::vector<std::string> known;
+    for (const auto& opt : plugin->options)
+      known.push_back(opt.name);
+    std::string msg = fmt::format("{}: error: method '{}' has no option '{}'", who, o.method, key);
+    if (auto s = lang::closest_match(key, known))
+      msg += fmt::format("; did you mean '{}'?", *s);
+    else
+      msg += fmt::format(" (its options: {})", fmt::join(known, ", "));
+    std::cerr << msg << "\n";
     return exit_usage;
   }
   if (o.stream && !o.out.empty()) {

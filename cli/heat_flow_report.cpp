@@ -1,5 +1,7 @@
 #include "cli/heat_flow_report.hpp"
 
+#include "cli/csv_writer.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -62,10 +64,10 @@ std::vector<double> flow_values(const lang::NetworkSpec& spec,
 
 std::string flow_csv_header(const lang::NetworkSpec& spec,
                             const std::vector<std::size_t>& elements) {
-  std::string out = "time";
-  for (const auto& c : flow_columns(spec, elements))
-    out += fmt::format(",{}", c);
-  return out + "\n";
+  std::vector<std::string> fields{"time"};
+  for (auto& c : flow_columns(spec, elements))
+    fields.push_back(std::move(c));
+  return csv_line(fields);
 }
 
 std::string flow_csv_row(double t, const lang::NetworkSpec& spec,

@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <set>
 #include <stdexcept>
 #include <string_view>
 #include <unistd.h>
@@ -170,6 +171,14 @@ void print_diagnostic(const lang::Diagnostic& d, const lang::SourceManager& sour
   lang::DiagnosticEngine one(sources);
   one.add(d);
   std::cerr << lang::render_text(one, use_color(STDERR_FILENO));
+}
+
+void refuse_repeated_cases(const std::vector<std::string>& cases) {
+  std::set<std::string_view> seen;
+  for (const auto& c : cases)
+    if (!seen.insert(c).second)
+      throw lang::OverrideError(
+          fmt::format("--case: case '{}' is given twice (each case is run once)", c));
 }
 
 double parse_time(const std::string& text) {

@@ -68,6 +68,10 @@ int report_model_error(const lang::ModelError& e, const lang::SourceManager& sou
 /// Prints one diagnostic (e.g. from a ModelError) to stderr, compiler-style.
 void print_diagnostic(const lang::Diagnostic& d, const lang::SourceManager& sources);
 
+/// Throws lang::OverrideError when `cases` (given with --case) names a case twice: it would run,
+/// and count, twice.
+void refuse_repeated_cases(const std::vector<std::string>& cases);
+
 /// Parses a time such as "2500", "3h", "45 min" or "1.5 [h]" into seconds; throws
 /// std::invalid_argument.
 double parse_time(const std::string& text);

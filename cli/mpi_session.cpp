@@ -7,12 +7,16 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -39,6 +43,99 @@ void write_all(int fd, const std::string& text) {
     const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
     if (n <= 0) return;
     done += static_cast<std::size_t>(n);
+  }
+}
+
+/// How long a rank that failed waits for the others to end too before it aborts the job, s.
+constexpr double kAgreementWait = 10.0;
+
+/// Each line of `text` marked with the rank: "[rank R] ...".
+std::string marked(const std::string& text, int rank) {
+  std::string out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size() - 1;
+    out += fmt::format("[rank {}] {}", rank, text.substr(start, end - start + 1));
+    start = end + 1;
+  }
+  if (!out.empty() && out.back() != '\n') out += '\n';
+  return out;
+}
+
+/// A duplicate of MPI_COMM_WORLD on which the ranks agree how the job ends.
+MPI_Comm& ending_comm() {
+  static MPI_Comm comm = MPI_COMM_NULL;
+  return comm;
+}
+
+/// What a quiet rank wrote on its stderr (kept in the file `fd`; empty for rank 0).
+std::string captured_text(int fd) {
+  std::string text;
+  if (fd < 0) return text;
+  ::lseek(fd, 0, SEEK_SET);
+  char chunk[4096];
+  for (ssize_t n; (n = ::read(fd, chunk, sizeof chunk)) > 0;)
+    text.append(chunk, static_cast<std::size_t>(n));
+  return text;
+}
+
+/// Gathers every rank's exit status into `out`; waits at most `wait_s` seconds (forever when
+/// negative) for the other ranks to arrive. False when they did not.
+bool all_statuses(MPI_Comm comm, int status, double wait_s, int size, std::vector<int>& out) {
+  out.assign(static_cast<std::size_t>(size), 0);
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPI_Iallgather(&status, 1, MPI_INT, out.data(), 1, MPI_INT, comm, &request);
+  if (wait_s < 0) {
+    MPI_Wait(&request, MPI_STATUS_IGNORE);
+    return true;
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait_s);
+  for (;;) {
+    int done = 0;
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done) return true;
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
+/// With every rank at the end and one of them failed: rank 0, which printed its own messages as
+/// they came, prints those of the quiet ranks that failed, each distinct text once, marked with
+/// its rank. When rank 0 failed too, and every quiet rank that failed did so with rank 0's status
+/// and the same words, the error was the same everywhere (the ranks read the same model and
+/// options): it was printed once already.
+void report_failures(MPI_Comm comm, int rank, const std::vector<int>& statuses,
+                     const std::string& mine) {
+  const int length = static_cast<int>(mine.size());
+  std::vector<int> lengths(statuses.size()), offsets(statuses.size());
+  MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, comm);
+  std::string all;
+  if (rank == 0)
+    for (std::size_t r = 0; r < lengths.size(); ++r) {
+      offsets[r] = static_cast<int>(all.size());
+      all.append(static_cast<std::size_t>(lengths[r]), '\0');
+    }
+  MPI_Gatherv(mine.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR,
+              0, comm);
+  if (rank != 0) return;
+  std::vector<std::pair<std::size_t, std::string>> failed;
+  for (std::size_t r = 1; r < statuses.size(); ++r)
+    if (statuses[r] != 0)
+      failed.emplace_back(r, all.substr(static_cast<std::size_t>(offsets[r]),
+                                        static_cast<std::size_t>(lengths[r])));
+  const bool as_rank_0 =
+      statuses[0] != 0 && std::all_of(failed.begin(), failed.end(), [&](const auto& f) {
+        return statuses[f.first] == statuses[0] && f.second == failed.front().second;
+      });
+  if (as_rank_0) return;
+  std::vector<std::string> shown;
+  for (const auto& [r, text] : failed) {
+    if (std::find(shown.begin(), shown.end(), text) != shown.end()) continue;
+    shown.push_back(text);
+    write_all(STDERR_FILENO, marked(text, static_cast<int>(r)) +
+                                 fmt::format("thermnet: rank {} of {} failed (exit status {})\n", r,
+                                             statuses.size(), statuses[r]));
   }
 }
 
@@ -88,6 +185,7 @@ MpiSession::MpiSession([[maybe_unused]] int& argc, [[maybe_unused]] char**& argv
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
   active_ = true;
   if (size_ == 1) return;
+  MPI_Comm_dup(MPI_COMM_WORLD, &ending_comm());
   set_process_group(std::make_unique<MpiWorld>(rank_, size_));
   if (rank_ == 0) return;
   // Quiet ranks: their standard output is rank 0's; their stderr is kept aside and shown only if
@@ -115,29 +213,25 @@ int MpiSession::finish(int status) {
   if (!active_) return status;
   active_ = false;
 #ifdef THERMNET_WITH_MPI
-  if (status != 0 && size_ > 1) {
+  if (size_ > 1) {
     std::fflush(stderr);
-    std::string text;
-    if (captured_ >= 0) {
-      // Replay the rank's own messages on the real stderr, each line marked with the rank.
-      ::lseek(captured_, 0, SEEK_SET);
-      char chunk[4096];
-      for (ssize_t n; (n = ::read(captured_, chunk, sizeof chunk)) > 0;)
-        text.append(chunk, static_cast<std::size_t>(n));
-      std::string marked;
-      std::size_t start = 0;
-      while (start < text.size()) {
-        std::size_t end = text.find('\n', start);
-        if (end == std::string::npos) end = text.size() - 1;
-        marked += fmt::format("[rank {}] {}", rank_, text.substr(start, end - start + 1));
-        start = end + 1;
-      }
-      text = marked;
+    const std::string mine = captured_text(captured_);
+    // Every rank tells how it ends, on a communicator of its own (a rank still computing waits in
+    // collectives on MPI_COMM_WORLD, which this cannot disturb). A rank that failed waits a while
+    // for the others: when all arrive, the job ends together and each distinct error is printed
+    // once; when one does not, the failed rank ends the job.
+    std::vector<int> statuses;
+    if (!all_statuses(ending_comm(), status, status == 0 ? -1.0 : kAgreementWait, size_,
+                      statuses)) {
+      write_all(saved_stderr_ >= 0 ? saved_stderr_ : STDERR_FILENO,
+                marked(mine, rank_) +
+                    fmt::format("thermnet: rank {} of {} failed (exit status {}); ending the job\n",
+                                rank_, size_, status));
+      MPI_Abort(MPI_COMM_WORLD, status);
     }
-    text += fmt::format("thermnet: rank {} of {} failed (exit status {}); ending the job\n", rank_,
-                        size_, status);
-    write_all(saved_stderr_ >= 0 ? saved_stderr_ : STDERR_FILENO, text);
-    MPI_Abort(MPI_COMM_WORLD, status);
+    if (*std::max_element(statuses.begin(), statuses.end()) != 0)
+      report_failures(ending_comm(), rank_, statuses, mine);
+    MPI_Comm_free(&ending_comm());
   }
   MPI_Finalize();
 #endif

@@ -1,5 +1,7 @@
 #include "cli/node_summary.hpp"
 
+#include "cli/csv_writer.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -88,9 +90,9 @@ std::string NodeSummary::csv(bool kelvin) const {
   const std::vector<NodeStats> r = results();
   for (std::size_t c = 0; c < r.size(); ++c) {
     const NodeStats& s = r[c];
-    fmt::format_to(std::back_inserter(out), "{},{:.6f},{:.10g},{:.6f},{:.10g},{:.6f}",
-                   names_[columns_[c]], s.min - offset, s.t_min, s.max - offset, s.t_max,
-                   s.mean - offset);
+    append_csv_field(out, names_[columns_[c]]);
+    fmt::format_to(std::back_inserter(out), ",{:.6f},{:.10g},{:.6f},{:.10g},{:.6f}", s.min - offset,
+                   s.t_min, s.max - offset, s.t_max, s.mean - offset);
     if (band_)
       fmt::format_to(std::back_inserter(out), ",{:.10g},{:.6f}", s.outside,
                      span() > 0.0 ? s.outside / span() : 0.0);

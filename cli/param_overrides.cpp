@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <iostream>
 #include <stdexcept>
@@ -93,6 +95,13 @@ double target_value(const SetTarget& t, const std::string& text, const std::stri
   rest = first == std::string::npos ? "" : rest.substr(first);
   double v = t.temperature ? x + kZeroCelsius : x;
   if (!rest.empty()) {
+    // A letter after the number is most likely a unit; anything else (2*3, 1e3/4) an expression,
+    // which the command line does not evaluate.
+    if (!std::isalpha(static_cast<unsigned char>(rest.front())) && rest.front() != '[')
+      throw lang::OverrideError(fmt::format(
+          "{}: '{}' is not a number: a value here is a number, optionally with a unit in "
+          "brackets (5 [mm]); expressions are not evaluated",
+          option, text));
     if (rest.front() != '[' || rest.back() != ']')
       throw lang::OverrideError(
           fmt::format("{}: '{}': write a unit in brackets, e.g. 5 [mm]", option, text));
@@ -108,6 +117,12 @@ double target_value(const SetTarget& t, const std::string& text, const std::stri
                                             lang::describe(u.dim)));
     v = u.scale * x + u.offset;
   }
+  return checked_value(t, v, option);
+}
+
+double checked_value(const SetTarget& t, double v, const std::string& option) {
+  if (!std::isfinite(v))
+    throw lang::OverrideError(fmt::format("{}: {} must be a finite number", option, describe(t)));
   if (t.schema && !t.schema->accepts(v))
     throw lang::OverrideError(fmt::format(
         "{}: {} must be {}, not {}", option, describe(t),
@@ -131,13 +146,23 @@ void add_override(lang::Overrides& overrides, const SetTarget& t, double value,
 
 lang::Overrides parse_sets(const lang::Model& model, const std::vector<std::string>& sets) {
   lang::Overrides overrides;
+  std::vector<std::string> names;
   for (const auto& s : sets) {
     const auto [name, text] = split_assignment(s, "--set");
     const std::string option = "--set " + s;
     const SetTarget t = resolve_target(model, name, "--set");
+    refuse_repeated(names, t, option);
     add_override(overrides, t, target_value(t, text, "--set"), option);
   }
   return overrides;
+}
+
+void refuse_repeated(std::vector<std::string>& names, const SetTarget& target,
+                     const std::string& option) {
+  if (std::find(names.begin(), names.end(), target.name) != names.end())
+    throw lang::OverrideError(
+        fmt::format("{}: {} is given more than once", option, describe(target)));
+  names.push_back(target.name);
 }
 
 void add_set_option(CLI::App* cmd, std::vector<std::string>& sets, const std::string& extra) {

@@ -38,12 +38,21 @@ SetTarget resolve_target(const lang::Model& model, const std::string& name,
 /// range; throws lang::OverrideError naming `option`.
 double target_value(const SetTarget& target, const std::string& text, const std::string& option);
 
+/// `value` (SI) when `target` takes it: finite, within the key's valid range or the param's
+/// range; throws lang::OverrideError naming `option`.
+double checked_value(const SetTarget& target, double value, const std::string& option);
+
 /// Adds `value` for `target` to `overrides` (`text` is the setting as written, for messages).
 void add_override(lang::Overrides& overrides, const SetTarget& target, double value,
                   const std::string& text);
 
 /// The values set by `--set` items; throws lang::OverrideError.
 lang::Overrides parse_sets(const lang::Model& model, const std::vector<std::string>& sets);
+
+/// Adds `target`'s name to `names`; throws lang::OverrideError naming `option` when it is there
+/// already (a value given twice: which one would count?).
+void refuse_repeated(std::vector<std::string>& names, const SetTarget& target,
+                     const std::string& option);
 
 /// Adds the repeatable `--set NAME=VALUE` option every command that runs a model takes, storing
 /// its items in `sets`; `extra` is appended to its help text.

@@ -1,5 +1,6 @@
 #include "cli/result_output.hpp"
 
+#include "cli/csv_writer.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/name_list.hpp"
 #include "plot/svg_plot.hpp"
@@ -17,19 +18,6 @@ namespace thermnet::cli {
 namespace {
 constexpr double kZeroCelsius = 273.15;
 } // namespace
-
-void append_csv_field(fmt::memory_buffer& out, const std::string& name) {
-  if (name.find_first_of(",\"") == std::string::npos) {
-    out.append(name);
-    return;
-  }
-  out.push_back('"');
-  for (char c : name) {
-    if (c == '"') out.push_back('"');
-    out.push_back(c);
-  }
-  out.push_back('"');
-}
 
 std::string result_csv_header(const std::vector<std::string>& names) {
   fmt::memory_buffer out;

@@ -13,8 +13,6 @@ namespace thermnet::cli {
 
 /// The CSV header line: `time` then one column per name.
 std::string result_csv_header(const std::vector<std::string>& names);
-/// Appends a column name as a CSV field: quoted when it holds a comma or a quote (`"p[3,7]"`).
-void append_csv_field(fmt::memory_buffer& out, const std::string& name);
 
 /// One CSV line: the time, then each temperature (K) in degC, or in K with `kelvin`.
 std::string result_csv_row(double t, const std::vector<double>& temps, bool kelvin = false);

@@ -2,6 +2,7 @@
 
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/option_rules.hpp"
 #include "cli/output_files.hpp"
 #include "cli/param_overrides.hpp"
 #include "cli/run_command.hpp"
@@ -71,6 +72,7 @@ int run_sensitivity(const SensitivityCommandOptions& o, lang::SourceManager& sou
   check_outputs({{"--json", o.json}}, model_inputs(*model));
   SensitivityOptions opt;
   opt.elements = o.elements;
+  refuse_repeated_cases(o.cases);
   opt.cases = o.cases;
   opt.threads = o.threads;
   SensitivityReport r = compute_sensitivities(*model, opt);
@@ -129,7 +131,7 @@ void add_sensitivity_command(CLI::App& app, int& status) {
                 "also every numeric element key and node capacity (relative 1 % steps)");
   cmd->add_option("--case", o->cases, "case(s) to use (default: every case with data)");
   cmd->add_option("--threads", o->threads, "worker threads (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(rule_validator(non_negative_whole_rule, "INT"));
   add_set_option(cmd, o->sets, "; the derivatives are taken at these values");
   cmd->callback([o, &status] {
     status = run_command("thermnet sensitivity", [&](lang::SourceManager& sources) {

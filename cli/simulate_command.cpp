@@ -5,6 +5,7 @@
 #include "cli/heat_flow_report.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/node_summary.hpp"
+#include "cli/option_rules.hpp"
 #include "cli/output_stream.hpp"
 #include "cli/param_overrides.hpp"
 #include "cli/requirement_report.hpp"
@@ -297,8 +298,10 @@ void add_simulate_command(CLI::App& app, int& status) {
   cmd->add_option("--band", o->band,
                   "LO..HI in degC: --summary adds the time each node spends outside it");
   cmd->add_flag("--stats", o->stats, "print solver statistics to standard error");
-  cmd->add_option("--rtol", o->rtol, "relative tolerance")->check(CLI::Range(1e-12, 1e-1));
-  cmd->add_option("--atol", o->atol, "absolute tolerance, K")->check(CLI::Range(1e-12, 10.0));
+  cmd->add_option("--rtol", o->rtol, "relative tolerance")
+      ->check(rule_validator(relative_tolerance_rule, "NUMBER"));
+  cmd->add_option("--atol", o->atol, "absolute tolerance, K")
+      ->check(rule_validator(absolute_tolerance_rule, "NUMBER"));
   cmd->add_option("--linear-solver", o->linear_solver, "linear solver")
       ->check(CLI::IsMember({"auto", "dense", "klu", "krylov"}));
   cmd->add_option("--samples", o->samples,
@@ -308,7 +311,7 @@ void add_simulate_command(CLI::App& app, int& status) {
   cmd->add_option("--percentiles", o->percentiles, "percentiles of --samples (default 5,50,95)")
       ->delimiter(',');
   cmd->add_option("--threads", o->threads, "worker threads of --samples (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(rule_validator(non_negative_whole_rule, "INT"));
   // Its std::invalid_argument errors come from its options (times, --nodes, --percentiles): usage.
   cmd->callback([o, &status] {
     status = run_command(

@@ -1,8 +1,10 @@
 #include "cli/sweep_command.hpp"
 
+#include "cli/csv_writer.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/node_summary.hpp"
+#include "cli/option_rules.hpp"
 #include "cli/output_files.hpp"
 #include "cli/output_stream.hpp"
 #include "cli/param_overrides.hpp"
@@ -14,6 +16,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <iostream>
 #include <iterator>
 #include <memory>
@@ -62,6 +65,25 @@ PointResult unpack(std::string_view in) {
   return r;
 }
 
+/// Most points a grid may have (the product of its axes' sizes): each is a run and a row.
+constexpr std::size_t max_grid_points = 100'000;
+
+/// Throws std::invalid_argument when the grid has more than max_grid_points points (checked
+/// before any is made).
+void check_grid_size(const std::vector<SweepAxis>& axes) {
+  std::size_t points = 1;
+  std::vector<std::string> sizes;
+  for (const auto& a : axes) {
+    const std::size_t n = std::max<std::size_t>(a.values.size(), 1);
+    points = points > max_grid_points / n ? max_grid_points + 1 : points * n;
+    sizes.push_back(std::to_string(a.values.size()));
+  }
+  if (points > max_grid_points)
+    throw std::invalid_argument(fmt::format("--param: the grid has {} points, more than the {} a "
+                                            "sweep runs; use fewer values",
+                                            fmt::join(sizes, " x "), max_grid_points));
+}
+
 /// The grid points (every combination, the last axis fastest), as value indices per axis.
 std::vector<std::vector<std::size_t>> grid(const std::vector<SweepAxis>& axes) {
   std::vector<std::vector<std::size_t>> points{{}};
@@ -92,7 +114,7 @@ std::string table(const std::vector<SweepAxis>& axes,
     if (band) head.push_back(n + "_time_outside");
   }
   head.push_back("error");
-  put(fmt::format("{}\n", fmt::join(head, ",")));
+  put(csv_line(head));
   for (std::size_t i = 0; i < points.size(); ++i) {
     std::vector<std::string> row;
     for (std::size_t a = 0; a < axes.size(); ++a)
@@ -108,11 +130,8 @@ std::string table(const std::vector<SweepAxis>& axes,
       row.push_back(fmt::format("{:.6f}", s.mean - kZeroCelsius));
       if (band) row.push_back(fmt::format("{:.10g}", s.outside));
     }
-    std::string error = results[i].error;
-    for (char& ch : error)
-      if (ch == ',' || ch == '\n') ch = ';';
-    row.push_back(error);
-    put(fmt::format("{}\n", fmt::join(row, ",")));
+    row.push_back(results[i].error);
+    put(csv_line(row));
   }
   return fmt::to_string(out);
 }
@@ -153,8 +172,14 @@ int run_sweep(const SweepOptions& o, lang::SourceManager& sources) {
   if (!model) return status;
   check_outputs({{"-o", o.out}, {"--plot", o.plot}}, model_inputs(*model));
   std::vector<SweepAxis> axes;
-  for (const auto& a : o.axes)
+  std::vector<std::string> given; // what --set gives is not swept, and no axis is given twice
+  for (const auto& s : o.sets)
+    given.push_back(resolve_target(*model, s.substr(0, s.find('=')), "--set").name);
+  for (const auto& a : o.axes) {
     axes.push_back(parse_sweep_axis(*model, a));
+    refuse_repeated(given, axes.back().target, "--param " + a);
+  }
+  check_grid_size(axes);
   const auto points = grid(axes);
   SimulationOptions sim;
   if (!o.duration.empty()) sim.duration = parse_time(o.duration);
@@ -231,10 +256,12 @@ void add_sweep_command(CLI::App& app, int& status) {
   cmd->add_option("-o,--out", o->out, "CSV table (default: standard output)");
   cmd->add_option("--plot", o->plot,
                   "SVG of each node's min, mean and max against the first param");
-  cmd->add_option("--rtol", o->rtol, "relative tolerance")->check(CLI::Range(1e-12, 1e-1));
-  cmd->add_option("--atol", o->atol, "absolute tolerance, K")->check(CLI::Range(1e-12, 10.0));
+  cmd->add_option("--rtol", o->rtol, "relative tolerance")
+      ->check(rule_validator(relative_tolerance_rule, "NUMBER"));
+  cmd->add_option("--atol", o->atol, "absolute tolerance, K")
+      ->check(rule_validator(absolute_tolerance_rule, "NUMBER"));
   cmd->add_option("--threads", o->threads, "worker threads (0: all cores); same table for any")
-      ->check(CLI::NonNegativeNumber);
+      ->check(rule_validator(non_negative_whole_rule, "INT"));
   cmd->callback([o, &status] {
     status = run_command(
         "thermnet sweep", [&](lang::SourceManager& sources) { return run_sweep(*o, sources); },

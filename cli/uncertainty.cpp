@@ -7,6 +7,7 @@
 
 #include "cli/uncertainty.hpp"
 
+#include "cli/csv_writer.hpp"
 #include "cli/result_output.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/parallel.hpp"
@@ -17,8 +18,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <cstring>
+#include <iterator>
 #include <stdexcept>
 
 namespace thermnet::cli {

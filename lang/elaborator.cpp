@@ -2,6 +2,7 @@
 #include "lang/elaborator_detail.hpp"
 
 #include "lang/csv.hpp"
+#include "lang/loop_iteration.hpp"
 #include "lang/time_program.hpp"
 
 #include <boost/container/small_vector.hpp>
@@ -286,10 +287,14 @@ long Elaborator::whole_number(const ast::Expr& e, FileId file, const Scope* scop
         DiagId::bad_index, s, s,
         fmt::format("{} must be a whole number, not a quantity of dimension {}", what,
                     describe(*q.dim))));
-  if (q.value != std::round(q.value) || std::abs(q.value) > 1e15)
+  if (q.value != std::round(q.value))
     throw EvalError(
         DiagnosticEngine::make(DiagId::bad_index, s, s,
                                fmt::format("{} must be a whole number, got {:g}", what, q.value)));
+  if (std::abs(q.value) > 1e15)
+    throw EvalError(DiagnosticEngine::make(
+        DiagId::bad_index, s, s,
+        fmt::format("{} must lie between -1e15 and 1e15, got {:g}", what, q.value)));
   return static_cast<long>(q.value);
 }
 
@@ -836,6 +841,8 @@ void Elaborator::apply_case(NetworkSpec& net) {
   s.name = case_->name;
   s.where = case_->where;
   std::set<std::string> seen;
+  set_keys_.clear();
+  case_iterations_ = 0;
   apply_case_items(net, case_->stmt->items, nullptr, seen);
   if (!seen.count("duration"))
     report(DiagnosticEngine::make(DiagId::missing_duration,
@@ -844,6 +851,25 @@ void Elaborator::apply_case(NetworkSpec& net) {
   else if (data_times_)
     warn_data_beyond_duration(s);
   if (s.initial_data) initial_from_data(net);
+  check_output_times(s);
+}
+
+void Elaborator::check_output_times(const CaseSettings& s) {
+  if (s.output_times.empty() || !s.duration || s.output_times.back() <= *s.duration) return;
+  for (const auto& item : case_->stmt->items) {
+    const auto* a = std::get_if<ast::CaseAssign>(&item);
+    if (!a || !a->target.path.plain() || a->target.path.id.name != "output" || a->more.empty())
+      continue;
+    const auto late = std::upper_bound(s.output_times.begin(), s.output_times.end(), *s.duration);
+    const auto k = static_cast<std::size_t>(late - s.output_times.begin());
+    const ast::Expr& e = k == 0 ? *a->value.as_expr() : a->more[k - 1];
+    report(DiagnosticEngine::make(DiagId::out_of_range, Span{case_->file, a->begin, a->begin},
+                                  span_of(case_->file, e),
+                                  fmt::format("a time of 'output' of case '{}'", s.name),
+                                  fmt::format("at most the case's duration ({:g} s)", *s.duration),
+                                  fmt::format("{:g} s", *late)));
+    return;
+  }
 }
 
 void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseItem>& items,
@@ -853,37 +879,28 @@ void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseI
     if (const auto* loop = std::get_if<ast::CaseFor>(&item)) {
       // A loop over settings: each iteration applies its items with the loop's variables.
       Scope partial = Scope::loop(scope, f, loop->begin, loop->ranges);
-      std::function<void()> iterate = [&] {
-        const std::size_t k = partial.values.size();
-        if (k == loop->ranges.size()) {
-          apply_case_items(net, loop->items, &partial, seen);
-          return;
-        }
-        long lo = 0, hi = 0;
+      const auto bounds = [&](std::size_t k) -> std::optional<LoopBounds> {
+        Restore<const Scope*> context(context_, scope);
         try {
-          lo = whole_number(loop->ranges[k].lo, f, &partial, "the first value of a loop");
-          hi = whole_number(loop->ranges[k].hi, f, &partial, "the last value of a loop");
+          const long lo =
+              whole_number(loop->ranges[k].lo, f, &partial, "the first value of a loop");
+          const long hi = whole_number(loop->ranges[k].hi, f, &partial, "the last value of a loop");
+          if (hi < lo || afford_case_iterations(static_cast<std::size_t>(hi - lo) + 1,
+                                                Span{f, loop->begin, loop->begin},
+                                                span_of(f, loop->ranges[k])))
+            return LoopBounds{lo, hi};
+          return std::nullopt;
         } catch (const EvalError& e) {
-          if (!e.diag.code.empty()) {
-            Restore<const Scope*> context(context_, scope);
-            report(e.diag);
-          }
-          return;
-        }
-        if (hi - lo > 10'000'000) {
-          Restore<const Scope*> context(context_, scope);
-          report(DiagnosticEngine::make(DiagId::bad_loop, Span{f, loop->begin, loop->begin},
-                                        span_of(f, loop->ranges[k]),
-                                        "a loop in a case may run at most 10,000,000 times"));
-          return;
-        }
-        for (long v = lo; v <= hi; ++v) {
-          partial.values.push_back(v);
-          iterate();
-          partial.values.pop_back();
+          if (!e.diag.code.empty()) report(e.diag);
+          return LoopBounds{1, 0}; // no iteration for these values of the outer variables
         }
       };
-      iterate();
+      for_each_iteration(
+          loop->ranges.size(), partial.values, bounds, [] { return true; },
+          [&] {
+            apply_case_items(net, loop->items, &partial, seen);
+            return true;
+          });
       continue;
     }
     Restore<const Scope*> context(context_, scope);
@@ -921,6 +938,27 @@ void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseI
     }
     apply_setting(net, a, seen);
   }
+}
+
+bool Elaborator::afford_case_iterations(std::size_t n, Span at, Span mark) {
+  if (n <= max_case_iterations - case_iterations_) {
+    case_iterations_ += n;
+    return true;
+  }
+  case_iterations_ = max_case_iterations;
+  report(DiagnosticEngine::make(
+      DiagId::bad_loop, at, mark,
+      fmt::format("the loops of a case may run at most {} times in all", max_case_iterations)));
+  return false;
+}
+
+bool Elaborator::first_setting(const std::string& name, Span at, Span mark) {
+  const auto [it, fresh] = set_keys_.emplace(name, mark);
+  if (fresh) return true;
+  Diagnostic d = DiagnosticEngine::make(DiagId::duplicate_case_key, at, mark, case_->name, name);
+  d.notes.push_back(DiagnosticEngine::note(DiagId::note_text, it->second, "first set here"));
+  report(std::move(d));
+  return false;
 }
 
 void Elaborator::apply_setting(NetworkSpec& net, const ast::CaseAssign& a,
@@ -1080,6 +1118,7 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
       report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what()));
       return;
     }
+    if (!first_setting(obj + '.' + key, at, span_of(f, a.target))) return;
     auto v = signal(a.value, f, p, at, obj);
     if (!v) return;
     if (a.range) {
@@ -1183,6 +1222,7 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
     report(DiagnosticEngine::make(DiagId::signal_not_allowed, at, key_span, p.what()));
     return;
   }
+  if (!first_setting(obj + '.' + key, at, span_of(f, a.target))) return;
   if (auto v = signal(a.value, f, p, at, e.name)) e.values[*ks] = std::move(*v);
 }
 

@@ -22,6 +22,9 @@ namespace thermnet::lang {
 /// is resolved; each link is a level of recursion.
 inline constexpr std::size_t max_reference_depth = 100;
 
+/// Most iterations the loops of one case may run, all together.
+inline constexpr std::size_t max_case_iterations = 10'000'000;
+
 /// Receives each problem found; may throw to stop at the first error.
 using Reporter = std::function<void(Diagnostic)>;
 
@@ -159,6 +162,12 @@ private:
   void apply_setting(NetworkSpec& net, const ast::CaseAssign& a, std::set<std::string>& seen);
   void apply_override(NetworkSpec& net, const ast::CaseAssign& a, const Scope* scope);
   std::optional<std::pair<double, double>> case_range(const ast::Range& r, const Place& p, Span at);
+  /// Counts `n` more iterations of the case's loops; false (reported at `at`) past the limit.
+  bool afford_case_iterations(std::size_t n, Span at, Span mark);
+  /// Records that the case sets OBJECT.KEY `name` at `mark`; false (reported) when it did before.
+  bool first_setting(const std::string& name, Span at, Span mark);
+  /// Reports the first listed output time after the case's duration, at that time.
+  void check_output_times(const CaseSettings& s);
   // The data statement (lang/data_elaboration.cpp).
   void apply_data(NetworkSpec& net, const ast::CaseData& data, const Scope* scope,
                   std::set<std::string>& seen);
@@ -206,7 +215,9 @@ private:
   std::vector<std::string> evaluating_;
   std::set<std::string, std::less<>> used_;
   std::vector<std::optional<Quantity>> instance_values_; // per instance value slot, once
-  std::vector<int> element_slot_; // per element declaration: index in the network, or -1
+  std::vector<int> element_slot_;        // per element declaration: index in the network, or -1
+  std::map<std::string, Span> set_keys_; // OBJECT.KEY the case sets, and where (the first time)
+  std::size_t case_iterations_ = 0;      // iterations of the case's loops so far
 };
 
 } // namespace thermnet::lang

@@ -4,9 +4,11 @@
 #include "lang/model.hpp"
 #include "lang/elaborator.hpp"
 
+#include <algorithm>
 #include <numeric>
 #include <set>
 #include <tuple>
+#include <unordered_map>
 
 namespace thermnet::lang {
 namespace {
@@ -26,6 +28,15 @@ struct Components {
 
 Span start_of(const Span& s) {
   return Span{s.file, s.begin, s.begin};
+}
+
+/// "'a', 'b', 'c', 'd' and 7 more": the first four of some nodes, quoted, and how many others.
+std::string quoted_names(const Model& m, const std::vector<std::size_t>& members) {
+  std::string names;
+  for (std::size_t k = 0; k < members.size() && k < 4; ++k)
+    names += fmt::format("{}'{}'", k ? ", " : "", m.nodes()[members[k]].name);
+  if (members.size() > 4) names += fmt::format(" and {} more", members.size() - 4);
+  return names;
 }
 
 /// Warnings about the network's shape: isolated nodes, and groups with no path to a boundary.
@@ -51,32 +62,47 @@ void check_topology(const Model& m, const Reporter& report) {
       ++degree[static_cast<std::size_t>(id)];
     }
   }
-  std::map<int, std::vector<std::size_t>> groups;
+  // The nodes by group (its root), in order: 8 bytes a node, a model may have millions.
+  std::vector<std::pair<int, std::size_t>> by_group;
   std::set<int> grounded{comp.find(unknown)};
   for (std::size_t i = 0; i < n; ++i) {
     int root = comp.find(static_cast<int>(i));
     if (decls[i].boundary)
       grounded.insert(root);
     else
-      groups[root].push_back(i);
+      by_group.emplace_back(root, i);
   }
+  std::sort(by_group.begin(), by_group.end());
+  // One warning per statement (a range, a loop or a submodel may declare millions of nodes),
+  // naming the first few of its isolated nodes.
+  std::vector<const ast::NodeStmt*> order;
+  std::unordered_map<const ast::NodeStmt*, std::vector<std::size_t>> isolated;
   for (std::size_t i = 0; i < n; ++i) {
     if (decls[i].boundary || degree[i] != 0) continue;
-    const NodeDecl& d = decls[i];
+    auto& members = isolated[decls[i].stmt];
+    if (members.empty()) order.push_back(decls[i].stmt);
+    members.push_back(i);
+  }
+  for (const ast::NodeStmt* stmt : order) {
+    const auto& members = isolated[stmt];
+    const NodeDecl& d = decls[members.front()];
     Diagnostic w =
         DiagnosticEngine::make(DiagId::isolated_node, start_of(d.where()), d.name_span(), d.name);
+    if (members.size() > 1)
+      w.message = fmt::format("nodes {} have no links", quoted_names(m, members));
     add_scope_notes(w, d.scope);
     report(std::move(w));
   }
-  for (const auto& [root, members] : groups) {
-    if (grounded.count(comp.find(root)) || members.size() < 2) continue;
-    std::string names;
-    for (std::size_t k = 0; k < members.size() && k < 4; ++k)
-      names += fmt::format("{}'{}'", k ? ", " : "", decls[members[k]].name);
-    if (members.size() > 4) names += fmt::format(" and {} more", members.size() - 4);
+  std::vector<std::size_t> members;
+  for (std::size_t k = 0; k < by_group.size();) {
+    const int root = by_group[k].first;
+    members.clear();
+    for (; k < by_group.size() && by_group[k].first == root; ++k)
+      members.push_back(by_group[k].second);
+    if (grounded.count(root) || members.size() < 2) continue;
     const NodeDecl& d = decls[members.front()];
     Diagnostic w = DiagnosticEngine::make(DiagId::floating_group, start_of(d.where()),
-                                          d.name_span(), "nodes " + names);
+                                          d.name_span(), "nodes " + quoted_names(m, members));
     add_scope_notes(w, d.scope);
     report(std::move(w));
   }

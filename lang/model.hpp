@@ -193,13 +193,18 @@ struct OverrideError : std::invalid_argument {
   std::optional<Diagnostic> diag; ///< the model's diagnostic, with a note naming the settings
 };
 
+/// Most submodel instances nested one inside another (a deeper chain is an error).
+inline constexpr std::size_t max_instance_depth = 64;
+
 /// How to load a model.
 struct LoadOptions {
   /// Loads a plugin library named by a `plugin` statement; returns an error message or nothing.
   std::function<std::optional<std::string>(const std::string& path)> load_plugin;
   /// Most declarations and loop iterations loops and submodels may generate (a bound on the work
-  /// a small file can ask for).
-  std::size_t max_generated = 20'000'000;
+  /// a small file can ask for, in time and memory); counted before each range runs.
+  std::size_t max_generated = 5'000'000;
+  /// A note added to the error of a model that generates more (empty: none).
+  std::string too_large_note;
 };
 
 /// A parsed model with its declarations; instantiate() elaborates one case into a NetworkSpec.

@@ -4,6 +4,7 @@
 
 #include "lang/elaborator.hpp"
 #include "lang/keywords.hpp"
+#include "lang/loop_iteration.hpp"
 #include "lang/model.hpp"
 #include "lang/parser.hpp"
 
@@ -12,6 +13,7 @@
 #include <set>
 #include <tuple>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace thermnet::lang {
 
@@ -300,7 +302,7 @@ private:
     for (const auto& r : loop.ranges) {
       const std::string_view v = r.var.name;
       const char* clash = nullptr;
-      if (std::find(vars.begin(), vars.end(), v) != vars.end())
+      if (live_vars_.count(v))
         clash = "an enclosing loop's variable";
       else if (sub && sub->value_index(v) >= 0)
         clash = "a param or const of the submodel";
@@ -316,9 +318,91 @@ private:
         bad_loops_.insert(&loop); // not expanded: its names would mean two things
       }
       vars.push_back(v);
+      live_vars_.insert(v);
     }
     check_block(loop.body, f, true, sub, vars);
+    for (std::size_t k = outer; k < vars.size(); ++k)
+      live_vars_.erase(live_vars_.find(vars[k]));
     vars.resize(outer);
+  }
+
+  /// An instance statement in a submodel's body, and the submodel it instantiates.
+  struct SubmodelUse {
+    int sub = -1;                           ///< index of the submodel instantiated
+    const ast::ElementStmt* stmt = nullptr; ///< the instance statement
+  };
+
+  /// Reports every submodel that contains itself through a chain of instances, whether or not
+  /// the model instantiates it, and marks it (its instances are not expanded). A depth-first
+  /// search with its own stack: a chain of submodels may be as long as the file allows.
+  void find_submodel_cycles() {
+    const std::size_t n = m_.submodels_.size();
+    std::vector<std::vector<SubmodelUse>> uses(n); // per submodel, its instances (in loops too)
+    for (std::size_t i = 0; i < n; ++i) {
+      std::vector<const std::vector<ast::Statement>*> blocks{&m_.submodels_[i].stmt->body};
+      while (!blocks.empty()) {
+        const auto* block = blocks.back();
+        blocks.pop_back();
+        for (const auto& st : *block)
+          if (const auto* e = std::get_if<ast::ElementStmt>(&st)) {
+            if (auto it = m_.submodel_index_.find(e->kind.name); it != m_.submodel_index_.end())
+              uses[i].push_back(SubmodelUse{it->second, e});
+          } else if (const auto* loop = std::get_if<ast::ForStmt>(&st)) {
+            blocks.push_back(&loop->body);
+          }
+      }
+      std::sort(uses[i].begin(), uses[i].end(), [](const SubmodelUse& a, const SubmodelUse& b) {
+        return a.stmt->begin < b.stmt->begin;
+      });
+    }
+    enum : char { unseen, open, done };
+    std::vector<char> state(n, unseen);
+    std::vector<std::size_t> place(n);             // position on the path of an open submodel
+    std::vector<std::pair<int, std::size_t>> path; // submodel, its next instance to follow
+    for (std::size_t root = 0; root < n; ++root) {
+      if (state[root] != unseen) continue;
+      state[root] = open;
+      path.assign(1, {static_cast<int>(root), 0});
+      while (!path.empty() && !diags_.saturated()) {
+        const auto i = static_cast<std::size_t>(path.back().first);
+        if (path.back().second == uses[i].size()) {
+          state[i] = done;
+          path.pop_back();
+          continue;
+        }
+        const SubmodelUse u = uses[i][path.back().second++];
+        const auto j = static_cast<std::size_t>(u.sub);
+        if (state[j] == unseen) {
+          state[j] = open;
+          place[j] = path.size();
+          path.emplace_back(u.sub, 0);
+        } else if (state[j] == open) {
+          report_cycle(path, place[j], u, m_.submodels_[i].file);
+        }
+      }
+    }
+  }
+
+  /// Reports the cycle closed by instance `u` of the last submodel on `path`, which runs from
+  /// position `from` of the path; long chains are shortened in the message.
+  void report_cycle(const std::vector<std::pair<int, std::size_t>>& path, std::size_t from,
+                    const SubmodelUse& u, FileId f) {
+    const auto name = [&](std::size_t k) -> const std::string& {
+      return m_.submodels_[static_cast<std::size_t>(path[k].first)].name;
+    };
+    const std::size_t length = path.size() - from;
+    std::string chain;
+    for (std::size_t k = from; k < path.size(); ++k) {
+      cyclic_.insert(&m_.submodels_[static_cast<std::size_t>(path[k].first)]);
+      if (length <= 8 || k < from + 3 || k >= path.size() - 3)
+        chain += name(k) + " -> ";
+      else if (k == from + 3)
+        chain += fmt::format("... ({} more) -> ", length - 6);
+    }
+    const SubmodelDecl& target = m_.submodels_[static_cast<std::size_t>(u.sub)];
+    report(DiagnosticEngine::make(DiagId::submodel_cycle, at(f, *u.stmt), span(f, u.stmt->kind),
+                                  target.name, chain + target.name),
+           nullptr, true);
   }
 
   // --- expansion ------------------------------------------------------------------------------
@@ -327,6 +411,7 @@ private:
     std::vector<std::string_view> vars;
     for (const auto& sub : m_.submodels_)
       check_block(sub.stmt->body, sub.file, false, &sub, vars);
+    find_submodel_cycles();
     for (const auto& [stmt, f] : structure_)
       if (const auto* loop = std::get_if<ast::ForStmt>(stmt)) check_loop(*loop, f, nullptr, vars);
     elaborator_.emplace(
@@ -352,12 +437,24 @@ private:
 
   /// Counts one generated declaration or loop iteration; false once the limit is passed.
   bool count(FileId f, const ast::Tagged& where) {
+    if (!affordable(1, f, where)) return false;
+    ++work_;
+    return true;
+  }
+
+  /// True when `n` more declarations or iterations stay within the limit; else reports that the
+  /// model generates too much (at `where`) and stops the expansion. Ranges are checked this way
+  /// before they run, so a huge one costs no time or memory.
+  bool affordable(std::size_t n, FileId f, const ast::Tagged& where) {
     if (stopped_) return false;
-    if (++work_ <= opt_.max_generated) return true;
+    if (n <= opt_.max_generated - work_) return true; // work_ never passes the limit
     stopped_ = true;
-    report(DiagnosticEngine::make(DiagId::too_much_generated, at(f, where), span(f, where),
-                                  opt_.max_generated),
-           nullptr, true);
+    Diagnostic d = DiagnosticEngine::make(DiagId::too_much_generated, at(f, where), span(f, where),
+                                          opt_.max_generated);
+    if (!opt_.too_large_note.empty())
+      d.notes.push_back(
+          DiagnosticEngine::note(DiagId::note_text, std::nullopt, opt_.too_large_note));
+    report(std::move(d), nullptr, true);
     return false;
   }
 
@@ -378,32 +475,40 @@ private:
     // Anything else in a body was reported by check_block (or is a submodel's param or const).
   }
 
-  /// Runs the loop's remaining variables from the first not yet in `partial`, then its body.
+  /// Runs the loop's body once per combination of its variables' values (iteratively: a header
+  /// may name any number of variables). An iteration whose body declares nothing leaves no scope.
   void iterate(const ast::ForStmt& loop, Scope& partial) {
-    const std::size_t k = partial.values.size();
-    if (k == loop.ranges.size()) {
+    const FileId f = partial.file;
+    const auto bounds = [&](std::size_t k) -> std::optional<LoopBounds> {
+      const ast::LoopRange& r = loop.ranges[k];
+      try {
+        const long lo = elaborator_->whole_number(r.lo, f, &partial, "the first value of a loop");
+        const long hi = elaborator_->whole_number(r.hi, f, &partial, "the last value of a loop");
+        // The whole range is counted before it runs: a huge one is refused at once.
+        if (hi >= lo && !affordable(static_cast<std::size_t>(hi - lo) + 1, f, loop))
+          return std::nullopt;
+        return LoopBounds{lo, hi};
+      } catch (const EvalError& e) {
+        if (!e.diag.code.empty()) report(located(e.diag, f, loop), partial.parent, true);
+        return LoopBounds{1, 0}; // no iteration for these values of the outer variables
+      }
+    };
+    const auto body = [&] {
+      const std::size_t nodes = m_.nodes_.size(), elements = m_.elements_.size(),
+                        scopes = m_.scopes_.size();
       const Scope& iteration = m_.scopes_.emplace_back(partial);
       for (const auto& s : loop.body) {
-        if (stopped_) return;
-        expand(s, partial.file, &iteration);
+        if (stopped_) break;
+        expand(s, f, &iteration);
       }
-      return;
-    }
-    const ast::LoopRange& r = loop.ranges[k];
-    long lo = 0, hi = 0;
-    try {
-      lo = elaborator_->whole_number(r.lo, partial.file, &partial, "the first value of a loop");
-      hi = elaborator_->whole_number(r.hi, partial.file, &partial, "the last value of a loop");
-    } catch (const EvalError& e) {
-      if (!e.diag.code.empty()) report(located(e.diag, partial.file, loop), partial.parent, true);
-      return;
-    }
-    for (long v = lo; v <= hi; ++v) {
-      if (!count(partial.file, loop)) return;
-      partial.values.push_back(v);
-      iterate(loop, partial);
-      partial.values.pop_back();
-    }
+      // Nothing refers to the scope of an iteration that declared nothing: it is not kept.
+      if (m_.nodes_.size() == nodes && m_.elements_.size() == elements &&
+          m_.scopes_.size() == scopes + 1)
+        m_.scopes_.pop_back();
+      return !stopped_;
+    };
+    for_each_iteration(
+        loop.ranges.size(), partial.values, bounds, [&] { return count(f, loop); }, body);
   }
 
   /// Every full name a declaration stands for: its instance's prefix and its name, once per
@@ -431,6 +536,13 @@ private:
       if (!e.diag.code.empty()) report(located(e.diag, f, stmt), scope, true);
       return false;
     }
+    // Every name is counted before one is made: a huge range is refused at once.
+    std::size_t total = 1;
+    for (const auto& r : ranges) {
+      const auto n = static_cast<std::size_t>(r.second - r.first) + 1;
+      total = total > opt_.max_generated / n ? opt_.max_generated + 1 : total * n;
+    }
+    if (!affordable(total, f, stmt)) return false;
     std::vector<long> at_index;
     for (const auto& r : ranges)
       at_index.push_back(r.first);
@@ -625,16 +737,6 @@ private:
 
   void instantiate(const ast::ElementStmt& s, const SubmodelDecl& sub, FileId f,
                    const Scope* scope) {
-    for (std::size_t i = 0; i < active_.size(); ++i)
-      if (active_[i] == &sub) {
-        std::string chain;
-        for (std::size_t k = i; k < active_.size(); ++k)
-          chain += active_[k]->name + " -> ";
-        report(DiagnosticEngine::make(DiagId::submodel_cycle, at(f, s), span(f, s.kind), sub.name,
-                                      chain + sub.name),
-               scope, true);
-        return;
-      }
     if (!declared_names(s.name, f, scope, s, names_)) return;
     std::vector<std::string> names = std::move(names_);
     for (std::string& name : names) {
@@ -657,12 +759,19 @@ private:
       inst.terminals.assign(sub.stmt->terminals.size(), -1);
       inst.slot = m_.instance_slots_;
       m_.instance_slots_ += sub.values.size();
-      active_.push_back(&sub);
+      if (cyclic_.count(&sub)) continue; // reported at its definition; its body is not expanded
+      if (depth_ >= max_instance_depth) {
+        report(DiagnosticEngine::make(DiagId::submodel_too_deep, at(f, s), span(f, s.kind),
+                                      inst.name, sub.name, max_instance_depth),
+               nullptr, true);
+        continue;
+      }
+      ++depth_;
       for (const auto& stmt : sub.stmt->body) {
         if (stopped_) break;
         expand(stmt, sub.file, &inst);
       }
-      active_.pop_back();
+      --depth_;
     }
   }
 
@@ -741,7 +850,9 @@ private:
   std::string_view last_kind_;                 // the kind kind_schema() found last
   const ElementSchema* last_schema_ = nullptr; // and its schema
   std::optional<Elaborator> elaborator_;
-  std::vector<const SubmodelDecl*> active_; // instances being expanded, outermost first
+  std::set<const SubmodelDecl*> cyclic_; // submodels that contain themselves (reported)
+  std::unordered_multiset<std::string_view> live_vars_; // variables of the loops being checked
+  std::size_t depth_ = 0;                   // instances being expanded, one inside the other
   std::vector<std::string> names_;          // scratch: the names of one declaration
   std::set<const ast::ForStmt*> bad_loops_; // loops whose variables hide another name
   std::set<std::tuple<std::string, FileId, std::uint32_t, std::uint32_t>> reported_;

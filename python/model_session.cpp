@@ -4,6 +4,8 @@
 
 #include "cli/calibration_report.hpp"
 #include "cli/model_loading.hpp"
+#include "cli/option_rules.hpp"
+#include "cli/param_overrides.hpp"
 #include "cli/sensitivity_command.hpp"
 #include "kernel/calibration/optimizer.hpp"
 #include "kernel/calibration/sensitivity.hpp"
@@ -118,15 +120,17 @@ std::vector<std::string> ModelSession::case_names() const {
 
 SimulationResult ModelSession::simulate(const SimulateRequest& q) const {
   lang::set_path_policy(policy_); // files are read under this model's policy
-  std::vector<std::string> known;
-  for (const auto& p : model_->params())
-    known.push_back(p.name);
-  for (const auto& [name, value] : q.params)
-    if (std::find(known.begin(), known.end(), name) == known.end()) {
-      std::string msg = fmt::format("the model has no param '{}'", name);
-      if (auto s = lang::closest_match(name, known)) msg += fmt::format("; did you mean '{}'?", *s);
-      throw std::invalid_argument(msg);
-    }
+  // The command line's rules, by the same code: `thermnet simulate`'s options and its --set.
+  cli::require(cli::relative_tolerance_rule, q.rtol, "rtol");
+  cli::require(cli::absolute_tolerance_rule, q.atol, "atol");
+  if (q.duration) cli::require(cli::positive_number_rule, *q.duration, "duration");
+  if (q.output) cli::require(cli::positive_number_rule, *q.output, "output");
+  lang::Overrides values;
+  for (const auto& [name, value] : q.params) {
+    const std::string option = fmt::format("params['{}']", name);
+    const cli::SetTarget target = cli::resolve_target(*model_, name, option);
+    cli::add_override(values, target, cli::checked_value(target, value, option), option);
+  }
   SimulationOptions opt;
   opt.duration = q.duration;
   opt.output = q.output;
@@ -135,7 +139,7 @@ SimulationResult ModelSession::simulate(const SimulateRequest& q) const {
   opt.solver.rtol = q.rtol;
   opt.solver.atol = q.atol;
   try {
-    Network net(model_->instantiate(q.case_name, q.params));
+    Network net(model_->instantiate(q.case_name, {}, values));
     SimulationResult r = thermnet::simulate(net, opt);
     // The rows carry the sensors' readings after the nodes; name their columns as the CLI does.
     if (q.sensors && r.names.size() == net.spec().nodes.size())
@@ -156,6 +160,9 @@ nlohmann::ordered_json ModelSession::calibrate(const CalibrateRequest& q) const 
       msg += fmt::format("; did you mean '{}'?", *s);
     throw std::invalid_argument(msg);
   }
+  cli::require(cli::positive_number_rule, q.tolerance, "tolerance");
+  cli::refuse_repeated_cases(q.cases);
+  cli::require(cli::non_negative_whole_rule, q.threads, "threads");
   try {
     CalibrationProblem problem(*model_, q.cases);
     if (problem.dimension() == 0)
@@ -177,6 +184,9 @@ nlohmann::ordered_json ModelSession::calibrate(const CalibrateRequest& q) const 
 nlohmann::json ModelSession::diagnose(const std::vector<std::string>& cases, int threads,
                                       std::size_t top) const {
   lang::set_path_policy(policy_); // files are read under this model's policy
+  cli::require(cli::non_negative_whole_rule, threads, "threads");
+  cli::require(cli::positive_whole_rule, static_cast<double>(top), "top");
+  cli::refuse_repeated_cases(cases);
   DiagnosisOptions opt;
   opt.cases = cases;
   opt.threads = threads;
@@ -191,6 +201,8 @@ nlohmann::json ModelSession::diagnose(const std::vector<std::string>& cases, int
 nlohmann::json ModelSession::sensitivity(const std::vector<std::string>& cases, bool elements,
                                          int threads) const {
   lang::set_path_policy(policy_); // files are read under this model's policy
+  cli::require(cli::non_negative_whole_rule, threads, "threads");
+  cli::refuse_repeated_cases(cases);
   SensitivityOptions opt;
   opt.cases = cases;
   opt.elements = elements;

@@ -7,6 +7,8 @@
 
 #include <exception>
 
+#include <fmt/format.h>
+
 namespace thermnet::cli::lsp {
 
 Document::Document(std::string uri, std::string text, long version)
@@ -31,8 +33,15 @@ void Document::analyse() {
   lang::PathPolicy policy = lang::policy_for_model(path_);
   if (path_.empty()) policy.root = "/nonexistent/untitled document";
   lang::set_path_policy(policy);
-  model_ = lang::Model::from_text(path_, text_, element_catalog(), *sources_, *diags_,
-                                  load_options(ModelPlugins::never, "the language server"));
+  // A lower limit on what loops and submodels generate than the command line's: the editor gets
+  // an answer within seconds (docs/language.md, Limits).
+  lang::LoadOptions options = load_options(ModelPlugins::never, "the language server");
+  options.max_generated = editor_max_generated;
+  options.too_large_note =
+      fmt::format("the language server stops at {} to answer within seconds; thermnet lint checks "
+                  "up to {}",
+                  editor_max_generated, lang::LoadOptions{}.max_generated);
+  model_ = lang::Model::from_text(path_, text_, element_catalog(), *sources_, *diags_, options);
   try {
     model_->lint(*diags_);
   } catch (const std::exception& e) {

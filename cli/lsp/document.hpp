@@ -10,6 +10,10 @@
 
 namespace thermnet::cli::lsp {
 
+/// Most declarations and iterations the loops and submodels of an open document may generate
+/// (the command line allows lang::LoadOptions' default).
+inline constexpr std::size_t editor_max_generated = 500'000;
+
 /// The text of an open model and what the linter made of it; re-analysed on every change.
 class Document {
 public:

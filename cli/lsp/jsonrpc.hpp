@@ -10,6 +10,9 @@ namespace thermnet::cli::lsp {
 
 /// Largest message body accepted (a bigger one is refused as a bad header).
 inline constexpr std::size_t max_message_bytes = std::size_t{64} << 20;
+/// Deepest nesting of arrays and objects a message may have (a deeper one is refused: its value
+/// would be copied and written by recursion).
+inline constexpr int max_json_depth = 64;
 /// Largest header block kept (its lines together); a longer one is read, dropped and refused.
 inline constexpr std::size_t max_header_line_bytes = std::size_t{8} << 10;
 

@@ -9,6 +9,8 @@
 
 #include <exception>
 
+#include <fmt/format.h>
+
 namespace thermnet::cli::lsp {
 namespace {
 
@@ -57,10 +59,31 @@ int Server::run() {
 
 void Server::handle(const std::string& body) {
   nlohmann::json msg;
+  // The parser itself does not recurse; arrays and objects nested too deep are dropped as they
+  // are read, and the message refused (with its id, when that was not too deep).
+  bool too_deep = false;
+  const nlohmann::json::parser_callback_t shallow =
+      [&too_deep](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+        if (depth < max_json_depth || (event != nlohmann::json::parse_event_t::object_start &&
+                                       event != nlohmann::json::parse_event_t::array_start))
+          return true;
+        too_deep = true;
+        return false;
+      };
   try {
-    msg = nlohmann::json::parse(body);
+    msg = nlohmann::json::parse(body, shallow);
   } catch (const nlohmann::json::exception& e) {
     respond_error(nullptr, parse_error, std::string("invalid JSON: ") + e.what());
+    return;
+  }
+  if (too_deep) {
+    // The id, when it is one (a string or a number); what is left of a deep one is not.
+    nlohmann::json id;
+    if (msg.is_object() && msg.contains("id") && (msg["id"].is_string() || msg["id"].is_number()))
+      id = msg["id"];
+    respond_error(
+        id, invalid_request,
+        fmt::format("the message nests arrays and objects more than {} deep", max_json_depth));
     return;
   }
   if (!msg.is_object() || !msg.contains("method") || !msg["method"].is_string()) {

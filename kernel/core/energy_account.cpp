@@ -69,6 +69,7 @@ public:
   std::string unknown_name(int i) const override {
     return i < n_ ? net_.unknown_name(i) : "(energy account)";
   }
+  std::string event_name(int k) const override { return net_.event_name(k); }
 
   /// Copies the accumulated states into the totals.
   void collect(const std::vector<double>& state) {

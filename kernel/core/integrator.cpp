@@ -134,15 +134,14 @@ public:
   /// have theirs once IDA made the state consistent. Moving the state there from the guess T0 is
   /// a change like any other: an event function that changed sign on the way fires, as it would
   /// in a step.
+  /// When no state of the switches is consistent (a thermostat whose reading jumps past its other
+  /// threshold at each of its switches), the run fails rather than start from an arbitrary one.
   void settle_initial_events(const std::vector<double>& T0) {
     if (nev_ == 0 || !ev_.has_algebraic()) return;
-    std::vector<double> g_guess(static_cast<std::size_t>(nev_)), g_ic(g_guess.size());
-    std::vector<int> crossed(g_guess.size());
     std::vector<double> guess(T0.begin(), T0.end());
-    for (int pass = 0; pass < 4; ++pass) {
-      ev_.events(t_, guess.data(), g_guess.data());
-      ev_.events(t_, y_, g_ic.data());
-      if (!events_crossed(g_guess, g_ic, crossed) || !sys_.apply_events(t_, y_, crossed)) break;
+    for (int pass = 0; jumped_across(guess.data()); ++pass) {
+      if (!sys_.apply_events(t_, y_, fired_)) break;
+      if (pass == kMaxEventsAtOneTime) fail_event_loop(pass);
       std::copy(y_, y_ + n_, guess.begin());
       stepper_.restart(t_, stops_[seg_]);
     }
@@ -237,10 +236,35 @@ private:
     std::copy(roots, roots + nev_, fired_.begin());
     while (sys_.apply_events(t_, y_, fired_)) {
       count_events();
+      found_.assign(y_, y_ + n_); // the state the switch found
       if (!restart_at(t_)) return false;
-      if (!refires(t_)) break;
+      if (!refires(t_) && !jumped_across(found_.data())) break;
     }
     return true;
+  }
+
+  /// A restart makes the nodes without heat capacity consistent with the new inputs at once: an
+  /// event function that changed sign on that jump (from `before` to the present state) fires, as
+  /// it would in a step. Returns whether any did (flagged in `fired_`).
+  bool jumped_across(const double* before) {
+    if (!ev_.has_algebraic()) return false;
+    ev_.events(t_, before, g0_.data());
+    ev_.events(t_, y_, g1_.data());
+    return events_crossed(g0_, g1_, fired_);
+  }
+
+  /// Fails a run whose events keep firing at one time, naming what fired last.
+  [[noreturn]] void fail_event_loop(int count) {
+    std::vector<std::string> which;
+    for (int k = 0; k < nev_; ++k)
+      if (fired_[static_cast<std::size_t>(k)] != 0) which.push_back(sys_.event_name(k));
+    chk_.fail("apply_events", 0, "event loop",
+              fmt::format("events keep firing without time advancing ({} events at this time, the "
+                          "last by {}): a switch without hysteresis, or one whose reading jumps "
+                          "past its other threshold at its own switch (it senses a node without "
+                          "heat capacity that its heat reaches at once); there is no consistent "
+                          "state: give that node a capacity, or the thermostat a lag",
+                          count, fmt::join(which, ", ")));
   }
 
   /// Counts the events in `fired_`; fails when events keep firing without time advancing or
@@ -250,16 +274,7 @@ private:
     events_at_same_time_ =
         std::abs(t_ - last_event_) <= event_resolution(t_) ? events_at_same_time_ + 1 : 1;
     last_event_ = t_;
-    if (events_at_same_time_ > kMaxEventsAtOneTime) {
-      std::vector<std::string> which;
-      for (int k = 0; k < nev_; ++k)
-        if (fired_[static_cast<std::size_t>(k)] != 0) which.push_back(fmt::format("#{}", k));
-      chk_.fail("apply_events", 0, "event loop",
-                fmt::format("events keep firing without time advancing ({} events at this "
-                            "time, the last by event function {}); a thermostat or switch "
-                            "probably has no hysteresis",
-                            events_at_same_time_ - 1, fmt::join(which, ", ")));
-    }
+    if (events_at_same_time_ > kMaxEventsAtOneTime) fail_event_loop(events_at_same_time_ - 1);
     if (stats_.events > opt_.max_steps)
       chk_.fail("apply_events", 0, "event limit",
                 fmt::format("more than {} events (max_steps) were applied", opt_.max_steps));
@@ -314,6 +329,7 @@ private:
   int stalled_steps_ = 0;
   std::vector<int> fired_;
   std::vector<double> g0_, g1_, ydot_, ylook_;
+  std::vector<double> found_; // the state an event found, before the restart after it
 };
 
 /// With nothing to integrate: an IDA start still makes the arithmetic nodes of T consistent.

@@ -262,6 +262,18 @@ bool Network::apply_events(double t, const double* T, const std::vector<int>& fi
   return changed;
 }
 
+std::string Network::event_name(int k) const {
+  for (const Piece& p : pieces_) {
+    if (p.element < 0) continue;
+    const auto owner = static_cast<std::size_t>(p.element);
+    const int first = event_offset_[owner];
+    if (k < first || k >= first + elements_[owner]->event_count()) continue;
+    const lang::ElementSpec& e = spec_.elements[static_cast<std::size_t>(p.spec_element)];
+    return fmt::format("{} '{}'", e.kind(), e.name);
+  }
+  return ThermalSystem::event_name(k);
+}
+
 void Network::init_events(double t, const double* T) {
   load(t, T);
   for (auto& e : elements_)

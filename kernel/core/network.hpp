@@ -41,6 +41,7 @@ public:
   void init_events(double t, const double* T) override;
   std::vector<double> breakpoints(double t0, double t1) const override;
   std::string unknown_name(int i) const override;
+  std::string event_name(int k) const override;
 
   /// The spec it was built from.
   const lang::NetworkSpec& spec() const { return spec_; }

@@ -5,6 +5,7 @@
 #include "kernel/core/parallel.hpp"
 
 #include <stdexcept>
+#include <vector>
 
 namespace thermnet {
 namespace {
@@ -49,13 +50,23 @@ void distributed_for(std::size_t n, int threads, const std::function<void(std::s
                      const std::atomic<bool>* cancel) {
   const ProcessGroup& group = process_group();
   const auto [begin, end] = share_of(n, group.rank(), group.size());
+  // Which indices ran (all of them unless cancelled): only those travel, so that a cancelled run
+  // of millions of indices exchanges what it did, not its whole share.
+  std::vector<char> ran(end - begin, 0);
   parallel_for(
-      end - begin, threads, [&, begin = begin](std::size_t k) { body(begin + k); }, cancel);
+      end - begin, threads,
+      [&, begin = begin](std::size_t k) {
+        body(begin + k);
+        ran[k] = 1;
+      },
+      cancel);
   if (group.size() == 1) return;
-  // Each result travels as its length and its bytes, in index order.
+  // Each result travels as its index, its length and its bytes, in index order.
   std::string mine;
   for (std::size_t i = begin; i < end; ++i) {
+    if (!ran[i - begin]) continue;
     const std::string bytes = pack(i);
+    append_bytes(mine, static_cast<std::uint64_t>(i));
     append_bytes(mine, static_cast<std::uint64_t>(bytes.size()));
     mine += bytes;
   }
@@ -64,9 +75,10 @@ void distributed_for(std::size_t n, int threads, const std::function<void(std::s
     if (r == group.rank()) continue;
     const auto [b, e] = share_of(n, r, group.size());
     std::string_view in(all[static_cast<std::size_t>(r)]);
-    for (std::size_t i = b; i < e; ++i) {
+    while (!in.empty()) {
+      const auto i = take_bytes<std::uint64_t>(in);
       const auto length = take_bytes<std::uint64_t>(in);
-      if (in.size() < length) throw_short_buffer();
+      if (i < b || i >= e || in.size() < length) throw_short_buffer();
       unpack(i, in.substr(0, length));
       in.remove_prefix(length);
     }

@@ -43,7 +43,8 @@ std::pair<std::size_t, std::size_t> share_of(std::size_t n, int rank, int size);
 /// Runs body(i) for this process's share of [0, n) on `threads` workers (parallel_for), then, with
 /// several processes, gives every process the results of the others: pack(i) serialises result i
 /// where it was computed and unpack(i, bytes) restores it everywhere else. With results stored
-/// by index, the outcome is the same whatever the number of processes and threads.
+/// by index, the outcome is the same whatever the number of processes and threads. Indices that a
+/// `cancel` skipped are not sent: they keep their value on every process.
 void distributed_for(std::size_t n, int threads, const std::function<void(std::size_t)>& body,
                      const std::function<std::string(std::size_t)>& pack,
                      const std::function<void(std::size_t, std::string_view)>& unpack,

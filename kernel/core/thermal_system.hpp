@@ -55,6 +55,8 @@ public:
 
   /// Name of an unknown for messages (the node name).
   virtual std::string unknown_name(int i) const { return "#" + std::to_string(i); }
+  /// What owns event function k, for messages ("thermostat 'th'").
+  virtual std::string event_name(int k) const { return "event function #" + std::to_string(k); }
 };
 
 /// A ThermalSystem that hands every call to another one; subclasses override what they change
@@ -81,6 +83,7 @@ public:
     return inner_.breakpoints(t0, t1);
   }
   std::string unknown_name(int i) const override { return inner_.unknown_name(i); }
+  std::string event_name(int k) const override { return inner_.event_name(k); }
 
 private:
   ThermalSystem& inner_;

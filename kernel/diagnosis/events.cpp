@@ -12,6 +12,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
+#include <numeric>
+#include <string_view>
+#include <tuple>
+#include <unordered_map>
+#include <unordered_set>
 
 namespace thermnet {
 namespace {
@@ -63,6 +69,63 @@ double time_field(const std::vector<std::string>& fields, int col, const std::st
   return v;
 }
 
+/// True when windows `a` and `b` belong to one event in one case (an every-case window is in each)
+/// and share some time.
+bool clash(const EventWindow& a, const EventWindow& b) {
+  const bool same_case = a.case_name.empty() || b.case_name.empty() || a.case_name == b.case_name;
+  return a.event == b.event && same_case && a.start < b.end && b.start < a.end;
+}
+
+/// True when two of the first `m` windows clash; `by_start` orders every window by event, then
+/// start. One pass: a window clashes with one that starts no later exactly when that one ends
+/// after it starts.
+bool clash_among(const std::vector<EventWindow>& w, const std::vector<std::size_t>& by_start,
+                 std::size_t m) {
+  constexpr double never = -std::numeric_limits<double>::infinity();
+  const std::string* event = nullptr;
+  double every_case_end = never, any_end = never; // latest end so far, of this event
+  std::unordered_map<std::string_view, double> case_end;
+  for (const std::size_t i : by_start) {
+    if (i >= m) continue;
+    const EventWindow& x = w[i];
+    if (!event || x.event != *event) {
+      event = &x.event;
+      every_case_end = any_end = never;
+      case_end.clear();
+    }
+    if (x.case_name.empty()) {
+      if (x.start < any_end) return true;
+      every_case_end = std::max(every_case_end, x.end);
+    } else {
+      double& own = case_end.try_emplace(x.case_name, never).first->second;
+      if (x.start < std::max(every_case_end, own)) return true;
+      own = std::max(own, x.end);
+    }
+    any_end = std::max(any_end, x.end);
+  }
+  return false;
+}
+
+/// The first window (in file order) that clashes with an earlier one, and the first such earlier
+/// one; {0, 0} when none clash. O(n log n): the shortest clashing prefix is found by bisection.
+std::pair<std::size_t, std::size_t> first_overlap(const std::vector<EventWindow>& w) {
+  std::vector<std::size_t> by_start(w.size());
+  std::iota(by_start.begin(), by_start.end(), std::size_t{0});
+  std::sort(by_start.begin(), by_start.end(), [&](std::size_t a, std::size_t b) {
+    return std::tie(w[a].event, w[a].start) < std::tie(w[b].event, w[b].start);
+  });
+  if (!clash_among(w, by_start, w.size())) return {0, 0};
+  std::size_t lo = 1, hi = w.size(); // the first lo windows do not clash, the first hi do
+  while (hi - lo > 1) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    (clash_among(w, by_start, mid) ? hi : lo) = mid;
+  }
+  const std::size_t later = hi - 1;
+  for (std::size_t i = 0; i < later; ++i)
+    if (clash(w[i], w[later])) return {later, i};
+  return {0, 0}; // not reached: window `later` clashes with an earlier one
+}
+
 } // namespace
 
 std::vector<EventWindow> parse_events(const std::string& text, const std::string& path,
@@ -71,7 +134,9 @@ std::vector<EventWindow> parse_events(const std::string& text, const std::string
   std::vector<std::size_t> lines;
   Columns cols;
   bool have_header = false;
-  std::size_t line_no = 0, pos = 0;
+  std::size_t line_no = 0;
+  // A byte order mark before the header is skipped, as in data files.
+  std::size_t pos = std::string_view(text).starts_with("\xEF\xBB\xBF") ? 3 : 0;
   while (pos <= text.size()) {
     const auto nl = text.find('\n', pos);
     const std::string_view line(text.data() + pos,
@@ -118,15 +183,6 @@ std::vector<EventWindow> parse_events(const std::string& text, const std::string
                              fmt::format("event name '{}' must be a name (letters, digits, _)",
                                          lang::excerpt_for_display(w.event)));
     }
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      const EventWindow& o = out[i];
-      const bool same_case =
-          o.case_name.empty() || w.case_name.empty() || o.case_name == w.case_name;
-      if (o.event == w.event && same_case && w.start < o.end && o.start < w.end)
-        throw lang::CsvError(path, line_no, static_cast<std::size_t>(cols.start) + 1,
-                             fmt::format("{} from {:g} to {:g} s overlaps its window of row {}",
-                                         w.event, w.start, w.end, lines[i]));
-    }
     out.push_back(std::move(w));
     lines.push_back(line_no);
   }
@@ -134,6 +190,12 @@ std::vector<EventWindow> parse_events(const std::string& text, const std::string
     throw lang::CsvError(path, 1, 0,
                          "the file is empty; expected a header row 'case,event,start,end'");
   if (out.empty()) throw lang::CsvError(path, line_no, 0, "the file lists no event");
+  if (const auto [later, earlier] = first_overlap(out); later > 0) {
+    const EventWindow& w = out[later];
+    throw lang::CsvError(path, lines[later], static_cast<std::size_t>(cols.start) + 1,
+                         fmt::format("{} from {:g} to {:g} s overlaps its window of row {}",
+                                     w.event, w.start, w.end, lines[earlier]));
+  }
   return out;
 }
 
@@ -146,8 +208,9 @@ std::vector<EventWindow> read_events(const std::string& path,
 
 std::vector<std::string> event_names(const std::vector<EventWindow>& events) {
   std::vector<std::string> names;
+  std::unordered_set<std::string_view> seen;
   for (const auto& w : events)
-    if (std::find(names.begin(), names.end(), w.event) == names.end()) names.push_back(w.event);
+    if (seen.insert(w.event).second) names.push_back(w.event);
   return names;
 }
 

@@ -1,5 +1,7 @@
 #include "kernel/estimation/estimator.hpp"
 
+#include "lang/name_list.hpp"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -26,16 +28,17 @@ double EstimatorSettings::number(const std::string& name, double fallback) const
 }
 
 std::vector<std::string> EstimatorSettings::list(const std::string& name) const {
-  std::vector<std::string> out;
-  std::string s = text(name), item;
-  for (char c : s + ",") {
-    if (c == ',') {
-      if (!item.empty()) out.push_back(item);
-      item.clear();
-    } else if (c != ' ') {
-      item += c;
-    }
+  std::vector<std::string> pieces{{}};
+  for (char c : text(name)) {
+    if (c == ',')
+      pieces.emplace_back();
+    else if (c != ' ')
+      pieces.back() += c;
   }
+  // A generated name holds commas inside its brackets (`p[1,2]`): its pieces are joined again.
+  std::vector<std::string> out;
+  for (auto& item : lang::join_bracketed(pieces))
+    if (!item.empty()) out.push_back(std::move(item));
   return out;
 }
 

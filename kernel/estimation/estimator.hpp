@@ -43,7 +43,8 @@ public:
   std::string text(const std::string& name, const std::string& fallback = "") const;
   /// A number; throws EstimatorError naming the option when the text is not a finite number.
   double number(const std::string& name, double fallback) const;
-  /// A comma-separated list of names (empty entries dropped).
+  /// A comma-separated list of names (empty entries dropped; commas inside brackets, as in
+  /// `p[1,2]`, belong to the name).
   std::vector<std::string> list(const std::string& name) const;
   /// A yes/no flag ("1", "true", "yes" are true).
   bool flag(const std::string& name) const;

@@ -172,4 +172,44 @@ run simulate swept.tnet --set 'G=2 [mm]'
 check "--set with the wrong dimension: usage error" [ "$rc" = 2 ]
 check "... saying so" grep -q "param 'G' is in W/K, not m" err.txt
 
+# ------------------------------------------------ every CSV quotes generated names (issue 31)
+# A 2 x 2 grid of nodes: each output's header and rows must have as many fields for a CSV reader.
+cat >grid.tnet <<'EOF'
+model grid
+boundary amb T = 0
+for i in 1 .. 2, j in 1 .. 2 {
+  node p[i, j] C = 100 T0 = 20
+  conductance g[i, j] p[i, j] amb G = 1
+}
+case c { duration = 100 ; output = 10 }
+EOF
+run simulate grid.tnet -o grid.csv --summary summary.csv --flows flows.csv
+check "grid: simulate with --summary and --flows exits 0" [ "$rc" = 0 ]
+run sweep grid.tnet --param 'g[1,2].G=1,2' -o sweep.csv
+check "grid: sweep exits 0" [ "$rc" = 0 ]
+run simulate grid.tnet -o data.csv
+run estimate grid.tnet data.csv --case c --measured 'p[1,1],p[1,2]' -o est.csv
+check "grid: estimate --measured 'p[1,1],p[1,2]' takes two names" [ "$rc" = 0 ]
+check "every CSV parses with as many fields per row as its header, names intact" python3 - <<'EOF'
+import csv
+for name, first in [("grid.csv", ["time", "amb", "p[1,1]", "p[1,2]", "p[2,1]", "p[2,2]"]),
+                    ("summary.csv", ["node", "min"]), ("flows.csv", ["time", "g[1,1]"]),
+                    ("sweep.csv", ["g[1,2].G", "amb_min"]), ("est.csv", ["time"])]:
+    rows = list(csv.reader(open(name)))
+    assert all(len(r) == len(rows[0]) for r in rows), (name, rows[:3])
+    assert rows[0][:len(first)] == first, (name, rows[0])
+names = [r[0] for r in csv.reader(open("summary.csv"))][1:]
+assert names == ["amb", "p[1,1]", "p[1,2]", "p[2,1]", "p[2,2]"], names
+assert "p[2,2]_min" in next(csv.reader(open("sweep.csv")))
+head = next(csv.reader(open("est.csv")))
+assert {"p[1,1]", "p[2,2]", "sd_p[1,2]"} <= set(head), head
+EOF
+
+# Misspelt estimator options are refused with a suggestion, not ignored.
+run estimate grid.tnet data.csv --case c --option sigma_meas=5
+check "estimate --option sigma_meas=5: usage error suggesting sigma-meas" \
+  eval '[ "$rc" = 2 ] && grep -q "has no option '"'"'sigma_meas'"'"'; did you mean '"'"'sigma-meas'"'"'" err.txt'
+run invert data.csv --sensors 'p[1,1],p[1,2],p[2,1]' --tau 10 --option foo=bar
+check "invert --option foo=bar: usage error" eval '[ "$rc" = 2 ] && grep -q "no option '"'"'foo'"'"'" err.txt'
+
 finish

@@ -162,6 +162,39 @@ EOF
     printf 'node n C = 1\nheater h[20001] n P = 1\n'
     printf 'for i in 1 .. 20000 { heater h[i] n P = 2 * h[i + 1].P }\n'
   } >"$corpus/reference_chain_loop.tnet"
+  # Deep nesting of every recursive form of the grammar, at and just past its limits, within the
+  # 4096 bytes an input may have: parentheses, calls, unary signs, powers, units, indices, loops
+  # in the model and in a case, loop headers with many variables, submodel chains and cycles.
+  python3 - "$corpus" <<'EOF'
+import sys
+out = sys.argv[1]
+def seed(name, text):
+    with open(f"{out}/deep_{name}.tnet", "w") as f:
+        f.write(text[:4096])
+for d in (63, 64, 65, 300):
+    seed(f"parens{d}", "const x = " + "(" * d + "1" + ")" * d + "\nconst y = x\n")
+    seed(f"calls{d}", "const x = " + "sqrt(" * d + "1" + ")" * d + "\n")
+    seed(f"units{d}", "const x = 1 [W/" + "(" * d + "m" + ")" * d + "]\n")
+    seed(f"index{d}", "node p[" + "(1 + " * d + "1" + ")" * d + "] C = 1\n")
+    seed(f"signal{d}", "boundary b T = " + "step(0: " * d + "1" + ")" * d + "\n")
+seed("minus", "const x = " + "-" * 3000 + "1\n")
+seed("powers", "const x = 2" + "^2" * 1000 + "\n")
+for d in (63, 64, 65):
+    body = "".join("for a%d in 1 .. 2 {\n" % k for k in range(d))
+    seed(f"loops{d}", "boundary b T = 20\n" + body + "node q[a0] C = 1\n" + "}\n" * d)
+    seed(f"caseloops{d}", "node n C = 1\ncase c {\n  duration = 1\n" + body
+         + "n.C = a0\n" + "}\n" * (d + 1))
+seed("header", "boundary b T = 20\nfor " + ", ".join("v%d in 1 .. 1" % k for k in range(300))
+     + " {\n  node q[v0 + v299] C = 1\n}\n")
+seed("chain70", "boundary b T = 20\n" + "".join("submodel s%d(x) {\n  s%d i x\n}\n" % (k, k + 1)
+                                                for k in range(70))
+     + "submodel s70(x) {\n  node m C = 1\n}\ns0 top b\n")
+seed("cycle", "boundary b T = 20\nsubmodel a(x) {\n  for i in 1 .. 2 { b u[i] x }\n}\n"
+     "submodel b(x) {\n  c v x\n}\nsubmodel c(x) {\n  a w x\n}\nsubmodel s(x) {\n  s t x\n}\n")
+seed("range", "for i in 1 .. 1000000000 { }\nnode p[1 .. 100000, 1 .. 100000] C = 1\n")
+seed("twice", "node n C = 1\nheater h n P = 1\ncase c {\n  duration = 1\n  h.P = 2\n  h.P = 3\n"
+     "  for i in 1 .. 2 { n.C = i }\n}\n")
+EOF
 fi
 # A dictionary of the language's words helps the fuzzer past the keywords.
 [ "$target" = csv ] && cat >"$work/tnet.dict" <<'EOF'
@@ -219,7 +252,10 @@ EOF
 "data"
 "for "
 " in "
+"for i in 1 .. 2, j in i .. 3 {"
 "submodel "
+"submodel s(x) {"
+"s inner x"
 "time"
 "[i]"
 "[i + 1, j]"

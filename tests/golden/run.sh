@@ -101,9 +101,22 @@ run_golden() {
 hostile() {
   local label=$1 limit=$2 allowed=$3 pattern=$4
   shift 4
+  hostile_run "$label" "$limit" 0 "$allowed" "$pattern" lint "$@"
+}
+
+# The same for any command (ARGS start with the subcommand), its address space limited to MEM_MB
+# megabytes (0: no limit; HOSTILE_NO_ULIMIT=1 drops every limit, for sanitizer builds, which
+# reserve terabytes of address space).
+hostile_run() {
+  local label=$1 limit=$2 mem_mb=$3 allowed=$4 pattern=$5
+  shift 5
   local start end out status
+  [ "${HOSTILE_NO_ULIMIT:-0}" = 1 ] && mem_mb=0
   start=$(date +%s.%N)
-  out=$(timeout "$limit" "$bin" lint "$@" 2>&1)
+  out=$(
+    [ "$mem_mb" -gt 0 ] && ulimit -v $((mem_mb * 1024))
+    timeout "$limit" "$bin" "$@" 2>&1
+  )
   status=$?
   end=$(date +%s.%N)
   local secs
@@ -221,6 +234,8 @@ print('\n'.join(''.join(random.choice('abc =+-*/()[]{}#\"12.;:\\\\,') for _ in r
   printf 'boundary b T = 20\nnode n C = 1\nconductance g n b G = 1\ncase c {\n duration = 1\n data "%s"\n}\n' "/dev/urandom" >device.tnet
   hostile "a data file that never ends is not read forever" 30 2 "data-unreadable" device.tnet
 
+  # shellcheck source=hostile_generated.sh
+  . "$here/hostile_generated.sh"
   cd "$here" || exit 2
 }
 

@@ -520,6 +520,41 @@ for what, data, expect in [
     check(what + " is refused with a parse error naming the limit", b"-32700" in out and expect in out,
           out[:300])
 
+# ----------------------------------------------------------------------------- hostile messages
+# JSON nested 100,000 deep in params or in the id (200 KB): refused (with the id when it could be
+# read), never a crash: the JSON is read without recursion and what nests too deep is dropped.
+deep = "[" * 100000 + "]" * 100000
+for rid, body in [(80, '{"jsonrpc":"2.0","id":80,"method":"textDocument/hover","params":%s}' % deep),
+                  (None, '{"jsonrpc":"2.0","id":%s,"method":"textDocument/hover"}' % deep),
+                  (None, '{"jsonrpc":"2.0","method":"textDocument/didOpen","params":{"a":%s}}' % deep)]:
+    s.raw(b"Content-Length: %d\r\n\r\n" % len(body) + body.encode())
+    try:
+        r = s.next(lambda m: "error" in m and m.get("id") == rid, timeout=60)
+    except queue.Empty:
+        r = {}
+    check(f"a message nesting 100,000 deep (id {rid}) gets -32600 naming the limit",
+          r.get("error", {}).get("code") == -32600 and "more than 64 deep" in r["error"]["message"], r)
+
+# Documents that ask for more than the editor can answer in seconds: 10,000,000 nodes from a range
+# and from a loop are refused at once, and the server answers the next request.
+for rid, text in [(81, "node n[1 .. 10000000] C = 1\n"),
+                  (82, "boundary b T = 20\nfor i in 1 .. 10000000 {\n  node q[i] C = 1\n"
+                       "  conductance g[i] q[i] b G = 1\n}\n")]:
+    huge_uri = "file://" + os.path.join(work, f"huge{rid}.tnet")
+    s.notify("textDocument/didOpen", {"textDocument": {"uri": huge_uri, "languageId": "tnet",
+                                                       "version": 1, "text": text}})
+    try:
+        hd = s.next(lambda m: m.get("method") == "textDocument/publishDiagnostics"
+                    and m["params"]["uri"] == huge_uri, timeout=60)["params"]["diagnostics"]
+    except queue.Empty:
+        hd = None
+    check(f"a document of 10,000,000 generated nodes ({rid - 80}) is refused as too large",
+          hd is not None and any(d.get("code") == "too-large" for d in hd), hd)
+    r = s.request(rid, "textDocument/hover", {"textDocument": {"uri": huge_uri},
+                                              "position": {"line": 0, "character": 1}})
+    check("  ... and hover still answers", "result" in r, r)
+    s.notify("textDocument/didClose", {"textDocument": {"uri": huge_uri}})
+
 # ----------------------------------------------------------------------------- hostile references
 # A document never makes the server read its own input, a FIFO or a file outside its folder, and
 # what a diagnostic quotes from a referenced file is escaped (control characters, invalid UTF-8).

@@ -208,6 +208,62 @@ class FailureTest(unittest.TestCase):
                 self.assertRegex(done.stderr,
                                  r"thermnet: rank 1 of 2 failed \(exit status \d\); ending the job")
 
+    def test_the_same_error_on_every_rank_is_printed_once(self):
+        # Every rank reads the same bad model: the job ends with the error's status, printed once
+        # (by rank 0), and no rank aborts the job (no MPI_Abort banner, no "[rank 1]" copy).
+        with tempfile.TemporaryDirectory() as tmp:
+            with open(os.path.join(tmp, "bad.tnet"), "w", encoding="utf-8") as f:
+                f.write("boundary b T = 20\nnode n C = 1\nconductance g n b G = x\n")
+            done = run(["simulate", "bad.tnet"], 2, tmp)
+        self.assertEqual(done.returncode, 1, done.stderr)
+        self.assertEqual(done.stderr.count("bad.tnet:3:1: error: unknown const or param 'x'"), 1,
+                         done.stderr)
+        self.assertNotIn("[rank 1]", done.stderr)
+        self.assertNotIn("MPI_ABORT", done.stderr)
+
+    def test_ctrl_c_writes_the_best_result_so_far(self):
+        # Ctrl-C reaches mpirun, which passes it on to the ranks as SIGTERM: every rank stops
+        # drawing samples, the samples drawn are gathered, rank 0 writes the best so far and says
+        # so once, and the job ends with status 1. mpirun kills the ranks 1 s after its SIGTERM by
+        # default; on a loaded machine that can be too short even for this one-node model, so the
+        # test gives them 5 s (odls_base_sigkill_timeout, docs/cluster.md).
+        model = ("boundary amb T = 20\nnode n C = 1000 T0 = 50\nparam G = 1 [W/K] range 0.2 .. 5\n"
+                 "conductance g n amb G = G\ncase c { duration = 100; output = 10; data \"meas.csv\" }\n")
+        with tempfile.TemporaryDirectory() as tmp:
+            with open(os.path.join(tmp, "truth.tnet"), "w", encoding="utf-8") as f:
+                f.write(model.replace("G = 1 [W/K]", "G = 2 [W/K]").replace(' data "meas.csv"', ""))
+            with open(os.path.join(tmp, "cal.tnet"), "w", encoding="utf-8") as f:
+                f.write(model)
+            subprocess.run([EXE, "simulate", "truth.tnet", "-o", "meas.csv"], cwd=tmp, env=ENV,
+                           check=True, timeout=LIMIT)
+            token = uuid.uuid4().hex
+            env = dict(ENV, THERMNET_MPI_TEST_TOKEN=token)
+            proc = subprocess.Popen(
+                [MPIRUN, "-n", "2", "--oversubscribe", "--mca", "odls_base_sigkill_timeout", "5",
+                 "-x", "THERMNET_MPI_TEST_TOKEN", EXE, "calibrate", "cal.tnet", "--method", "mc",
+                 "--samples", "3000000", "--threads", "1", "--tolerance", "100", "--json",
+                 "report.json"],
+                cwd=tmp, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            deadline = time.monotonic() + 60
+            while rank_process(token, 1) is None and time.monotonic() < deadline:
+                time.sleep(0.2)
+            time.sleep(3.0)  # into the sampling
+            proc.send_signal(signal.SIGINT)
+            try:
+                _, err = proc.communicate(timeout=LIMIT)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                _, err = proc.communicate()
+                raise AssertionError(f"the job hung after Ctrl-C; stderr: {err}") from None
+            self.assertEqual(proc.returncode, 1, err)
+            self.assertEqual(err.count("interrupted; best result so far written"), 1, err)
+            self.assertNotIn("rank 0 writes", err)
+            self.assertNotIn("MPI_ABORT", err)
+            with open(os.path.join(tmp, "report.json"), encoding="utf-8") as f:
+                report = json.load(f)
+        self.assertTrue(report["found"] and report["cancelled"], report)
+        self.assertLess(report["samples"], 3000000, report)
+
     def test_a_killed_rank_ends_the_job(self):
         err = run_and_kill_rank_1(["calibrate", CAMERA, "--method", "mc", "--samples", "100000",
                                    "--threads", "1"])

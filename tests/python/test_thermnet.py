@@ -176,6 +176,46 @@ class SimulateTest(unittest.TestCase):
         with self.assertRaises(TypeError):
             self.model.simulate(case="case01", params={"k7": "high"})
 
+    def test_values_the_command_line_refuses_are_refused(self):
+        # The same rules as `thermnet simulate` (its --rtol/--atol/--duration and --set), checked
+        # by the same code: each message is the command line's.
+        m = thermnet.Model.from_string(TWO_PLATES, name="two_plates.tnet")
+        for kwargs, message in [
+                ({"atol": float("inf")}, r"atol = inf is not a number from 1e-12 to 10 K"),
+                ({"rtol": 10}, r"rtol = 10 is not a number from 1e-12 to 0.1"),
+                ({"rtol": float("nan")}, r"rtol = nan is not"),
+                ({"duration": -5}, r"duration = -5 is not a positive number"),
+                ({"output": 0}, r"output = 0 is not a positive number"),
+                ({"params": {"h_gap": 20}},
+                 r"param 'h_gap' = 20 W/\(m\^2\*K\) lies outside its range 1 W/\(m\^2\*K\) \.\. 10"),
+                ({"params": {"h_gap": float("nan")}}, r"param 'h_gap' must be a finite number"),
+                ({"params": {"mount.k": -1}}, r"'mount.k' \('k' of 'mount'\) must be > 0"),
+                ({"params": {"plate1.T0": -5}}, r"must be above absolute zero")]:
+            with self.subTest(kwargs=kwargs), self.assertRaisesRegex(ValueError, message):
+                m.simulate(case="cold", **kwargs)
+        with self.assertRaisesRegex(ValueError, r"tolerance = -1 is not a positive number"):
+            m.calibrate(tolerance=-1)
+        with self.assertRaisesRegex(ValueError, r"threads = -2 is not a non-negative whole"):
+            m.sensitivity(threads=-2)
+        with self.assertRaisesRegex(ValueError, r"case 'cold' is given twice"):
+            m.diagnose(cases=["cold", "cold"])
+
+    def test_keys_are_set_like_the_command_line_set(self):
+        # params={"OBJECT.KEY": SI value} is `--set OBJECT.KEY=...`: the same rows.
+        m = thermnet.Model.from_string(TWO_PLATES, name="two_plates.tnet")
+        r = m.simulate(case="cold", params={"film.P": 4.0}, duration=600, output=60)
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "two_plates.tnet")
+            with open(path, "w") as f:
+                f.write(TWO_PLATES)
+            rows = list(csv.reader(cli("simulate", path, "--case", "cold", "--set", "film.P=4",
+                                       "--duration", "600", "--output", "60").splitlines()))
+        self.assertEqual(len(rows) - 1, len(r.times))
+        for k, row in enumerate(rows[1:]):
+            self.assertEqual(row[1:], same_digits(row[1:], r.temperatures[k]))
+        nominal = m.simulate(case="cold", duration=600, output=60)
+        self.assertFalse(np.array_equal(r.temperatures, nominal.temperatures))
+
 
 def read_columns(path, names):
     """Columns of a CSV file as floats (on/off words as 1/0), by name."""

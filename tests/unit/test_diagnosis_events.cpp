@@ -7,6 +7,7 @@
 #include "lang/csv.hpp"
 
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include <cmath>
 #include <string>
@@ -85,6 +86,29 @@ TEST_CASE("events file: bad input names the file, row and column") {
   CHECK(error_of("\n").starts_with("ev.csv:1: the file is empty"));
   CHECK(error_of("start,end\n").find("lists no event") != std::string::npos);
   CHECK(error_of("case,start,end\npulse,5,20\nslow,5,20\n").empty()); // other cases may overlap
+}
+
+TEST_CASE("events file: a byte order mark is skipped; overlaps are found in O(n log n)") {
+  CHECK(error_of("\xEF\xBB\xBF"
+                 "case,start,end\nslow,5,20\n")
+            .empty());
+  // The first row that overlaps an earlier one is named, with the first such earlier row, as a
+  // row-by-row comparison would: every-case windows overlap those of every case.
+  CHECK(error_of("case,event,start,end\nslow,lid,50,60\npulse,lid,0,100\nslow,door,55,58\n"
+                 ",lid,20,30\n,lid,55,57\n")
+            .starts_with("ev.csv:5:3: lid from 20 to 30 s overlaps its window of row 3"));
+  CHECK(error_of("case,start,end\nslow,100,200\nslow,0,10\nslow,150,160\nslow,5,6\n")
+            .starts_with("ev.csv:4:2: event from 150 to 160 s overlaps its window of row 2"));
+  // Every cell is checked before windows are compared: a bad last cell of 100,000 rows of
+  // overlapping windows is what is reported.
+  std::string text = "start,end\n";
+  for (int k = 0; k < 100000; ++k)
+    text += fmt::format("{},{}\n", 10 * k, 10 * k + 20);
+  text += "5,x\n";
+  CHECK(error_of(text).starts_with("ev.csv:100002:2: 'x' is not a time"));
+  text.resize(text.size() - 4);
+  CHECK(
+      error_of(text).starts_with("ev.csv:3:1: event from 10 to 30 s overlaps its window of row 2"));
 }
 
 TEST_CASE("switched_conductance: a node cools through it only while it is on (closed form)") {

@@ -68,6 +68,12 @@ double metric(const Estimator& e, const std::string& name) {
 
 } // namespace
 
+TEST_CASE("estimator settings: a list keeps the commas inside a generated name's brackets") {
+  EstimatorSettings s;
+  s.set("measured", "p[1,2], q ,r[3, 4],,");
+  CHECK(s.list("measured") == std::vector<std::string>{"p[1,2]", "q", "r[3,4]"});
+}
+
 TEST_CASE("arx fit: exact data give the exact coefficients") {
   const double tau = 467.0, xi = 0.93;
   std::vector<double> B, C, dC, D;

@@ -9,15 +9,18 @@
 #include "kernel/core/simulation.hpp"
 #include "lang/csv.hpp"
 #include "lang/diagnostics.hpp"
+#include "lang/loop_iteration.hpp"
 #include "lang/model.hpp"
 #include "lang/name_list.hpp"
 
 #include <doctest/doctest.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -320,6 +323,103 @@ TEST_CASE("loops: a loop that asks for too much stops with an error, not a hang"
                    small) == "too-large");
 }
 
+TEST_CASE(
+    "loops: the iterations of a header without recursion, later ranges using earlier values") {
+  // for i in 1 .. 3, j in i .. 3, k in 1 .. j - i: the combinations in order, outermost first.
+  std::vector<long> values;
+  std::vector<std::string> seen;
+  const bool done = for_each_iteration(
+      3, values,
+      [&](std::size_t k) -> std::optional<LoopBounds> {
+        if (k == 0) return LoopBounds{1, 3};
+        if (k == 1) return LoopBounds{values[0], 3};
+        return LoopBounds{1, values[1] - values[0]};
+      },
+      [] { return true; },
+      [&] {
+        seen.push_back(fmt::format("{}", fmt::join(values, "")));
+        return true;
+      });
+  CHECK(done);
+  CHECK(seen == std::vector<std::string>{"121", "131", "132", "231"});
+  // A million variables of one value each: one iteration, no deep recursion.
+  std::size_t steps = 0, bodies = 0;
+  CHECK(for_each_iteration(
+      1'000'000, values,
+      [](std::size_t) {
+        return std::optional<LoopBounds>{LoopBounds{7, 7}};
+      },
+      [&] { return ++steps > 0; }, [&] { return ++bodies > 0; }));
+  CHECK(steps == 1'000'000);
+  CHECK(bodies == 1);
+  // A false from the body stops everything.
+  bodies = 0;
+  CHECK_FALSE(for_each_iteration(
+      2, values,
+      [](std::size_t) {
+        return std::optional<LoopBounds>{LoopBounds{1, 5}};
+      },
+      [] { return true; }, [&] { return ++bodies < 3; }));
+  CHECK(bodies == 3);
+}
+
+TEST_CASE("loops: huge ranges are refused before they run; empty iterations keep no scope") {
+  LoadOptions small;
+  small.max_generated = 1000;
+  // 500 nodes and 500 iterations with one element each: 1500 > 1000, the element range that
+  // passes the limit is refused; 300 of each pass.
+  const auto grid = [](int n) {
+    return fmt::format("boundary b T = 0\nnode p[1 .. {}] C = 1\nfor i in 1 .. {} {{ conductance "
+                       "g[i] p[i] b G = 1 }}\n",
+                       n, n);
+  };
+  CHECK(lint_codes(grid(500), small) == "too-large");
+  CHECK(lint_codes(grid(300), small) == "");
+  CHECK(lint_codes("node p[1 .. 1001] C = 1\n", small) == "too-large");
+  CHECK(lint_codes("for i in 1 .. 1001 { }\n", small) == "too-large");
+  SourceManager sources;
+  DiagnosticEngine diags(sources);
+  auto m = Model::from_text("m.tnet", "for i in 1 .. 900 { }\n", element_catalog(), sources, diags,
+                            small);
+  CHECK(m->scopes().empty());
+}
+
+TEST_CASE("submodels: a cycle is found where it is defined; chains nest at most 64 deep") {
+  CHECK(lint_codes("submodel s(x) {\n  node m C = 1\n  s inner m\n}\n") == "submodel-cycle");
+  CHECK(lint_codes("submodel a(x) {\n  for i in 1 .. 2 { b u[i] x }\n}\nsubmodel b(x) {\n  a v x\n}"
+                   "\n") == "submodel-cycle");
+  // 64 nested instances are fine, 65 are not.
+  const auto chain = [](int n) {
+    std::string text = "boundary b T = 20\n";
+    for (int k = 1; k < n; ++k)
+      text += fmt::format("submodel s{}(x) {{\n  s{} i x\n}}\n", k, k + 1);
+    text += fmt::format("submodel s{}(x) {{\n  node m C = 1\n  conductance g m x G = 1\n}}\n", n);
+    return text + "s1 top b\n";
+  };
+  CHECK(lint_codes(chain(64)) == "");
+  CHECK(lint_codes(chain(65)) == "submodel-too-deep");
+}
+
+TEST_CASE("cases: a key set twice, an index past 1e15, an output time past the end") {
+  const std::string base = "boundary b T = 20\nnode n[1 .. 2] C = 1\nfor i in 1 .. 2 { conductance "
+                           "g[i] n[i] b G = 1 }\nheater h n[1] P = 1\n";
+  CHECK(lint_codes(base + "case c {\n  duration = 1\n  h.P = 2\n  n[2].C = 3\n}\n") == "");
+  CHECK(lint_codes(base + "case c {\n  duration = 1\n  h.P = 2\n  h.P = 3\n}\n") ==
+        "duplicate-key");
+  CHECK(lint_codes(base + "case c {\n  duration = 1\n  for i in 1 .. 2 { n[1].C = i }\n}\n") ==
+        "duplicate-key");
+  CHECK(lint_codes(base + "case c {\n  duration = 1\n  for i in 1 .. 2 { n[i].C = i }\n}\n") == "");
+  CHECK(lint_codes(base + "case c {\n  duration = 10\n  output = 0, 5, 10\n}\n") == "");
+  CHECK(lint_codes(base + "case c {\n  duration = 10\n  output = 0, 5, 11\n}\n") ==
+        "invalid-value");
+  SourceManager sources;
+  DiagnosticEngine diags(sources);
+  auto m = Model::from_text("m.tnet", "node p[9007199254740992] C = 1\n", element_catalog(),
+                            sources, diags);
+  CHECK(render_text(diags).find("an index must lie between -1e15 and 1e15, got 9.0072e+15") !=
+        std::string::npos);
+}
+
 TEST_CASE("time: a boundary ramp T = T0 + r * time gives the analytic first-order lag") {
   TempDir dir;
   // dT/dt = (T_b - T) / tau with T_b = 20 + r t and T(0) = 20: T = 20 + r (t - tau (1 - e^-t/tau)).
@@ -364,14 +464,18 @@ TEST_CASE("output: listed times are written exactly; an interval still works") {
   Clean m(dir, "o.tnet",
           "boundary b T = 0\nnode n C = 1 T0 = 10\nconductance g n b G = 1\n"
           "case listed { duration = 10\n output = 0, 0.25, 3 [s], 10 }\n"
-          "case every { duration = 10\n output = 5 }\n"
-          "case short { duration = 2\n output = 0, 3 }\n");
+          "case every { duration = 10\n output = 5 }\n");
   Network listed(m.model->instantiate("listed"));
   CHECK(simulate(listed).times == std::vector<double>{0, 0.25, 3, 10});
   Network every(m.model->instantiate("every"));
   CHECK(simulate(every).times == std::vector<double>{0, 5, 10});
-  Network bad(m.model->instantiate("short"));
-  CHECK_THROWS_AS(simulate(bad), std::invalid_argument);
+  // A listed time after the case's duration is a lint error; after a shorter --duration, the run
+  // is refused.
+  CHECK(lint_codes("boundary b T = 0\nnode n C = 1\nconductance g n b G = 1\ncase short { "
+                   "duration = 2\n output = 0, 3 }\n") == "invalid-value");
+  SimulationOptions shorter;
+  shorter.duration = 2.0;
+  CHECK_THROWS_AS(simulate(listed, shorter), std::invalid_argument);
 }
 
 TEST_CASE("data: a file in kelvin declared [K] reads as the same temperatures as in degC") {

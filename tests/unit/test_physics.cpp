@@ -459,6 +459,34 @@ case c { duration = 100; output = 50 }
   SimulationResult r2 = thermnet::simulate(net2, tight(1e-9));
   for (const auto& row : r2.temps)
     CHECK(row[static_cast<std::size_t>(col(r2, "a"))] - kZeroC == doctest::Approx(20.0));
+
+  // Heated it would sit at P/G = 30 degC, above 'off'; unheated at 0 degC, below 'on': no state
+  // is consistent, and the run fails at t = 0 naming the thermostat (it used to run on at 30 degC
+  // with the heater on all the time).
+  std::string none = heated;
+  none.replace(none.find("P = 20 on = 18 off = 22"), 23, "P = 30 on = 10 off = 20");
+  Network net3(spec_from(none));
+  try {
+    (void)thermnet::simulate(net3, tight(1e-9));
+    FAIL("no error for a thermostat without a consistent state");
+  } catch (const thermnet::SolverError& e) {
+    CHECK(std::string(e.what()).find("thermostat 't'") != std::string::npos);
+    CHECK(e.time == 0.0);
+  }
+  // The same becomes inconsistent during the run: P = 15 W keeps it at 15 degC (on) while the
+  // boundary is cold; once the boundary passes 5 degC the heated node would pass 'off' = 20 degC,
+  // and unheated it would sit below 'on' = 10 degC. The run stops there, at t = 50 s.
+  std::string ramp = none;
+  ramp.replace(ramp.find("boundary e T = 0"), 16, "boundary e T = pwl(0: 0, 100: 10)");
+  ramp.replace(ramp.find("P = 30"), 6, "P = 15");
+  Network net4(spec_from(ramp));
+  try {
+    (void)thermnet::simulate(net4, tight(1e-9));
+    FAIL("no error when the thermostat's state stops being consistent");
+  } catch (const thermnet::SolverError& e) {
+    CHECK(std::string(e.what()).find("thermostat 't'") != std::string::npos);
+    CHECK(e.time == doctest::Approx(50.0).epsilon(1e-6));
+  }
 }
 
 TEST_CASE("physics: composite and geometric conductances match hand computation") {

@@ -4,8 +4,11 @@
 
 #include <doctest/doctest.h>
 
+#include <atomic>
 #include <cstring>
 #include <limits>
+#include <memory>
+#include <string>
 #include <vector>
 
 using namespace thermnet;
@@ -66,4 +69,55 @@ TEST_CASE("vectors travel through bytes unchanged, empty ones too; a short buffe
   CHECK(in.empty());
   std::string_view cut(buffer.data(), buffer.size() / 2);
   CHECK_THROWS_AS(take_values<double>(cut), std::runtime_error);
+}
+
+namespace {
+
+/// Two processes played by one: this one is `rank`, and all_gather hands back `other` as the
+/// other rank's bytes (and keeps what this one sent).
+class TwoRanks final : public ProcessGroup {
+public:
+  TwoRanks(int rank, std::string other) : rank_(rank), other_(std::move(other)) {}
+  int rank() const override { return rank_; }
+  int size() const override { return 2; }
+  std::vector<std::string> all_gather(const std::string& mine) const override {
+    sent = mine;
+    return rank_ == 0 ? std::vector<std::string>{mine, other_}
+                      : std::vector<std::string>{other_, mine};
+  }
+  mutable std::string sent; ///< what this process sent
+
+private:
+  int rank_;
+  std::string other_;
+};
+
+} // namespace
+
+TEST_CASE("a cancelled share sends only the indices that ran; the others keep their value") {
+  // Rank 1 of 2 over [0, 10) owns [5, 10); it is cancelled after running 5, 6 and 7.
+  std::atomic<bool> cancel{false};
+  std::vector<int> on_1(10, -1);
+  auto rank_1 = std::make_unique<TwoRanks>(1, std::string());
+  TwoRanks& one = *rank_1;
+  set_process_group(std::move(rank_1));
+  distributed_for(
+      10, 1,
+      [&](std::size_t i) {
+        on_1[i] = static_cast<int>(10 * i);
+        if (i == 7) cancel = true;
+      },
+      [&](std::size_t i) { return std::to_string(on_1[i]); },
+      [&](std::size_t, std::string_view) { FAIL("rank 0 sent nothing"); }, &cancel);
+  const std::string from_1 = one.sent;
+  // Rank 0 runs all of [0, 5) and receives rank 1's three results; 8 and 9 stay as they were.
+  std::vector<int> on_0(10, -1);
+  set_process_group(std::make_unique<TwoRanks>(0, from_1));
+  distributed_for(
+      10, 2, [&](std::size_t i) { on_0[i] = static_cast<int>(10 * i); },
+      [&](std::size_t i) { return std::to_string(on_0[i]); },
+      [&](std::size_t i, std::string_view bytes) { on_0[i] = std::stoi(std::string(bytes)); });
+  set_process_group(nullptr);
+  CHECK(on_0 == std::vector<int>{0, 10, 20, 30, 40, 50, 60, 70, -1, -1});
+  CHECK(from_1.size() == 3 * (2 * sizeof(std::uint64_t) + 2));
 }
