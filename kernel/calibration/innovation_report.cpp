@@ -25,15 +25,11 @@ std::vector<SeriesWhiteness> test_innovations(const std::vector<CaseInnovations>
       for (std::size_t k = 0; k < c.times.size(); ++k)
         if (!std::isnan(c.measured[s][k]) && !std::isnan(c.predicted[s][k]))
           e.push_back(c.measured[s][k] - c.predicted[s][k]);
-      SeriesWhiteness w;
-      w.case_name = c.case_name;
-      w.node = c.nodes[s];
       double ss = 0.0;
       for (double v : e)
         ss += v * v;
-      w.innovation_rms = e.empty() ? 0.0 : std::sqrt(ss / static_cast<double>(e.size()));
-      w.test = test_whiteness(e, step);
-      out.push_back(std::move(w));
+      const double rms = e.empty() ? 0.0 : std::sqrt(ss / static_cast<double>(e.size()));
+      out.push_back({c.case_name, c.nodes[s], rms, test_whiteness(e, step)});
     }
   }
   return out;

@@ -234,18 +234,24 @@ private:
       return a.second.screen > b.second.screen;
     });
     std::vector<std::pair<const Hypothesis*, Candidate>> out;
-    std::set<std::string> sites, kinds;
-    std::map<std::string, std::size_t> unobserved;
-    for (const auto& [h, c] : all)
+    std::set<std::string> sites, kinds, scored;
+    std::map<std::string, std::size_t> unobserved, unscored;
+    for (const auto& [h, c] : all) {
       if (c.unobserved) ++unobserved[c.kind];
+      if (c.screen > 0) scored.insert(c.kind);
+    }
     auto site_of = [](const Candidate& c) {
       return fmt::format("{}|{}|{}", c.kind, fmt::join(c.nodes, ","), c.element);
     };
     for (const auto& [h, c] : all) {
       const std::string site = site_of(c);
-      const bool keep = (c.screen > 0 && (sites.size() < opt_.refits || sites.count(site) ||
-                                          !kinds.count(c.kind))) ||
-                        (c.unobserved && unobserved[c.kind] <= opt_.refits);
+      // A kind the screen scored nowhere (no screen rows: inputs that change at every sample,
+      // as a building's weather does) is tested by its first candidates in proposal order.
+      const bool keep =
+          (c.screen > 0 &&
+           (sites.size() < opt_.refits || sites.count(site) || !kinds.count(c.kind))) ||
+          (c.unobserved && unobserved[c.kind] <= opt_.refits) ||
+          (!c.unobserved && !scored.count(c.kind) && unscored[c.kind]++ < opt_.refits);
       if (!keep) continue;
       if (c.screen > 0) sites.insert(site);
       kinds.insert(c.kind);
