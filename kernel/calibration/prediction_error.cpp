@@ -270,7 +270,7 @@ PredictionProblem::innovations(const std::vector<double>& theta) const {
 }
 
 PredictionFit fit_prediction(const PredictionProblem& problem, std::vector<double> start,
-                             bool std_errors) {
+                             bool std_errors, bool deterministic_stage) {
   if (start.empty()) start = problem.start();
   const auto boxes = problem.boxes();
   const ScalarObjective f = [&problem](const std::vector<double>& th) {
@@ -279,7 +279,7 @@ PredictionFit fit_prediction(const PredictionProblem& problem, std::vector<doubl
   QuasiNewtonOptions qo;
   qo.threads = problem.settings().threads;
   std::size_t stage_evaluations = 0;
-  if (problem.structural() > 0) {
+  if (deterministic_stage && problem.structural() > 0) {
     // Stage 1, the deterministic fit: the structural params and the measurement noise with
     // (nearly) no process noise, so that the filter is the simulation and its prediction errors
     // the output errors. Started with process noise, the likelihood is often higher by making the

@@ -114,9 +114,12 @@ struct PredictionFit {
 };
 
 /// Maximises the log-likelihood over every parameter from `start` (empty: problem.start());
-/// with `std_errors`, adds the standard errors from the Hessian.
+/// with `std_errors`, adds the standard errors from the Hessian. With `deterministic_stage`, the
+/// structural params and the measurement noise are first fitted with (almost) no process noise
+/// (a start far from the optimum); without it, everything is fitted from `start` at once (a warm
+/// start from a fitted model, as the diagnosis refits candidates).
 PredictionFit fit_prediction(const PredictionProblem& problem, std::vector<double> start = {},
-                             bool std_errors = true);
+                             bool std_errors = true, bool deterministic_stage = true);
 
 /// The likelihood-ratio test of a model against a nested smaller one.
 struct LikelihoodRatio {

@@ -21,8 +21,8 @@ namespace {
 constexpr double kAlpha = 0.05; // significance level of a step's tests (before Bonferroni)
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-/// A structure of the selection: the declared model, findings applied at fixed values, and
-/// optionally a free candidate, with the ranged params free.
+/// A structure of the selection: the declared model, the findings applied so far and optionally a
+/// free candidate, with the ranged params and the applied findings' values free.
 struct Structure {
   const std::vector<Applied>* applied = nullptr;
   const Hypothesis* h = nullptr; // free candidate's hypothesis (null: none)
@@ -50,8 +50,8 @@ public:
                            "filter fails at the declared values)");
     sum.declared = base.summary;
     sum.whiteness_before = base.whiteness;
-    std::size_t ranged = calib_.dimension();
     for (std::size_t step = 0; step < opt_.top; ++step) {
+      const std::size_t offset = calib_.dimension() + applied_count(applied);
       const Evidence ev = step == 0 ? ev_ : engine_.evidence_at(engine_.make_base(applied));
       const std::vector<std::pair<const Hypothesis*, Candidate>> cands = shortlist(ev, applied);
       if (cands.empty()) break;
@@ -73,8 +73,12 @@ public:
         t.after = fits[i].summary;
         t.ratio = likelihood_ratio(base.fit.log_likelihood, base.fit.parameters,
                                    fits[i].fit.log_likelihood, fits[i].fit.parameters);
+
         t.threshold = threshold;
-        describe(f, fits[i], base, t, *cands[i].first, ev, ranged);
+        describe(f, fits[i], base, t, *cands[i].first, ev, offset);
+        if (t.ratio.statistic < 0)
+          f.evidence += "; the refit stayed below the likelihood of the model it extends (a "
+                        "local maximum of the candidate's likelihood)";
         f.significant = t.ratio.df > 0 && t.ratio.p_value < threshold;
         f.likelihood = t;
         if (f.significant && (best == cands.size() || fits[i].fit.bic < fits[best].fit.bic))
@@ -89,9 +93,15 @@ public:
       f.rank = static_cast<int>(rep.findings.size()) + 1;
       const std::size_t own = cands[best].second.names.size();
       const std::vector<double>& th = fits[best].fit.theta;
-      const std::vector<double> values(th.begin() + static_cast<long>(ranged),
-                                       th.begin() + static_cast<long>(ranged + own));
+      const std::vector<double> values(th.begin() + static_cast<long>(offset),
+                                       th.begin() + static_cast<long>(offset + own));
       rep.findings.push_back(f);
+      // The findings applied before are refitted with it: their values move to the joint fit.
+      auto at = th.begin() + static_cast<long>(calib_.dimension());
+      for (auto& a : applied) {
+        a.p.assign(at, at + static_cast<long>(a.c.names.size()));
+        at += static_cast<long>(a.c.names.size());
+      }
       applied.push_back({cands[best].first, cands[best].second, values});
       base = std::move(fits[best]);
     }
@@ -121,13 +131,28 @@ private:
     return n;
   }
 
-  // The case networks of a structure at x = ranged params, then the free candidate's own.
+  // Parameters of the applied findings, all together.
+  static std::size_t applied_count(const std::vector<Applied>& applied) {
+    std::size_t n = 0;
+    for (const auto& a : applied)
+      n += a.c.names.size();
+    return n;
+  }
+
+  // The case networks of a structure at x = ranged params, every applied finding's (refitted with
+  // them, so that each structure contains the one it extends), then the free candidate's own.
   SpecMaker maker(Structure s) const {
     const std::size_t nr = calib_.dimension();
     return [this, s, nr](std::size_t ci, const std::vector<double>& x) {
+      std::vector<Applied> applied = *s.applied;
+      auto at = x.begin() + static_cast<long>(nr);
+      for (auto& a : applied) {
+        a.p.assign(at, at + static_cast<long>(a.c.names.size()));
+        at += static_cast<long>(a.c.names.size());
+      }
       const std::vector<double> ranged(x.begin(), x.begin() + static_cast<long>(nr));
-      const std::vector<double> own(x.begin() + static_cast<long>(nr), x.end());
-      const Stack st(s.applied, s.h, s.c);
+      const std::vector<double> own(at, x.end());
+      const Stack st(&applied, s.h, s.c);
       const Candidate none;
       lang::ParamValues pv = calib_.values(ranged);
       for (auto& [k, v] : st.overrides(none, own))
@@ -136,6 +161,17 @@ private:
       st.extend(none, own, spec);
       return spec;
     };
+  }
+
+  // A candidate's parameter i in the fit of the structure (stable across steps: finding k's).
+  static PredictionParam candidate_param(const Candidate& c, std::size_t j, std::size_t finding,
+                                         double start) {
+    PredictionParam q;
+    q.name = fmt::format("finding{}.{}.{}", finding, c.kind, c.names[j]);
+    const double lo = c.lo[j], hi = c.hi[j];
+    q.box = {lo, hi, lo > 0 && hi / lo > 10 ? ParamScale::log : ParamScale::linear};
+    q.start = std::clamp(start, lo, hi);
+    return q;
   }
 
   // Maximum-likelihood fit of a structure, started from `warm` (values by name) where known.
@@ -148,15 +184,14 @@ private:
       q.start = p.value;
       structural.push_back(q);
     }
+    for (std::size_t k = 0; k < s.applied->size(); ++k) {
+      const Applied& a = (*s.applied)[k];
+      for (std::size_t j = 0; j < a.c.names.size(); ++j)
+        structural.push_back(candidate_param(a.c, j, k + 1, a.p[j]));
+    }
     if (s.c)
-      for (std::size_t j = 0; j < s.c->names.size(); ++j) {
-        PredictionParam q;
-        q.name = s.c->kind + "." + s.c->names[j];
-        const double lo = s.c->lo[j], hi = s.c->hi[j];
-        q.box = {lo, hi, lo > 0 && hi / lo > 10 ? ParamScale::log : ParamScale::linear};
-        q.start = std::clamp(s.c->start[j], lo, hi);
-        structural.push_back(q);
-      }
+      for (std::size_t j = 0; j < s.c->names.size(); ++j)
+        structural.push_back(candidate_param(*s.c, j, s.applied->size() + 1, s.c->start[j]));
     Fitted out;
     PredictionSettings settings;
     settings.initial_sd = opt_.initial_sd;
@@ -168,7 +203,18 @@ private:
       for (std::size_t k = 0; k < pp.params().size(); ++k)
         if (auto it = warm.find(pp.params()[k].name); it != warm.end())
           start[k] = std::clamp(it->second, pp.params()[k].box.lo, pp.params()[k].box.hi);
-      out.fit = fit_prediction(pp, start, true);
+      // The declared structure from its declared values (the deterministic stage first); a
+      // candidate from the fitted model it extends, its own parameters at the kind's start.
+      out.fit = fit_prediction(pp, start, true, true);
+      if (!warm.empty()) {
+        // A candidate's likelihood has local maxima: from the fitted model it extends (its noise
+        // already absorbing what the candidate explains) the search can stall at a bound, from
+        // the deterministic stage it can end below the nested model (the house's heater mass).
+        // Both are tried; the higher maximum is kept.
+        const PredictionFit direct = fit_prediction(pp, start, true, false);
+        if (direct.ok && (!out.fit.ok || direct.log_likelihood > out.fit.log_likelihood))
+          out.fit = direct;
+      }
       if (!out.fit.ok) return out;
       for (std::size_t k = 0; k < pp.params().size(); ++k) {
         out.by_name[pp.params()[k].name] = out.fit.theta[k];
@@ -261,12 +307,12 @@ private:
   }
 
   void describe(Finding& f, const Fitted& after, const Fitted& before, const LikelihoodTest& t,
-                const Hypothesis& h, const Evidence& ev, std::size_t ranged) const {
+                const Hypothesis& h, const Evidence& ev, std::size_t offset) const {
     const std::size_t own = f.candidate.names.size();
-    f.values.assign(after.fit.theta.begin() + static_cast<long>(ranged),
-                    after.fit.theta.begin() + static_cast<long>(ranged + own));
-    f.std_errors.assign(after.fit.std_errors.begin() + static_cast<long>(ranged),
-                        after.fit.std_errors.begin() + static_cast<long>(ranged + own));
+    f.values.assign(after.fit.theta.begin() + static_cast<long>(offset),
+                    after.fit.theta.begin() + static_cast<long>(offset + own));
+    f.std_errors.assign(after.fit.std_errors.begin() + static_cast<long>(offset),
+                        after.fit.std_errors.begin() + static_cast<long>(offset + own));
     f.rmse_before = before.rmse;
     f.rmse_after = after.rmse;
     f.r2_before = before.r2;
@@ -281,7 +327,14 @@ private:
         t.before.log_likelihood, t.after.log_likelihood, t.ratio.df, t.ratio.df == 1 ? "" : "s",
         t.ratio.statistic, t.ratio.p_value, t.ratio.df, t.threshold, t.before.one_step_rmse,
         t.after.one_step_rmse);
-    write_extension(f, h, f.candidate, f.values, ev);
+    try {
+      write_extension(f, h, f.candidate, f.values, ev);
+    } catch (const std::exception& e) {
+      // A candidate on a node an applied finding added has no statement against the declared
+      // model (its kind writes against the declarations).
+      f.statement = fmt::format("# {} [{}] cannot be written against the declared model ({})",
+                                f.candidate.kind, fmt::join(f.candidate.nodes, ", "), e.what());
+    }
   }
 
   const Engine& engine_;

@@ -6,7 +6,9 @@ sample, linear between samples: what the models' process noise stands for) and N
 measurement noise on the measured node `a`.
 
 Writes inputs.csv (time, Ta degC, P W), data_linear.csv and data_radiation.csv (time, a degC) into
-the folder given as the first argument."""
+the folder given as the first argument; and for the diagnosis test, a block heated through a
+heater body of its own (3 kJ/K behind 4 W/K, what heater_1node.tnet lacks), sampled every 120 s
+for 10 h with N(0, 0.02 K) noise: inputs_heater.csv (time, Ta, P) and data_heater.csv (time, a)."""
 import sys, os
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -50,3 +52,26 @@ for name, rhs in (("linear", linear), ("radiation", radiation)):
         f.write("time,a\n")
         for tt, v in zip(t, y):
             f.write("%.1f,%.10g\n" % (tt, v))
+
+# The heated block with a heater body (the diagnosis test).
+th = np.arange(0.0, 36000.0 + 1, 120.0)
+Tah = 15 + 1.5 * np.sin(2 * np.pi * th / 20000)
+Ph = np.where((th >= 3600) & (th < 14400), 120.0, 0.0)
+Ph = np.where((th >= 21600) & (th < 28800), 70.0, Ph)
+
+def heated(tt, T):
+    ta, p = np.interp(tt, th, Tah) + K0, np.interp(tt, th, Ph)
+    Ca, Ch, Gh, G = 5e4, 3e3, 4.0, 2.0
+    a, h = T
+    return [(Gh * (h - a) - G * (a - ta)) / Ca, (p - Gh * (h - a)) / Ch]
+
+sol = solve_ivp(heated, (0, th[-1]), [15 + K0, 15 + K0], t_eval=th, method="Radau",
+                rtol=1e-10, atol=1e-10, max_step=120)
+with open(os.path.join(out, "inputs_heater.csv"), "w") as f:
+    f.write("time,Ta,P\n")
+    for row in zip(th, Tah, Ph):
+        f.write("%.1f,%.10g,%.10g\n" % row)
+with open(os.path.join(out, "data_heater.csv"), "w") as f:
+    f.write("time,a\n")
+    for tt, v in zip(th, sol.y[0] - K0 + rng.normal(0, 0.02, th.size)):
+        f.write("%.1f,%.10g\n" % (tt, v))

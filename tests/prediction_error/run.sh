@@ -70,6 +70,21 @@ check "house, 1 node: the text says which test fails" grep -q "NOT white" h1.txt
 check "house: the whiteness figure shows the autocorrelation and the cumulated periodogram" \
   grep -q "cumulated periodogram" h1.svg
 
+# diagnose --criterion prediction names the heater's own mass the one-node model lacks
+cp "$HERE/heater_1node.tnet" .
+run diagnose heater_1node.tnet --criterion prediction --json d.json --whiteness-plot d.svg --top 2 --threads 2
+check "diagnose --criterion prediction: exit 0" test "$rc" -eq 0
+cat out.txt
+check "diagnose: the report names its criterion (text and JSON)" \
+  test "$(grep -c "Criterion: prediction error" out.txt) $(js d.json "j['criterion']")" = "1 prediction"
+check "diagnose: the first finding is heater_mass on the block" \
+  test "$(js d.json "(j['findings'][0]['kind'], j['findings'][0]['nodes'])")" = "('heater_mass', ['a'])"
+check "diagnose: its likelihood-ratio test is significant (p below its threshold)" \
+  test "$(js d.json "j['findings'][0]['likelihood']['p_value'] < j['findings'][0]['likelihood']['threshold']")" = True
+check "diagnose: the heater body's capacity within 30 % of the truth's 3 kJ/K" \
+  test "$(js d.json "abs(j['findings'][0]['values']['C'] / 3000 - 1) < 0.3")" = True
+check "diagnose: the whiteness figure is written" grep -q "autocorrelation" d.svg
+
 # The criterion is refused where it does not apply
 run calibrate house_1node.tnet --criterion output-error --whiteness-plot w.svg
 check "--whiteness-plot without --criterion prediction: usage error (2)" test "$rc" -eq 2

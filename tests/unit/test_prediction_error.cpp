@@ -4,6 +4,7 @@
 #include "kernel/calibration/prediction_error.hpp"
 #include "kernel/calibration/whiteness.hpp"
 #include "kernel/core/kalman_filter.hpp"
+#include "kernel/diagnosis/report.hpp"
 
 #include <doctest/doctest.h>
 
@@ -65,4 +66,14 @@ TEST_CASE("prediction: Van Loan's discretisation of one node is the analytic one
   CHECK(in.log_likelihood ==
         doctest::Approx(-0.5 * (std::log(2 * M_PI * S) + 0.09 / S)).epsilon(1e-12));
   CHECK(f.x()(0) == doctest::Approx(1.0 + 0.04 / S * 0.3));
+}
+
+TEST_CASE("prediction: a diagnosis report names its criterion, output error by default") {
+  DiagnosisReport r;
+  const auto j = diagnosis_json(r);
+  CHECK(j["criterion"] == "output-error");
+  CHECK_FALSE(j.contains("prediction"));
+  CHECK(diagnosis_text(r).find("Criterion: prediction") == std::string::npos);
+  DiagnosisOptions o;
+  CHECK(o.criterion == "output-error");
 }
