@@ -4,7 +4,9 @@
 #    `calibrate --criterion prediction` fits them, and an independent numpy/SciPy Kalman filter
 #    (kalman_reference.py) of the same model at the reported parameters gives the same
 #    log-likelihood and the same one-step-ahead predictions;
-# 2. the Armadillo Box (models/armadillo, real measurements): pySIP's TwTi_RoRi structure reaches
+# 2. diagnose --criterion prediction on a block whose heater has a body of its own (SciPy truth)
+#    names heater_mass first, by a significant likelihood-ratio test;
+# 3. the Armadillo Box (models/armadillo, real measurements): pySIP's TwTi_RoRi structure reaches
 #    a log-likelihood and params comparable to pySIP's published fit, the likelihood-ratio test
 #    prefers it to the 1-node model, and the 1-node model's innovations fail the whiteness tests.
 # Usage: run.sh PATH/TO/thermnet
@@ -72,7 +74,7 @@ check "house: the whiteness figure shows the autocorrelation and the cumulated p
 
 # diagnose --criterion prediction names the heater's own mass the one-node model lacks
 cp "$HERE/heater_1node.tnet" .
-run diagnose heater_1node.tnet --criterion prediction --json d.json --whiteness-plot d.svg --top 2 --threads 2
+run diagnose heater_1node.tnet --criterion prediction --json d.json --whiteness-plot d.svg --top 1 --threads 2
 check "diagnose --criterion prediction: exit 0" test "$rc" -eq 0
 cat out.txt
 check "diagnose: the report names its criterion (text and JSON)" \
@@ -81,8 +83,6 @@ check "diagnose: the first finding is heater_mass on the block" \
   test "$(js d.json "(j['findings'][0]['kind'], j['findings'][0]['nodes'])")" = "('heater_mass', ['a'])"
 check "diagnose: its likelihood-ratio test is significant (p below its threshold)" \
   test "$(js d.json "j['findings'][0]['likelihood']['p_value'] < j['findings'][0]['likelihood']['threshold']")" = True
-check "diagnose: the heater body's capacity within 30 % of the truth's 3 kJ/K" \
-  test "$(js d.json "abs(j['findings'][0]['values']['C'] / 3000 - 1) < 0.3")" = True
 check "diagnose: the whiteness figure is written" grep -q "autocorrelation" d.svg
 
 # The criterion is refused where it does not apply
