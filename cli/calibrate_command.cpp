@@ -1,5 +1,6 @@
 // `thermnet calibrate MODEL [--method NAME] [--samples N] [--tolerance T] [--seed S] [--threads N]
-//  [-o CALIBRATED.tnet] [--json REPORT.json] [--plot OUT.svg] [--case NAME ...]`
+//  [-o CALIBRATED.tnet] [--json REPORT.json] [--plot OUT.svg] [--case NAME ...]
+//  [--criterion output-error|prediction] [--initial-sd K] [--whiteness-plot OUT.svg]`
 //
 // Ctrl-C (under mpirun also SIGTERM, which mpirun sends the ranks for a Ctrl-C) sets a flag the
 // optimizer polls: it stops drawing samples, returns the best so far, and the command still writes
@@ -14,8 +15,10 @@
 #include "cli/option_rules.hpp"
 #include "cli/output_files.hpp"
 #include "cli/param_overrides.hpp"
+#include "cli/prediction_calibration.hpp"
 #include "cli/progress_bar.hpp"
 #include "cli/run_command.hpp"
+#include "cli/whiteness_figure.hpp"
 #include "kernel/calibration/optimizer.hpp"
 #include "kernel/core/process_group.hpp"
 #include "lang/rewrite/model_files.hpp"
@@ -45,6 +48,10 @@ struct CalibrateOptions {
   std::string plot;
   std::vector<std::string> cases;
   std::vector<std::string> sets;
+  std::string criterion = "output-error";
+  double initial_sd = 1.0;
+  std::string whiteness_plot;
+  std::string predictions;
 };
 
 std::atomic<bool> g_interrupted{false};
@@ -134,12 +141,9 @@ void note_files_outside(const std::string& out, const lang::Model& model,
 }
 
 void write_outputs(const CalibrateOptions& o, const lang::Model& model,
-                   const CalibrationProblem& problem, const OptimizerResult& r) {
-  std::vector<OutputFile> files;
-  if (!o.json.empty()) {
-    ReportContext ctx{o.seed, o.tolerance, o.model};
-    files.push_back({o.json, result_json(r, problem, ctx).dump(2) + "\n"});
-  }
+                   const CalibrationProblem& problem, const OptimizerResult& r,
+                   const nlohmann::ordered_json& json, std::vector<OutputFile> files) {
+  if (!o.json.empty()) files.push_back({o.json, json.dump(2) + "\n"});
   std::vector<rewrite::RewrittenFile> model_files;
   if (r.found && !o.out.empty()) {
     std::vector<rewrite::ParamUpdate> updates;
@@ -174,12 +178,62 @@ void write_outputs(const CalibrateOptions& o, const lang::Model& model,
   }
 }
 
+/// --criterion prediction: maximum likelihood of the one-step-ahead predictions.
+int run_prediction(const CalibrateOptions& o, const lang::Model& model,
+                   const CalibrationProblem& problem) {
+  const char* me = "thermnet calibrate";
+  std::cerr << fmt::format("{}: {} param{} and the noise over {} case{} ({} measured points), "
+                           "criterion prediction (maximum likelihood, Kalman filter)\n",
+                           me, problem.dimension(), problem.dimension() == 1 ? "" : "s",
+                           problem.cases().size(), problem.cases().size() == 1 ? "" : "s",
+                           problem.points());
+  const auto pc = calibrate_by_prediction(model, problem, o.initial_sd, o.threads,
+                                          {o.seed, o.tolerance, o.model});
+  std::cout << pc.text;
+  std::cout.flush();
+  for (const auto& note : pc.result.notes)
+    std::cerr << fmt::format("{}: note: {}\n", me, note);
+  std::vector<OutputFile> extra;
+  if (pc.result.found && !o.whiteness_plot.empty())
+    extra.push_back(
+        {o.whiteness_plot, plot::render_svg(whiteness_figure(
+                               pc.whiteness, fmt::format("{} — innovations of the one-step-ahead "
+                                                         "predictions (log-likelihood {:.5g})",
+                                                         model.name(), pc.fit.log_likelihood)))});
+  if (pc.result.found && !o.predictions.empty())
+    extra.push_back({o.predictions, predictions_csv(pc.innovations)});
+  write_outputs(o, model, problem, pc.result, pc.json, std::move(extra));
+  if (!pc.result.found) {
+    std::cerr << fmt::format("{}: error: the likelihood cannot be evaluated at the start\n", me);
+    return exit_failure;
+  }
+  return exit_ok;
+}
+
 int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
   const char* me = "thermnet calibrate";
   int status = exit_ok;
   auto model = load_checked_model(o.model, sources, status, o.sets);
   if (!model) return status;
-  check_outputs({{"-o", o.out}, {"--json", o.json}, {"--plot", o.plot}}, model_inputs(*model));
+  check_outputs({{"-o", o.out},
+                 {"--json", o.json},
+                 {"--plot", o.plot},
+                 {"--whiteness-plot", o.whiteness_plot},
+                 {"--predictions", o.predictions}},
+                model_inputs(*model));
+  const bool prediction = o.criterion == "prediction";
+  if ((!o.whiteness_plot.empty() || !o.predictions.empty()) && !prediction) {
+    std::cerr << fmt::format("{}: error: {} needs --criterion prediction (it writes the "
+                             "one-step-ahead prediction errors of that criterion)\n",
+                             me, o.predictions.empty() ? "--whiteness-plot" : "--predictions");
+    return exit_usage;
+  }
+  if (prediction && !o.method.empty()) {
+    std::cerr << fmt::format("{}: error: --method does not apply to --criterion prediction (the "
+                             "likelihood is maximised by a quasi-Newton method)\n",
+                             me);
+    return exit_usage;
+  }
   const std::string method = o.method.empty() ? default_method() : o.method;
   const OptimizerPlugin* plugin = OptimizerRegistry::global().find(method);
   if (!plugin) {
@@ -188,7 +242,7 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
   }
   refuse_repeated_cases(o.cases);
   CalibrationProblem problem(*model, o.cases);
-  if (problem.dimension() == 0) {
+  if (problem.dimension() == 0 && !prediction) {
     std::cerr << fmt::format("{}: error: no param in {} has a range; nothing to calibrate "
                              "(declare one as e.g. `param h = 5 [W/(m^2*K)] range 2 .. 10`)\n",
                              me, o.model);
@@ -200,6 +254,7 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
                              me, o.model);
     return exit_failure;
   }
+  if (prediction) return run_prediction(o, *model, problem);
   OptimizerSettings settings;
   settings.samples = o.samples;
   settings.tolerance = o.tolerance;
@@ -227,10 +282,13 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
 
   std::cout << format_result_table(r, problem);
   std::cout << "(param values in SI units)\n";
+  std::cout << "criterion: output error (the simulation's RMSE against the measurements)\n";
   std::cout.flush();
   for (const auto& note : r.notes)
     std::cerr << fmt::format("{}: note: {}\n", me, note);
-  write_outputs(o, *model, problem, r);
+  auto json = result_json(r, problem, {o.seed, o.tolerance, o.model});
+  json["criterion"] = "output-error";
+  write_outputs(o, *model, problem, r, json, {});
   if (r.cancelled) {
     // Under mpirun only rank 0 writes; the others say so (their words are shown only if they
     // differ from rank 0's).
@@ -276,6 +334,20 @@ void add_calibrate_command(CLI::App& app, int& status) {
                   "cases to compare (repeat --case or separate by commas; default: all with data)")
       ->allow_extra_args(false)
       ->delimiter(',');
+  cmd->add_option("--criterion", o->criterion,
+                  "what the fit minimises: output-error (default: the simulation's RMSE) or "
+                  "prediction (the likelihood of a Kalman filter's one-step-ahead predictions, "
+                  "with process and measurement noise fitted; docs/calibration.md)")
+      ->check(CLI::IsMember({"output-error", "prediction"}));
+  cmd->add_option("--initial-sd", o->initial_sd,
+                  "prediction: standard deviation of the initial states in K (default 1)")
+      ->check(number_validator(false, false));
+  cmd->add_option("--whiteness-plot", o->whiteness_plot,
+                  "prediction: SVG of the innovations' autocorrelation and cumulated periodogram "
+                  "with their white-noise bounds");
+  cmd->add_option("--predictions", o->predictions,
+                  "prediction: CSV of the one-step-ahead predictions at the fit "
+                  "(case,time,node,measured,predicted,sd; degC and K)");
   add_set_option(cmd, o->sets,
                  "; a ranged param set this way keeps its range and starts the fit there "
                  "(lm; the sampling methods draw over the range); -o does not write these values");

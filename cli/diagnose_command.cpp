@@ -1,5 +1,6 @@
 // `thermnet diagnose MODEL [--case NAME ...] [--json REPORT.json] [--write EXTENDED.tnet]
-//  [--plot OUT.svg] [--threads N] [--top K] [--events EVENTS.csv] [--stats]`
+//  [--plot OUT.svg] [--threads N] [--top K] [--events EVENTS.csv] [--stats]
+//  [--criterion output-error|prediction] [--initial-sd K] [--whiteness-plot OUT.svg]`
 
 #include "cli/diagnose_command.hpp"
 
@@ -9,6 +10,7 @@
 #include "cli/output_files.hpp"
 #include "cli/param_overrides.hpp"
 #include "cli/run_command.hpp"
+#include "cli/whiteness_figure.hpp"
 #include "kernel/diagnosis/report.hpp"
 #include "lang/rewrite/case_blocks.hpp"
 #include "lang/rewrite/param_values.hpp"
@@ -36,6 +38,9 @@ struct DiagnoseOptions {
   std::size_t top = 5;
   std::vector<std::string> sets;
   bool stats = false;
+  std::string criterion = "output-error";
+  double initial_sd = 1.0;
+  std::string whiteness_plot;
 };
 
 int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
@@ -45,7 +50,17 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   if (!model) return status;
   auto inputs = model_inputs(*model);
   if (!o.events.empty()) inputs.push_back({o.events, "the events file"});
-  check_outputs({{"--json", o.json}, {"--write", o.write}, {"--plot", o.plot}}, inputs);
+  check_outputs({{"--json", o.json},
+                 {"--write", o.write},
+                 {"--plot", o.plot},
+                 {"--whiteness-plot", o.whiteness_plot}},
+                inputs);
+  if (!o.whiteness_plot.empty() && o.criterion != "prediction") {
+    std::cerr << fmt::format("{}: error: --whiteness-plot needs --criterion prediction (the "
+                             "whiteness tests are of its one-step-ahead prediction errors)\n",
+                             me);
+    return exit_usage;
+  }
   DiagnosisOptions opt;
   if (!o.events.empty()) {
     opt.events = read_events(o.events, model->run_case_names());
@@ -54,6 +69,8 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   opt.cases = o.cases;
   opt.threads = o.threads;
   opt.top = o.top;
+  opt.criterion = o.criterion;
+  opt.initial_sd = o.initial_sd;
   const DiagnosisReport rep = diagnose(*model, opt);
   std::cout << diagnosis_text(rep);
   std::cout.flush();
@@ -68,6 +85,17 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
         files.push_back({f.path, std::move(f.text)});
   }
   if (!o.plot.empty()) files.push_back({o.plot, diagnosis_svg(rep)});
+  if (!o.whiteness_plot.empty() && rep.prediction) {
+    const auto& p = *rep.prediction;
+    const bool found = !rep.findings.empty();
+    files.push_back(
+        {o.whiteness_plot,
+         plot::render_svg(whiteness_figure(
+             found ? p.whiteness_after : p.whiteness_before,
+             fmt::format("{} — innovations {} (log-likelihood {:.5g})", rep.model,
+                         found ? "with the findings" : "of the declared structure",
+                         found ? p.final_fit.log_likelihood : p.declared.log_likelihood)))});
+  }
   write_output_files(files);
   if (!o.write.empty() && !rep.findings.empty()) note_sets_not_written(*model, me, o.write);
   return exit_ok;
@@ -181,6 +209,17 @@ void add_diagnose_command(CLI::App& app, int& status) {
   sub->add_option("--events", o->events,
                   "CSV of known events (case,event,start,end in s; empty case: every case): "
                   "event_loss looks for a loss that exists only while one is on");
+  sub->add_option("--criterion", o->criterion,
+                  "how candidates are compared: output-error (default: simulation residuals, "
+                  "held-out validation) or prediction (maximum likelihood of a Kalman filter's "
+                  "one-step-ahead predictions, likelihood-ratio tests; docs/diagnose.md)")
+      ->check(CLI::IsMember({"output-error", "prediction"}));
+  sub->add_option("--initial-sd", o->initial_sd,
+                  "prediction: standard deviation of the initial states in K (default 1)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--whiteness-plot", o->whiteness_plot,
+                  "prediction: SVG of the innovations' autocorrelation and cumulated periodogram "
+                  "(with the findings applied) with their white-noise bounds");
   sub->add_flag("--stats", o->stats,
                 "print where the time went (setup, each batch of refits) to standard error");
   sub->callback([o, &status] {

@@ -63,6 +63,8 @@ public:
   std::vector<double> initial() const;
   /// Cases that are compared, in model order.
   const std::vector<std::string>& cases() const { return cases_; }
+  /// The measured data of each case (K), in the order of cases().
+  const std::vector<MeasuredData>& data() const { return data_; }
   /// Total number of measured points (residuals of a full evaluation).
   std::size_t points() const;
   /// Sum over all points of (T_meas - mean T_meas)^2, K^2 (the R^2 denominator).

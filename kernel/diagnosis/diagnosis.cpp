@@ -4,6 +4,7 @@
 
 #include "kernel/diagnosis/diagnosis.hpp"
 
+#include "kernel/diagnosis/prediction_selection.hpp"
 #include "kernel/diagnosis/selection.hpp"
 
 #include <chrono>
@@ -25,8 +26,13 @@ DiagnosisReport diagnose(const lang::Model& model, const DiagnosisOptions& optio
   rep.folds = engine.folds();
   rep.baseline = engine.declared().metrics;
   rep.at_noise_floor = engine.declared().at_floor;
-  const detail::Base best =
-      rep.at_noise_floor ? engine.declared() : detail::Selection(engine, options).run(rep);
+  rep.criterion = options.criterion;
+  // Under the prediction criterion the likelihood-ratio tests decide (a model at the noise floor
+  // gains nothing significant there either); the output error's selection otherwise.
+  const detail::Base best = options.criterion == "prediction"
+                                ? detail::select_by_likelihood(engine, options, rep)
+                            : rep.at_noise_floor ? engine.declared()
+                                                 : detail::Selection(engine, options).run(rep);
   rep.curves = engine.curves(best);
   rep.batches = engine.batches();
   rep.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -6,9 +6,11 @@
 /// and selects findings greedily (each next one given the ones above).
 
 #include "kernel/diagnosis/hypothesis.hpp"
+#include "kernel/diagnosis/likelihood_findings.hpp"
 #include "lang/model.hpp"
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,10 @@ struct DiagnosisOptions {
   std::size_t time_folds = 3;      ///< with one case: equal stretches of its time span, each held
                                    ///< back once for validation
   std::vector<EventWindow> events; ///< known events (a lid opened), for event_loss candidates
+  /// "output-error" (the default: simulation residuals, held-out validation) or "prediction"
+  /// (one-step-ahead predictions of a Kalman filter, likelihood-ratio tests)
+  std::string criterion = "output-error";
+  double initial_sd = 1.0; ///< prediction: initial states' standard deviation, K
 };
 
 /// How far the simulation is off for one node (one case or all cases together).
@@ -86,6 +92,7 @@ struct Finding {
   double holdout_z = 0.0;              ///< held-out gain over its reference fit, z
   std::vector<Rival> rivals;           ///< candidates that fit as well (the ambiguity set)
   std::string separate_by;             ///< what measurement would separate it from its rivals
+  std::optional<LikelihoodTest> likelihood; ///< prediction criterion: its likelihood-ratio test
 };
 
 /// Where a diagnosis spent its time: a batch of candidate refits (the costly part); consecutive
@@ -113,10 +120,12 @@ struct DiagnosisReport {
   std::vector<Finding> rejected;     ///< refitted candidates that were not significant
   std::size_t screened = 0;          ///< candidates screened
   std::size_t refitted = 0;          ///< candidates refitted by simulation
-  std::string validation;            ///< "leave_one_case_out" or "held_back_time"
-  std::size_t folds = 0;             ///< validation folds
-  double wall_s = 0.0;               ///< wall time, s
-  double cpu_s = 0.0;                ///< CPU time of the process (every thread), s
+  std::string criterion = "output-error";      ///< the criterion used (DiagnosisOptions::criterion)
+  std::optional<PredictionSummary> prediction; ///< prediction criterion: likelihoods, whiteness
+  std::string validation;                      ///< "leave_one_case_out" or "held_back_time"
+  std::size_t folds = 0;                       ///< validation folds
+  double wall_s = 0.0;                         ///< wall time, s
+  double cpu_s = 0.0;                          ///< CPU time of the process (every thread), s
   double setup_wall_s = 0.0; ///< wall time of loading the data, the baseline and the heat flows, s
   std::vector<RefitBatch> batches; ///< the refit batches, in order
   /// Per case: times, and per measured node: measured, baseline and best-finding series (K).

@@ -2,6 +2,8 @@
 
 #include "kernel/diagnosis/report.hpp"
 
+#include "kernel/diagnosis/prediction_report.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -58,6 +60,7 @@ nlohmann::json finding_json(const Finding& f) {
     if (!f.mechanism_note.empty()) x["mechanism_note"] = f.mechanism_note;
   }
   x["values"] = finding_values(f);
+  if (f.likelihood) x["likelihood"] = likelihood_test_json(*f.likelihood);
   if (!f.param_rewrites.empty()) x["params"] = f.param_rewrites;
   nlohmann::json se = nlohmann::json::object();
   for (std::size_t k = 0; k < f.std_errors.size() && k < f.candidate.names.size(); ++k)
@@ -141,6 +144,8 @@ nlohmann::json diagnosis_json(const DiagnosisReport& r) {
   for (const auto& f : r.alternatives)
     j["alternatives"].push_back(finding_json(f));
   j["validation"] = {{"method", r.validation}, {"folds", r.folds}};
+  j["criterion"] = r.criterion;
+  if (r.prediction) j["prediction"] = prediction_json(r);
   j["screened"] = r.screened;
   j["refitted"] = r.refitted;
   j["wall_s"] = r.wall_s;
@@ -163,6 +168,7 @@ std::string diagnosis_timing_text(const DiagnosisReport& r) {
 }
 
 std::string diagnosis_text(const DiagnosisReport& r) {
+  if (r.prediction) return prediction_diagnosis_text(r);
   std::string s;
   s += fmt::format("Diagnosis of {} ({} case{}: {})\n", r.model, r.cases.size(),
                    r.cases.size() == 1 ? "" : "s", fmt::join(r.cases, ", "));

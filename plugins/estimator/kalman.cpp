@@ -5,7 +5,8 @@
 // State: the unknown node temperatures T (K), plus q (W) when `input` names a node: an extra heat
 // flow into that node, modelled as a random walk. Dynamics C dT/dt = F(t, T) + e q.
 //
-// Propagation between two measurement times t_k -> t_k+1:
+// The filter is the one every command shares (kernel/core/network_state_space.hpp,
+// kalman_filter.hpp). Propagation between two measurement times t_k -> t_k+1:
 //  - mean: the network's own integrator (CVODE BDF via thermnet::integrate), which keeps the
 //    nonlinear elements (radiation, convection correlations), time-varying inputs, breakpoints and
 //    thermostat events exact to the solver tolerance;
@@ -17,14 +18,13 @@
 // form. Smoother (`smooth`): RTS backward pass over the stored filter steps, batch only.
 // Algebraic (C = 0) nodes are not supported by the covariance propagation and are rejected.
 
-#include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
+#include "kernel/core/network_state_space.hpp"
 #include "kernel/core/simulation.hpp"
 #include "kernel/estimation/estimator.hpp"
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
-#include <unsupported/Eigen/MatrixFunctions>
 
 #include <chrono>
 #include <cmath>
@@ -37,21 +37,6 @@ namespace {
 constexpr double kelvin = 273.15;
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
-// The network with an extra heat input q into one unknown (the augmented state's dynamics).
-class DrivenNetwork final : public ForwardingSystem {
-public:
-  DrivenNetwork(Network& net, int input_unknown) : ForwardingSystem(net), input_(input_unknown) {}
-  double q = 0.0; ///< extra heat flow, W
-
-  void heat_balance(double t, const double* T, double* F) override {
-    ForwardingSystem::heat_balance(t, T, F);
-    if (input_ >= 0) F[input_] += q;
-  }
-
-private:
-  int input_;
-};
-
 struct Step {
   double time;
   Eigen::VectorXd x_post, x_prior_next; // x(k|k), x(k+1|k)
@@ -63,12 +48,6 @@ public:
   explicit Ekf(const EstimatorContext& ctx) : net_(*ctx.network) {
     const EstimatorSettings& s = ctx.settings;
     n_ = net_.size();
-    const auto& C = net_.capacities();
-    for (int i = 0; i < n_; ++i)
-      if (!(C[i] > 0.0))
-        throw EstimatorError(
-            fmt::format("ekf: node '{}' has no heat capacity; arithmetic nodes are not supported",
-                        net_.unknown_name(i)));
     auto unknown_of = [&](const std::string& name) {
       int spec = net_.spec().node_index(name);
       for (std::size_t i = 0; i < net_.unknown_nodes().size(); ++i)
@@ -81,8 +60,12 @@ public:
       if (input_ < 0)
         throw EstimatorError(fmt::format("ekf: input node '{}' is not a node of the model", input));
     }
-    m_ = n_ + (input_ >= 0 ? 1 : 0);
-    driven_ = std::make_unique<DrivenNetwork>(net_, input_);
+    try {
+      model_ = std::make_unique<NetworkStateSpace>(net_, input_);
+    } catch (const std::invalid_argument& e) {
+      throw EstimatorError(fmt::format("ekf: {}", e.what()));
+    }
+    m_ = model_->size();
     // Measured columns: the named ones, else every data column that names a node.
     auto measured = s.list("measured");
     if (measured.empty())
@@ -112,15 +95,20 @@ public:
     smooth_ = s.flag("smooth");
     solver_.rtol = 1e-8;
     solver_.atol = 1e-8;
-    x_ = Eigen::VectorXd::Zero(m_);
+    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(m_);
     auto T0 = start_state(net_, solver_); // the same start as every other command
     for (int i = 0; i < n_; ++i)
-      x_(i) = T0[i];
-    if (input_ >= 0) x_(n_) = s.number("input0", 0.0);
-    P_ = Eigen::MatrixXd::Zero(m_, m_);
+      x0(i) = T0[i];
+    if (input_ >= 0) x0(n_) = s.number("input0", 0.0);
+    Eigen::MatrixXd P0 = Eigen::MatrixXd::Zero(m_, m_);
     for (int i = 0; i < n_; ++i)
-      P_(i, i) = sigma0 * sigma0;
-    if (input_ >= 0) P_(n_, n_) = input_sigma0 * input_sigma0;
+      P0(i, i) = sigma0 * sigma0;
+    if (input_ >= 0) P0(n_, n_) = input_sigma0 * input_sigma0;
+    filter_ = std::make_unique<KalmanFilter>(std::move(x0), std::move(P0));
+    Qc_ = Eigen::MatrixXd::Zero(m_, m_);
+    for (int i = 0; i < n_; ++i)
+      Qc_(i, i) = process_ * process_;
+    if (input_ >= 0) Qc_(n_, n_) = input_noise_ * input_noise_;
     err_sq_.assign(truth_.size(), 0.0);
     err_n_.assign(truth_.size(), 0);
   }
@@ -140,11 +128,11 @@ public:
     double t = row[0];
     auto start = std::chrono::steady_clock::now();
     if (started_) {
-      Eigen::MatrixXd Phi = propagate(t_, t);
+      Discretised d = model_->predict(*filter_, t_, t, Qc_, solver_);
       if (smooth_) {
-        steps_.back().x_prior_next = x_;
-        steps_.back().P_prior_next = P_;
-        steps_.back().Phi = std::move(Phi);
+        steps_.back().x_prior_next = filter_->x();
+        steps_.back().P_prior_next = filter_->P();
+        steps_.back().Phi = std::move(d.Phi);
       }
     }
     started_ = true;
@@ -155,12 +143,12 @@ public:
     time_max_ = std::max(time_max_, s);
     ++rows_;
     if (smooth_) {
-      steps_.push_back({t, x_, {}, P_, {}, {}});
+      steps_.push_back({t, filter_->x(), {}, filter_->P(), {}, {}});
       truth_rows_.push_back(row);
       return {};
     }
-    score(row, x_);
-    return {make_row(t, x_, P_)};
+    score(row, filter_->x());
+    return {make_row(t, filter_->x(), filter_->P())};
   }
 
   std::vector<EstimateRow> finish() override {
@@ -199,7 +187,7 @@ public:
       all_n += err_n_[j];
     }
     if (all_n) m.push_back({"rmse_hidden", std::sqrt(all_sq / static_cast<double>(all_n)), "K"});
-    if (input_ >= 0) m.push_back({"input_final", x_(n_), "W"});
+    if (input_ >= 0) m.push_back({"input_final", filter_->x()(n_), "W"});
     return m;
   }
 
@@ -220,64 +208,19 @@ private:
     return v;
   }
 
-  // Continuous-time system matrix of the augmented state at (t, x).
-  Eigen::MatrixXd system_matrix(double t, const Eigen::VectorXd& x) {
-    const auto& pat = net_.jacobian_pattern();
-    const auto& C = net_.capacities();
-    jac_.resize(static_cast<std::size_t>(pat.nnz()));
-    net_.jacobian(t, x.data(), jac_.data());
-    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(m_, m_);
-    for (int i = 0; i < n_; ++i)
-      for (int k = pat.row_ptr[i]; k < pat.row_ptr[i + 1]; ++k)
-        A(i, pat.col_idx[k]) = jac_[k] / C[i];
-    if (input_ >= 0) A(input_, n_) = 1.0 / C[input_];
-    return A;
-  }
-
-  // Predicts x_, P_ from t0 to t1; returns the transition matrix used for the covariance.
-  Eigen::MatrixXd propagate(double t0, double t1) {
-    double h = t1 - t0;
-    Eigen::MatrixXd A = system_matrix(t0, x_);
-    Eigen::MatrixXd Qc = Eigen::MatrixXd::Zero(m_, m_);
-    for (int i = 0; i < n_; ++i)
-      Qc(i, i) = process_ * process_;
-    if (input_ >= 0) Qc(n_, n_) = input_noise_ * input_noise_;
-    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(2 * m_, 2 * m_);
-    M.topLeftCorner(m_, m_) = -A * h;
-    M.topRightCorner(m_, m_) = Qc * h;
-    M.bottomRightCorner(m_, m_) = A.transpose() * h;
-    Eigen::MatrixXd E = M.exp();
-    Eigen::MatrixXd Phi = E.bottomRightCorner(m_, m_).transpose();
-    Eigen::MatrixXd Qd = Phi * E.topRightCorner(m_, m_);
-    Qd = 0.5 * (Qd + Qd.transpose());
-    std::vector<double> T(x_.data(), x_.data() + n_);
-    driven_->q = input_ >= 0 ? x_(n_) : 0.0;
-    integrate(*driven_, T, t0, t1, {}, nullptr, solver_);
-    for (int i = 0; i < n_; ++i)
-      x_(i) = T[i];
-    P_ = Phi * P_ * Phi.transpose() + Qd;
-    return Phi;
-  }
-
   void update(const std::vector<double>& row) {
     std::vector<Link> present;
     for (const Link& l : meas_)
       if (!std::isnan(row[l.column])) present.push_back(l);
     if (present.empty()) return;
     const auto p = static_cast<Eigen::Index>(present.size());
-    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(p, m_);
-    Eigen::VectorXd innov(p);
+    std::vector<int> states;
+    Eigen::VectorXd y(p);
     for (Eigen::Index r = 0; r < p; ++r) {
-      H(r, present[r].unknown) = 1.0;
-      innov(r) = row[present[r].column] + kelvin - x_(present[r].unknown);
+      states.push_back(present[r].unknown);
+      y(r) = row[present[r].column] + kelvin;
     }
-    Eigen::MatrixXd S = H * P_ * H.transpose();
-    S.diagonal().array() += sigma_meas_ * sigma_meas_;
-    Eigen::MatrixXd K = S.ldlt().solve(H * P_).transpose();
-    x_ += K * innov;
-    Eigen::MatrixXd IKH = Eigen::MatrixXd::Identity(m_, m_) - K * H;
-    P_ = IKH * P_ * IKH.transpose() + sigma_meas_ * sigma_meas_ * K * K.transpose();
-    P_ = 0.5 * (P_ + P_.transpose());
+    filter_->update(states, y, Eigen::VectorXd::Constant(p, sigma_meas_ * sigma_meas_));
   }
 
   void score(const std::vector<double>& row, const Eigen::VectorXd& x) {
@@ -302,16 +245,15 @@ private:
   }
 
   Network net_;
-  std::unique_ptr<DrivenNetwork> driven_;
+  std::unique_ptr<NetworkStateSpace> model_;
+  std::unique_ptr<KalmanFilter> filter_;
+  Eigen::MatrixXd Qc_;
   int n_ = 0, m_ = 0, input_ = -1;
   std::vector<Link> meas_, truth_;
   double sigma_meas_ = 0.1, process_ = 0.01, input_noise_ = 0.05;
   bool smooth_ = false, started_ = false;
   SolverOptions solver_;
-  Eigen::VectorXd x_;
-  Eigen::MatrixXd P_;
   double t_ = 0.0;
-  std::vector<double> jac_;
   std::vector<Step> steps_;
   std::vector<std::vector<double>> truth_rows_;
   std::vector<double> err_sq_;

@@ -1,0 +1,393 @@
+// PredictionProblem: every case filtered by the shared (extended) Kalman filter, its one-step
+// predictions and log-likelihood; fit_prediction(): their maximum by the bounded quasi-Newton
+// method, standard errors from the Hessian; the likelihood-ratio test.
+
+#include "kernel/calibration/prediction_error.hpp"
+
+#include "kernel/calibration/quasi_newton.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/core/network_state_space.hpp"
+#include "kernel/core/simulation.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+
+namespace thermnet {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Bounds and starts of the noise intensities (log scale): wide enough for a well-measured
+// laboratory rig and a building alike.
+constexpr double kProcessLo = 1e-9, kProcessHi = 1.0;        // K/sqrt(s)
+constexpr double kMeasurementLo = 1e-5, kMeasurementHi = 10; // K
+
+// Unknown index of each spec node (-1: a boundary or a node without an unknown).
+std::vector<int> unknown_of_spec(const Network& net) {
+  std::vector<int> u(net.spec().nodes.size(), -1);
+  for (std::size_t i = 0; i < net.unknown_nodes().size(); ++i)
+    u[static_cast<std::size_t>(net.unknown_nodes()[i])] = static_cast<int>(i);
+  return u;
+}
+
+double median_step(const std::vector<MeasuredData>& data) {
+  std::vector<double> dt;
+  for (const auto& d : data)
+    for (std::size_t k = 1; k < d.times.size(); ++k)
+      dt.push_back(d.times[k] - d.times[k - 1]);
+  if (dt.empty()) return 1.0;
+  std::nth_element(dt.begin(), dt.begin() + static_cast<long>(dt.size() / 2), dt.end());
+  return std::max(dt[dt.size() / 2], 1e-6);
+}
+
+// Regularised upper incomplete gamma Q(a, x) (series below a + 1, continued fraction above).
+double gamma_q(double a, double x) {
+  if (x <= 0) return 1.0;
+  const double lg = std::lgamma(a);
+  if (x < a + 1) {
+    double sum = 1.0 / a, term = sum;
+    for (int n = 1; n < 1000; ++n) {
+      term *= x / (a + n);
+      sum += term;
+      if (std::abs(term) < std::abs(sum) * 1e-16) break;
+    }
+    return std::max(0.0, 1.0 - sum * std::exp(-x + a * std::log(x) - lg));
+  }
+  const double tiny = 1e-300;
+  double b = x + 1 - a, c = 1 / tiny, d = 1 / b, h = d;
+  for (int i = 1; i < 1000; ++i) {
+    const double an = -i * (i - a);
+    b += 2;
+    d = an * d + b;
+    if (std::abs(d) < tiny) d = tiny;
+    c = b + an / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1 / d;
+    const double del = d * c;
+    h *= del;
+    if (std::abs(del - 1) < 1e-16) break;
+  }
+  return std::exp(-x + a * std::log(x) - lg) * h;
+}
+
+} // namespace
+
+PredictionProblem::PredictionProblem(std::vector<PredictionParam> structural, SpecMaker make,
+                                     std::vector<std::string> cases, std::vector<MeasuredData> data,
+                                     PredictionSettings settings)
+    : params_(std::move(structural)), make_(std::move(make)), cases_(std::move(cases)),
+      data_(std::move(data)), settings_(settings) {
+  structural_ = params_.size();
+  if (cases_.size() != data_.size())
+    throw std::invalid_argument("a prediction problem needs one data set per case");
+  add_noise_params();
+}
+
+PredictionProblem::PredictionProblem(const lang::Model& model, const CalibrationProblem& problem,
+                                     PredictionSettings settings)
+    : make_([&model, &problem](std::size_t c, const std::vector<double>& x) {
+        return model.instantiate(problem.cases()[c], problem.values(x));
+      }),
+      cases_(problem.cases()), data_(problem.data()), settings_(settings) {
+  for (const auto& p : problem.params()) {
+    PredictionParam q;
+    q.name = p.name;
+    q.box.lo = *p.lo;
+    q.box.hi = *p.hi;
+    q.box.scale = *p.lo > 0 ? ParamScale::log : ParamScale::linear;
+    q.start = p.value;
+    params_.push_back(std::move(q));
+  }
+  structural_ = params_.size();
+  add_noise_params();
+}
+
+void PredictionProblem::add_noise_params() {
+  if (cases_.empty()) throw std::invalid_argument("no case with data to filter");
+  std::vector<double> x0;
+  for (const auto& p : params_)
+    x0.push_back(p.start);
+  Network net(make_(0, x0));
+  NetworkStateSpace check(net); // rejects arithmetic nodes, naming them
+  for (int i = 0; i < net.temperature_count(); ++i)
+    process_nodes_.push_back(net.unknown_name(i));
+  const std::vector<int> unknown = unknown_of_spec(net);
+  for (const auto& d : data_)
+    for (const auto& s : d.series)
+      if (s.node_index >= 0 && unknown[static_cast<std::size_t>(s.node_index)] >= 0 &&
+          std::find(measured_nodes_.begin(), measured_nodes_.end(), s.node) ==
+              measured_nodes_.end())
+        measured_nodes_.push_back(s.node);
+  if (measured_nodes_.empty())
+    throw std::invalid_argument("the data measure no node of the model (only boundaries)");
+  const double h = median_step(data_);
+  for (const auto& name : process_nodes_) {
+    PredictionParam q;
+    q.name = "sigma_w[" + name + "]";
+    q.box = {kProcessLo, kProcessHi, ParamScale::log};
+    q.start = std::clamp(0.1 / std::sqrt(h), 10 * kProcessLo, 0.1 * kProcessHi);
+    q.noise = true;
+    params_.push_back(std::move(q));
+  }
+  for (const auto& name : measured_nodes_) {
+    PredictionParam q;
+    q.name = "sigma_v[" + name + "]";
+    q.box = {kMeasurementLo, kMeasurementHi, ParamScale::log};
+    q.start = 0.1;
+    q.noise = true;
+    params_.push_back(std::move(q));
+  }
+}
+
+std::vector<BoundedParam> PredictionProblem::boxes() const {
+  std::vector<BoundedParam> b;
+  for (const auto& p : params_)
+    b.push_back(p.box);
+  return b;
+}
+
+std::vector<double> PredictionProblem::start() const {
+  std::vector<double> s;
+  for (const auto& p : params_)
+    s.push_back(p.start);
+  return s;
+}
+
+std::size_t PredictionProblem::points() const {
+  std::size_t n = 0;
+  for (const auto& d : data_)
+    for (const auto& s : d.series)
+      if (std::find(measured_nodes_.begin(), measured_nodes_.end(), s.node) !=
+          measured_nodes_.end())
+        for (double v : s.values)
+          n += std::isnan(v) ? 0 : 1;
+  return n;
+}
+
+CaseInnovations PredictionProblem::filter_case(std::size_t c,
+                                               const std::vector<double>& theta) const {
+  if (theta.size() != params_.size())
+    throw std::invalid_argument(fmt::format("{} values for the prediction problem's {} params",
+                                            theta.size(), params_.size()));
+  const std::vector<double> x(theta.begin(), theta.begin() + static_cast<long>(structural_));
+  Network net(make_(c, x));
+  NetworkStateSpace ss(net);
+  const std::vector<int> unknown = unknown_of_spec(net);
+  const MeasuredData& data = data_[c];
+  CaseInnovations out;
+  out.case_name = cases_[c];
+  out.times = data.times;
+  struct Obs {
+    std::size_t series;
+    int state;
+    double variance;
+  };
+  std::vector<Obs> obs;
+  for (std::size_t s = 0; s < data.series.size(); ++s) {
+    const auto& ser = data.series[s];
+    const auto it = std::find(measured_nodes_.begin(), measured_nodes_.end(), ser.node);
+    if (it == measured_nodes_.end()) continue;
+    const int state = unknown[static_cast<std::size_t>(ser.node_index)];
+    if (state < 0) continue;
+    const double sv = theta[structural_ + process_nodes_.size() +
+                            static_cast<std::size_t>(it - measured_nodes_.begin())];
+    obs.push_back({s, state, sv * sv});
+    out.nodes.push_back(ser.node);
+    out.measured.push_back(ser.values);
+    out.predicted.emplace_back(data.times.size(), kNaN);
+    out.sd.emplace_back(data.times.size(), kNaN);
+  }
+  const int m = ss.size();
+  Eigen::MatrixXd Qc = Eigen::MatrixXd::Zero(m, m);
+  for (int i = 0; i < net.temperature_count(); ++i) {
+    const auto it = std::find(process_nodes_.begin(), process_nodes_.end(), net.unknown_name(i));
+    if (it == process_nodes_.end())
+      throw std::invalid_argument(fmt::format("case '{}' has node '{}' that its first case lacks",
+                                              cases_[c], net.unknown_name(i)));
+    const double sw = theta[structural_ + static_cast<std::size_t>(it - process_nodes_.begin())];
+    Qc(i, i) = sw * sw;
+  }
+  const std::vector<double> T0 = start_state(net, settings_.solver);
+  Eigen::VectorXd x0(m);
+  for (int i = 0; i < m; ++i)
+    x0(i) = T0[static_cast<std::size_t>(i)];
+  const double sd0 = settings_.initial_sd;
+  KalmanFilter filter(x0, Eigen::MatrixXd::Identity(m, m) * (sd0 * sd0));
+  double t = 0.0;
+  std::vector<int> states;
+  for (std::size_t k = 0; k < data.times.size(); ++k) {
+    if (data.times[k] > t) ss.predict(filter, t, data.times[k], Qc, settings_.solver);
+    t = data.times[k];
+    states.clear();
+    std::vector<std::size_t> which;
+    for (std::size_t o = 0; o < obs.size(); ++o)
+      if (!std::isnan(data.series[obs[o].series].values[k])) {
+        states.push_back(obs[o].state);
+        which.push_back(o);
+      }
+    if (states.empty()) continue;
+    const auto p = static_cast<Eigen::Index>(states.size());
+    Eigen::VectorXd y(p), var(p);
+    for (Eigen::Index r = 0; r < p; ++r) {
+      const Obs& o = obs[which[static_cast<std::size_t>(r)]];
+      y(r) = data.series[o.series].values[k];
+      var(r) = o.variance;
+    }
+    const Innovation in = filter.update(states, y, var);
+    for (Eigen::Index r = 0; r < p; ++r) {
+      const std::size_t o = which[static_cast<std::size_t>(r)];
+      out.predicted[o][k] = in.predicted(r);
+      out.sd[o][k] = std::sqrt(in.S(r, r));
+    }
+    out.log_likelihood += in.log_likelihood;
+    out.points += static_cast<std::size_t>(p);
+  }
+  return out;
+}
+
+double PredictionProblem::log_likelihood(const std::vector<double>& theta) const {
+  double ll = 0.0;
+  try {
+    for (std::size_t c = 0; c < cases_.size(); ++c)
+      ll += filter_case(c, theta).log_likelihood;
+  } catch (const std::exception&) {
+    return -std::numeric_limits<double>::infinity();
+  }
+  return std::isfinite(ll) ? ll : -std::numeric_limits<double>::infinity();
+}
+
+std::vector<CaseInnovations>
+PredictionProblem::innovations(const std::vector<double>& theta) const {
+  std::vector<CaseInnovations> out;
+  for (std::size_t c = 0; c < cases_.size(); ++c)
+    out.push_back(filter_case(c, theta));
+  return out;
+}
+
+PredictionFit fit_prediction(const PredictionProblem& problem, std::vector<double> start,
+                             bool std_errors, bool deterministic_stage) {
+  if (start.empty()) start = problem.start();
+  const auto boxes = problem.boxes();
+  const ScalarObjective f = [&problem](const std::vector<double>& th) {
+    return -problem.log_likelihood(th);
+  };
+  QuasiNewtonOptions qo;
+  qo.threads = problem.settings().threads;
+  std::size_t stage_evaluations = 0;
+  if (deterministic_stage && problem.structural() > 0) {
+    // Stage 1, the deterministic fit: the structural params and the measurement noise with
+    // (nearly) no process noise, so that the filter is the simulation and its prediction errors
+    // the output errors. Started with process noise, the likelihood is often higher by making the
+    // noise explain a poor structure than by correcting it (a local maximum far from the
+    // physical one); from the deterministic optimum the process noise only takes up what the
+    // structure cannot explain.
+    std::vector<std::size_t> free;
+    std::vector<BoundedParam> fb;
+    std::vector<double> full = start, fs;
+    for (std::size_t j = 0; j < boxes.size(); ++j) {
+      const auto& name = problem.params()[j].name;
+      if (name.rfind("sigma_w[", 0) == 0) {
+        full[j] = std::max(boxes[j].lo, 1e-3 * start[j]);
+      } else {
+        free.push_back(j);
+        fb.push_back(boxes[j]);
+        fs.push_back(start[j]);
+      }
+    }
+    const ScalarObjective g = [&](const std::vector<double>& y) {
+      std::vector<double> th = full;
+      for (std::size_t k = 0; k < free.size(); ++k)
+        th[free[k]] = y[k];
+      return f(th);
+    };
+    const QuasiNewtonResult r1 = minimise_bounded(g, fb, fs, qo);
+    stage_evaluations = r1.evaluations;
+    if (r1.ok && r1.f <= f(start))
+      for (std::size_t k = 0; k < free.size(); ++k)
+        start[free[k]] = r1.x[k];
+  }
+  // Stage 2: everything free.
+  const QuasiNewtonResult r = minimise_bounded(f, boxes, start, qo);
+  PredictionFit fit;
+  fit.ok = r.ok;
+  fit.theta = r.x;
+  fit.log_likelihood = -r.f;
+  fit.iterations = r.iterations;
+  fit.evaluations = r.evaluations + stage_evaluations;
+  fit.converged = r.converged;
+  fit.parameters = boxes.size();
+  fit.points = problem.points();
+  const double k = static_cast<double>(fit.parameters);
+  fit.aic = -2 * fit.log_likelihood + 2 * k;
+  fit.bic = -2 * fit.log_likelihood + k * std::log(static_cast<double>(fit.points));
+  const std::size_t n = boxes.size();
+  fit.std_errors.assign(n, kNaN);
+  if (!fit.ok) return fit;
+  if (!fit.converged)
+    fit.notes.push_back(
+        fmt::format("the likelihood's maximum was not reached in {} iterations", fit.iterations));
+  const WorkingCoordinates wc(boxes);
+  const Eigen::VectorXd u = wc.to_u(fit.theta);
+  for (std::size_t j = 0; j < n; ++j)
+    if (u(static_cast<Eigen::Index>(j)) < 1e-6 || u(static_cast<Eigen::Index>(j)) > 1 - 1e-6)
+      fit.notes.push_back(
+          fmt::format("{} ends on its bound ({:.4g})", problem.params()[j].name, fit.theta[j]));
+  if (!std_errors || n == 0) return fit;
+  const Eigen::MatrixXd H = scaled_hessian(f, boxes, fit.theta, 1e-4, qo.threads);
+  fit.evaluations += 2 * n * n + 1;
+  // Parameters on a bound or without curvature (a noise intensity the data cannot see) have no
+  // standard error; the others' come from the inverse Hessian of their block.
+  std::vector<Eigen::Index> free;
+  for (std::size_t j = 0; j < n; ++j) {
+    const auto a = static_cast<Eigen::Index>(j);
+    if (u(a) > 1e-6 && u(a) < 1 - 1e-6 && std::isfinite(H(a, a)) && H(a, a) > 0) free.push_back(a);
+  }
+  const auto m = static_cast<Eigen::Index>(free.size());
+  Eigen::MatrixXd Hf(m, m);
+  for (Eigen::Index i = 0; i < m; ++i)
+    for (Eigen::Index j = 0; j < m; ++j)
+      Hf(i, j) = H(free[i], free[j]);
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(Hf);
+  if (m == 0 || !Hf.allFinite() || ldlt.info() != Eigen::Success ||
+      (ldlt.vectorD().array() <= 0).any()) {
+    fit.notes.push_back("the likelihood's Hessian is not positive definite: no standard errors "
+                        "(params the data cannot tell apart)");
+    return fit;
+  }
+  if (m < static_cast<Eigen::Index>(n))
+    fit.notes.push_back(fmt::format("{} of {} parameters (on a bound, or without effect on the "
+                                    "likelihood) have no standard error",
+                                    n - static_cast<std::size_t>(m), n));
+  const Eigen::MatrixXd cov = ldlt.solve(Eigen::MatrixXd::Identity(m, m));
+  fit.correlation.assign(n, std::vector<double>(n, kNaN));
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const auto pi = static_cast<std::size_t>(free[i]);
+    const double sy = std::sqrt(std::max(0.0, cov(i, i)));
+    fit.std_errors[pi] = boxes[pi].scale == ParamScale::log ? fit.theta[pi] * sy : sy;
+    for (Eigen::Index j = 0; j < m; ++j)
+      fit.correlation[pi][static_cast<std::size_t>(free[j])] =
+          cov(i, j) / std::sqrt(cov(i, i) * cov(j, j));
+  }
+  return fit;
+}
+
+double chi_square_upper(double x, int df) {
+  if (df <= 0) return x > 0 ? 0.0 : 1.0;
+  return gamma_q(0.5 * df, 0.5 * x);
+}
+
+LikelihoodRatio likelihood_ratio(double ll_small, std::size_t k_small, double ll_large,
+                                 std::size_t k_large) {
+  LikelihoodRatio r;
+  r.statistic = 2.0 * (ll_large - ll_small);
+  r.df = static_cast<int>(k_large) - static_cast<int>(k_small);
+  r.p_value = chi_square_upper(std::max(0.0, r.statistic), std::max(1, r.df));
+  return r;
+}
+
+} // namespace thermnet
