@@ -33,6 +33,7 @@ struct DiagnoseOptions {
   std::string events;
   int threads = 0;
   std::size_t top = 5;
+  double min_gain = DiagnosisOptions{}.min_gain;
   std::vector<std::string> sets;
   bool stats = false;
 };
@@ -52,6 +53,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   opt.cases = o.cases;
   opt.threads = o.threads;
   opt.top = o.top;
+  opt.min_gain = o.min_gain;
   const DiagnosisReport rep = diagnose(*model, opt);
   std::cout << diagnosis_text(rep);
   std::cout.flush();
@@ -95,6 +97,17 @@ std::string extended_model_text(const lang::Model& model, const Finding& f) {
   } else {
     applied = f.statement.empty() ? "" : f.statement + "\n";
   }
+  // The declarations the finding's statements replace are kept as comments.
+  for (const auto& name : f.retired)
+    for (const auto& d : model.elements())
+      if (d.name == name && d.file == file && !d.scope) {
+        const lang::Span where = d.where();
+        std::string old = text.substr(where.begin, where.end - where.begin), commented = "# ";
+        for (char ch : old)
+          commented += ch == '\n' ? std::string("\n# ") : std::string(1, ch);
+        edits.push_back({where.begin, where.end,
+                         commented + "  # replaced by thermnet diagnose: " + f.candidate.kind});
+      }
   std::vector<std::string> elsewhere;
   const auto inserts = rewrite::case_block_edits(
       model, file, f.case_statements, "# thermnet diagnose: " + f.candidate.kind, elsewhere);
@@ -168,6 +181,10 @@ void add_diagnose_command(CLI::App& app, int& status) {
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--top", o->top, "most findings reported")->check(CLI::PositiveNumber);
+  sub->add_option("--min-gain", o->min_gain,
+                  "practical floor, K: no finding that lowers the RMS error over 10 consecutive "
+                  "samples of a series by less than this (default 0.05)")
+      ->check(CLI::NonNegativeNumber);
   add_set_option(sub, o->sets, "; the model diagnosed has them (--write does not write them)");
   sub->add_option("--events", o->events,
                   "CSV of known events (case,event,start,end in s; empty case: every case): "

@@ -1,0 +1,129 @@
+// Hypothesis 'hidden_mass': a thermal mass the model lacks, tied by a conductance to an existing
+// node (an object inside a box, a building's furniture and inner walls). Screen: the unexplained
+// heat flow of the node regressed on lowpass_tau(T) - T, the node's own temperature through the
+// mass's time constant tau = C / G (the heat the mass gives back), for a few tau; the best tau
+// starts the refit of C and tau. tau is at least two sampling intervals: a mass without a lag is a
+// capacity error of the node (the capacity_error kind).
+#include "kernel/diagnosis/hypothesis.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace thermnet {
+namespace {
+
+class HiddenMass final : public Hypothesis {
+public:
+  std::vector<Candidate> propose(const Evidence& ev) const override {
+    std::vector<Candidate> out;
+    if (ev.cases.empty()) return out;
+    const auto& nodes = ev.cases.front().spec.nodes;
+    const double min_tau = std::max(1.0, 2.0 * sampling_interval(ev));
+    const std::vector<double> taus = screen_taus(ev);
+    for (int a = 0; a < static_cast<int>(nodes.size()); ++a) {
+      const auto& nd = nodes[static_cast<std::size_t>(a)];
+      if (nd.boundary || !(nd.C > 0.0)) continue;
+      Candidate c;
+      c.kind = "hidden_mass";
+      c.nodes = {nd.name};
+      c.names = {"C", "tau"};
+      c.lo = {1e-3 * nd.C, min_tau};
+      c.hi = {1e3 * nd.C, std::max(1e6, 100.0 * longest_span(ev))};
+      c.index = {a};
+      c.start_T = start_temperatures(ev, a);
+      if (ev.unobserved(a)) { // refitted only beside a measured neighbour's hidden mass
+        c.start = {nd.C, std::clamp(0.1 * longest_span(ev), min_tau, c.hi[1])};
+        c.unobserved = true;
+        c.evidence = fmt::format("{}; a mass tied to it shows at its measured neighbours",
+                                 unscreened_words(ev, a));
+        out.push_back(std::move(c));
+        continue;
+      }
+      ScreenFit best;
+      double best_tau = 0.0;
+      for (double tau : taus) {
+        if (tau < min_tau) continue;
+        std::vector<std::vector<double>> term;
+        for (const auto& ce : ev.cases) {
+          std::vector<double> T(ce.T.size());
+          for (std::size_t k = 0; k < T.size(); ++k)
+            T[k] = ce.T[k][static_cast<std::size_t>(a)];
+          std::vector<double> lag = lowpass(ce.times(), T, tau, T.empty() ? 0.0 : T.front());
+          for (std::size_t k = 0; k < lag.size(); ++k)
+            lag[k] -= T[k];
+          term.push_back(std::move(lag));
+        }
+        const ScreenFit f = ev.regress(
+            [&](std::size_t ci, int row, std::size_t k) { return row == a ? term[ci][k] : 0.0; });
+        if (f.coefficient > 0.0 && f.reduction > best.reduction) best = f, best_tau = tau;
+      }
+      if (!(best.reduction > 0.0)) continue; // no mass gives heat back to it
+      c.start = {std::clamp(best.coefficient * best_tau, c.lo[0], c.hi[0]), best_tau};
+      c.screen = best.reduction;
+      c.evidence = fmt::format("the unexplained heat flow of {} follows its own temperature "
+                               "delayed by about {:g} s (correlation {:.2f}): a mass of about "
+                               "{:.3g} J/K gives heat back to it",
+                               nd.name, best_tau, best.correlation, c.start[0]);
+      out.push_back(std::move(c));
+    }
+    return out;
+  }
+
+  // A new node of capacity C, tied to the node by G = C / tau, starting where the node starts as
+  // the data say.
+  void extend(const Candidate& c, const std::vector<double>& p,
+              lang::NetworkSpec& spec) const override {
+    const int node = c.index[0];
+    const int mass = static_cast<int>(spec.nodes.size());
+    lang::NodeSpec m;
+    m.name = unique_name(spec, mass_name(c));
+    m.C = p[0];
+    m.T0 = start_in(c, spec, node);
+    m.set_doc("a hidden mass (thermnet diagnose)");
+    spec.nodes.push_back(std::move(m));
+    spec.elements.push_back(make_element("conductance", unique_name(spec, mass_name(c) + "_g"),
+                                         {mass, node}, {{"G", p[0] / p[1]}}));
+  }
+
+  // Ranged params for its capacity and conductance, so the written model is calibrated like any
+  // other.
+  std::string statement(const Candidate& c, const std::vector<double>& p,
+                        const Evidence& ev) const override {
+    const std::string m = unique_model_name(ev, mass_name(c));
+    const std::string pc = unique_model_name(ev, m + "_C"), pg = unique_model_name(ev, m + "_G");
+    return fmt::format(
+        "{}\n{}\nnode {} C = {}{} \"a mass tied to {} (thermnet diagnose: hidden_mass)\"\n"
+        "conductance {} {} {} G = {}",
+        param_statement(pc, p[0], c.lo[0], c.hi[0], "J/K", "capacity of the hidden mass"),
+        param_statement(pg, p[0] / p[1], c.lo[0] / c.hi[1], c.hi[0] / c.lo[1], "W/K",
+                        "its conductance to " + c.nodes[0]),
+        m, pc, start_text(c), c.nodes[0], unique_model_name(ev, m + "_g"), m, c.nodes[0], pg);
+  }
+
+  CaseLines case_statements(const Candidate& c, const std::vector<double>&,
+                            const Evidence& ev) const override {
+    return start_case_lines(c, unique_model_name(ev, mass_name(c)), ev);
+  }
+
+private:
+  static std::string mass_name(const Candidate& c) { return "diag_hidden_" + c.nodes[0]; }
+};
+
+HypothesisPlugin make_hidden_mass() {
+  return {.name = "hidden_mass",
+          .doc = "a thermal mass the model lacks, tied by a conductance to a node (an object, "
+                 "furniture)",
+          .create = [] { return std::make_unique<HiddenMass>(); },
+          .screen = "lowpass_tau(T_a) - T_a at the node, tau from 3 sampling intervals to half "
+                    "the longest case",
+          .fitted = "C [J/K] of the mass, tau [s] = C / G (at least two sampling intervals)",
+          .writes = "ranged params diag_hidden_a_C, diag_hidden_a_G, node diag_hidden_a C = "
+                    "diag_hidden_a_C T0 = (a's measured start), conductance diag_hidden_a_g "
+                    "diag_hidden_a a G = diag_hidden_a_G; each case's own start in its block"};
+}
+
+} // namespace
+THERMNET_REGISTER(HypothesisPlugin, make_hidden_mass);
+} // namespace thermnet
