@@ -13,7 +13,9 @@ docs/diagnose.md), Ci, Ce, Ri, Ro and the solar aperture Ai free.
 
 The house's file has a `Time` column and inputs the model reads as tables; they are written with
 today's language as a `time` table of the inputs and a data file of the measured node (the only
-preparation). The written extension (--write) must lint clean.
+preparation). The written extension (--write) must lint clean, and the diagnosis's own
+recalibration of the one-node model (its `parameter` reference) must fit as well as
+`thermnet calibrate --method lm` from the same start.
 
 Usage: house.py PATH/TO/thermnet [--keep DIR]
 """
@@ -121,6 +123,20 @@ def main():
           f"limit {TOLERANCE} x {ref_rmse:.4f} = {TOLERANCE * ref_rmse:.4f} K")
     if final > TOLERANCE * ref_rmse:
         fails.append(f"final RMSE {final:.4f} K above {TOLERANCE} x the 2R2C fit's {ref_rmse:.4f} K")
+    # The diagnosis's own recalibration (`parameter`, the reference of its first step) is as good
+    # as `calibrate --method lm` from the same start.
+    cal = subprocess.run([a.thermnet, "calibrate", "house.tnet", "--method", "lm", "--json",
+                          "cal.json"], cwd=d, capture_output=True, text=True)
+    if cal.returncode != 0:
+        fails.append("calibrate --method lm failed: " + cal.stderr)
+    else:
+        lm = json.load(open(os.path.join(d, "cal.json")))["rmse"]
+        own = [f["rmse_after"] for f in rep["findings"] + rep["alternatives"] + rep["rejected"]
+               if f["kind"] == "parameter" and not f.get("given")]
+        print(f"recalibration: diagnose's parameter {own[0] if own else None} K, "
+              f"calibrate --method lm {lm:.4f} K")
+        if not own or own[0] > lm * 1.001:
+            fails.append(f"diagnose's parameter refit {own} K is worse than calibrate lm's {lm} K")
     lint = subprocess.run([a.thermnet, "lint", "house_ext.tnet"], cwd=d, capture_output=True,
                           text=True)
     if lint.returncode != 0:
