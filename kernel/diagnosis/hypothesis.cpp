@@ -173,6 +173,37 @@ CaseLines start_case_lines(const Candidate& c, const std::string& node, const Ev
   return out;
 }
 
+int add_node(lang::NetworkSpec& spec, const std::string& base, double C, std::optional<double> T0,
+             const std::string& doc) {
+  lang::NodeSpec m;
+  m.name = unique_name(spec, base);
+  m.C = C;
+  m.T0 = T0;
+  m.set_doc(doc);
+  spec.nodes.push_back(std::move(m));
+  return static_cast<int>(spec.nodes.size()) - 1;
+}
+
+int add_tied_mass(lang::NetworkSpec& spec, const std::string& base, double C,
+                  std::optional<double> T0, const std::string& doc, int node, double G) {
+  const int mass = add_node(spec, base, C, T0, doc);
+  spec.elements.push_back(
+      make_element("conductance", unique_name(spec, base + "_g"), {mass, node}, {{"G", G}}));
+  return mass;
+}
+
+std::string tied_mass_statements(const Evidence& ev, const Candidate& c, std::size_t k,
+                                 const std::vector<double>& p, const std::string& base,
+                                 const std::string& node, const std::string& doc) {
+  const std::string m = unique_model_name(ev, base);
+  const std::string pc = unique_model_name(ev, m + "_C"), pg = unique_model_name(ev, m + "_G");
+  return fmt::format("{}\n{}\nnode {} C = {}{} \"{}\"\nconductance {} {} {} G = {}",
+                     param_statement(pc, p[k], c.lo[k], c.hi[k], "J/K", "capacity of the mass"),
+                     param_statement(pg, p[k] / p[k + 1], c.lo[k] / c.hi[k + 1],
+                                     c.hi[k] / c.lo[k + 1], "W/K", "its conductance to " + node),
+                     m, pc, start_text(c), doc, unique_model_name(ev, m + "_g"), m, node, pg);
+}
+
 bool sensed(const Evidence& ev, int node) {
   for (const auto& ce : ev.cases)
     for (const auto& s : ce.measured.series)

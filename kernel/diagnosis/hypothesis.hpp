@@ -229,6 +229,24 @@ std::string start_text(const Candidate& c);
 /// `NODE.T0 = X` for every declared case block with data whose start differs from start_text's.
 CaseLines start_case_lines(const Candidate& c, const std::string& node, const Evidence& ev);
 
+/// Adds a node of capacity C [J/K] starting at T0 (K; none: the case's initial) to a spec, named
+/// `base` or a free variant of it, and returns its index.
+int add_node(lang::NetworkSpec& spec, const std::string& base, double C, std::optional<double> T0,
+             const std::string& doc);
+
+/// Adds a mass (add_node) tied to spec node `node` by a conductance G [W/K] named `base`_g, and
+/// returns the mass's index.
+int add_tied_mass(lang::NetworkSpec& spec, const std::string& base, double C,
+                  std::optional<double> T0, const std::string& doc, int node, double G);
+
+/// The statements declaring a mass a finding adds, tied to `node`: ranged params MASS_C and
+/// MASS_G (their ranges from the candidate's box for C and tau = C / G, its parameters k and
+/// k + 1, p their values), the node MASS (its start_text, `doc`) and the conductance MASS_g. MASS
+/// is `base` or a free variant of it in the model.
+std::string tied_mass_statements(const Evidence& ev, const Candidate& c, std::size_t k,
+                                 const std::vector<double>& p, const std::string& base,
+                                 const std::string& node, const std::string& doc);
+
 /// Why the screen has no unexplained heat flow for a node of a candidate, in words: it is not
 /// measured, or its sensor was found faulty by an applied finding (screened with its simulated
 /// temperature).

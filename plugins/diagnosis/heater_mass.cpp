@@ -103,15 +103,8 @@ public:
   void extend(const Candidate& c, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override {
     const int node = c.index[1];
-    const int mass = static_cast<int>(spec.nodes.size());
-    lang::NodeSpec m;
-    m.name = unique_name(spec, mass_name(c));
-    m.C = p[0];
-    m.T0 = start_in(c, spec, node);
-    m.set_doc("the heater's own mass (thermnet diagnose)");
-    spec.nodes.push_back(std::move(m));
-    spec.elements.push_back(make_element("conductance", unique_name(spec, mass_name(c) + "_g"),
-                                         {mass, node}, {{"G", p[0] / p[1]}}));
+    const int mass = add_tied_mass(spec, mass_name(c), p[0], start_in(c, spec, node),
+                                   "the heater's own mass (thermnet diagnose)", node, p[0] / p[1]);
     spec.elements.at(static_cast<std::size_t>(c.index[0])).set_nodes(std::array{mass});
   }
 

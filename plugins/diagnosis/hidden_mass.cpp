@@ -76,30 +76,17 @@ public:
   void extend(const Candidate& c, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override {
     const int node = c.index[0];
-    const int mass = static_cast<int>(spec.nodes.size());
-    lang::NodeSpec m;
-    m.name = unique_name(spec, mass_name(c));
-    m.C = p[0];
-    m.T0 = start_in(c, spec, node);
-    m.set_doc("a hidden mass (thermnet diagnose)");
-    spec.nodes.push_back(std::move(m));
-    spec.elements.push_back(make_element("conductance", unique_name(spec, mass_name(c) + "_g"),
-                                         {mass, node}, {{"G", p[0] / p[1]}}));
+    add_tied_mass(spec, mass_name(c), p[0], start_in(c, spec, node),
+                  "a hidden mass (thermnet diagnose)", node, p[0] / p[1]);
   }
 
   // Ranged params for its capacity and conductance, so the written model is calibrated like any
   // other.
   std::string statement(const Candidate& c, const std::vector<double>& p,
                         const Evidence& ev) const override {
-    const std::string m = unique_model_name(ev, mass_name(c));
-    const std::string pc = unique_model_name(ev, m + "_C"), pg = unique_model_name(ev, m + "_G");
-    return fmt::format(
-        "{}\n{}\nnode {} C = {}{} \"a mass tied to {} (thermnet diagnose: hidden_mass)\"\n"
-        "conductance {} {} {} G = {}",
-        param_statement(pc, p[0], c.lo[0], c.hi[0], "J/K", "capacity of the hidden mass"),
-        param_statement(pg, p[0] / p[1], c.lo[0] / c.hi[1], c.hi[0] / c.lo[1], "W/K",
-                        "its conductance to " + c.nodes[0]),
-        m, pc, start_text(c), c.nodes[0], unique_model_name(ev, m + "_g"), m, c.nodes[0], pg);
+    return tied_mass_statements(ev, c, 0, p, mass_name(c), c.nodes[0],
+                                "a mass tied to " + c.nodes[0] +
+                                    " (thermnet diagnose: hidden_mass)");
   }
 
   CaseLines case_statements(const Candidate& c, const std::vector<double>&,

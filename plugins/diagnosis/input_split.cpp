@@ -60,15 +60,9 @@ public:
     const int a = c.index[1];
     int to = 0;
     if (into_mass(c)) {
-      to = static_cast<int>(spec.nodes.size());
-      lang::NodeSpec m;
-      m.name = unique_name(spec, mass_name(c));
-      m.C = p[1];
-      m.T0 = start_in(c, spec, a);
-      m.set_doc("a mass a share of a heater's power heats (thermnet diagnose)");
-      spec.nodes.push_back(std::move(m));
-      spec.elements.push_back(make_element("conductance", unique_name(spec, mass_name(c) + "_g"),
-                                           {to, a}, {{"G", p[1] / p[2]}}));
+      to = add_tied_mass(spec, mass_name(c), p[1], start_in(c, spec, a),
+                         "a mass a share of a heater's power heats (thermnet diagnose)", a,
+                         p[1] / p[2]);
     } else {
       to = c.index[2];
     }
@@ -87,16 +81,11 @@ public:
     std::string s;
     std::string target = into_mass(c) ? std::string() : c.nodes[1];
     if (into_mass(c)) {
-      const std::string m = unique_model_name(ev, mass_name(c));
-      const std::string pc = unique_model_name(ev, m + "_C"), pg = unique_model_name(ev, m + "_G");
-      s = fmt::format("{}\n{}\nnode {} C = {}{} \"a mass {}% of the power of {} heats "
-                      "(thermnet diagnose: input_split)\"\nconductance {} {} {} G = {}\n",
-                      param_statement(pc, p[1], c.lo[1], c.hi[1], "J/K", "capacity of the mass"),
-                      param_statement(pg, p[1] / p[2], c.lo[1] / c.hi[2], c.hi[1] / c.lo[2], "W/K",
-                                      "its conductance to " + c.nodes[0]),
-                      m, pc, start_text(c), netlist_number(100.0 * p[0]), c.element,
-                      unique_model_name(ev, m + "_g"), m, c.nodes[0], pg);
-      target = m;
+      s = tied_mass_statements(ev, c, 1, p, mass_name(c), c.nodes[0],
+                               "a mass " + netlist_number(100.0 * p[0]) + " % of the power of " +
+                                   c.element + " heats (thermnet diagnose: input_split)") +
+          "\n";
+      target = unique_model_name(ev, mass_name(c));
     }
     return s + fmt::format("heater {} {} P = {}\nheater {} {} P = {}",
                            unique_model_name(ev, heater_name(c) + "_in"), target,

@@ -134,13 +134,8 @@ public:
     auto& el = spec.elements.at(static_cast<std::size_t>(c.index[0]));
     const double G = link_conductance(el);
     const int a = c.index[1], b = c.index[2];
-    const int mass = static_cast<int>(spec.nodes.size());
-    lang::NodeSpec m;
-    m.name = unique_name(spec, mass_name(c));
-    m.C = p[0];
-    m.T0 = start_in(c, spec, a);
-    m.set_doc("a mass inside a link (thermnet diagnose)");
-    spec.nodes.push_back(std::move(m));
+    const int mass = add_node(spec, mass_name(c), p[0], start_in(c, spec, a),
+                              "a mass inside a link (thermnet diagnose)");
     el = make_element("conductance", el.name, {a, mass}, {{"G", G / p[1]}});
     spec.elements.push_back(make_element("conductance", unique_name(spec, el.name + "_out"),
                                          {mass, b}, {{"G", G / (1.0 - p[1])}}));
