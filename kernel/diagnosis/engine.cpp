@@ -70,20 +70,12 @@ void write_extension(Finding& f, const Hypothesis& h, const Candidate& c,
 }
 
 void mark_bounds(Finding& f, const Candidate& c, const std::vector<double>& p) {
-  // On a bound: within 1e-4 of its box (in the logarithm for a positive range), where the least
-  // squares ended pressed against the box (working coordinate 0 or 1).
   f.at_bounds.clear();
-  for (std::size_t j = 0; j < p.size() && j < c.names.size() && j < c.lo.size(); ++j) {
-    const bool log = c.lo[j] > 0.0 && p[j] > 0.0;
-    const auto at = [&](double bound) {
-      return log ? std::abs(std::log(p[j] / bound)) <= 1e-4 * std::log(c.hi[j] / c.lo[j])
-                 : std::abs(p[j] - bound) <= 1e-4 * (c.hi[j] - c.lo[j]);
-    };
-    if (c.hi[j] > c.lo[j] && at(c.lo[j]))
+  for (std::size_t j = 0; j < p.size() && j < c.names.size(); ++j)
+    if (on_bound(c, p, j, false))
       f.at_bounds[c.names[j]] = "lower";
-    else if (c.hi[j] > c.lo[j] && at(c.hi[j]))
+    else if (on_bound(c, p, j, true))
       f.at_bounds[c.names[j]] = "upper";
-  }
 }
 
 Base Engine::make_base(std::vector<Applied> applied) const {

@@ -173,6 +173,14 @@ CaseLines start_case_lines(const Candidate& c, const std::string& node, const Ev
   return out;
 }
 
+bool on_bound(const Candidate& c, const std::vector<double>& p, std::size_t j, bool upper) {
+  if (j >= p.size() || j >= c.lo.size() || !(c.hi[j] > c.lo[j])) return false;
+  const double bound = upper ? c.hi[j] : c.lo[j];
+  if (c.lo[j] > 0.0 && p[j] > 0.0)
+    return std::abs(std::log(p[j] / bound)) <= 1e-3 * std::log(c.hi[j] / c.lo[j]);
+  return std::abs(p[j] - bound) <= 1e-3 * (c.hi[j] - c.lo[j]);
+}
+
 int add_node(lang::NetworkSpec& spec, const std::string& base, double C, std::optional<double> T0,
              const std::string& doc) {
   lang::NodeSpec m;

@@ -229,6 +229,11 @@ std::string start_text(const Candidate& c);
 /// `NODE.T0 = X` for every declared case block with data whose start differs from start_text's.
 CaseLines start_case_lines(const Candidate& c, const std::string& node, const Evidence& ev);
 
+/// True when parameter j of a candidate's fit p ended on its lower (or upper) bound: within 1e-3
+/// of its box (of the logarithm's for a positive range), where a least-squares fit pressed
+/// against the box stops.
+bool on_bound(const Candidate& c, const std::vector<double>& p, std::size_t j, bool upper);
+
 /// Adds a node of capacity C [J/K] starting at T0 (K; none: the case's initial) to a spec, named
 /// `base` or a free variant of it, and returns its index.
 int add_node(lang::NetworkSpec& spec, const std::string& base, double C, std::optional<double> T0,

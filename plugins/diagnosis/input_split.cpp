@@ -48,7 +48,7 @@ public:
   // All of the power it may move through a mass (the share on its upper bound) is the heater's
   // own mass: the heater_mass kind, with one parameter fewer.
   bool degenerate(const Candidate& c, const std::vector<double>& p) const override {
-    return into_mass(c) && p[0] >= c.hi[0] * (1.0 - 1e-6);
+    return into_mass(c) && on_bound(c, p, 0, true);
   }
 
   // The heater keeps (1 - share) of its power; the share heats the other node, or a new mass of

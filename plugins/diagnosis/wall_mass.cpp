@@ -124,7 +124,7 @@ public:
   // A mass at one end of the link (the share on a bound) is that node's capacity, or nothing
   // at a boundary: the capacity_error kind, not a wall.
   bool degenerate(const Candidate& c, const std::vector<double>& p) const override {
-    return p[1] <= c.lo[1] * (1.0 + 1e-6) || p[1] >= c.hi[1] * (1.0 - 1e-6);
+    return on_bound(c, p, 1, false) || on_bound(c, p, 1, true);
   }
 
   // The link becomes a-m of G / f (it keeps its name) and m-b of G / (1 - f), G its conductance
