@@ -36,6 +36,7 @@ struct DiagnoseOptions {
   std::string events;
   int threads = 0;
   std::size_t top = 5;
+  double min_gain = DiagnosisOptions{}.min_gain;
   std::vector<std::string> sets;
   bool stats = false;
   std::string criterion = "output-error";
@@ -71,6 +72,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   opt.top = o.top;
   opt.criterion = o.criterion;
   opt.initial_sd = o.initial_sd;
+  opt.min_gain = o.min_gain;
   const DiagnosisReport rep = diagnose(*model, opt);
   std::cout << diagnosis_text(rep);
   std::cout.flush();
@@ -126,6 +128,17 @@ std::vector<rewrite::RewrittenFile> extended_model_files(const lang::Model& mode
   } else {
     applied = f.statement.empty() ? "" : f.statement + "\n";
   }
+  // The declarations the finding's statements replace are kept as comments.
+  for (const auto& name : f.retired)
+    for (const auto& d : model.elements())
+      if (d.name == name && d.file == file && !d.scope) {
+        const lang::Span where = d.where();
+        std::string old = text.substr(where.begin, where.end - where.begin), commented = "# ";
+        for (char ch : old)
+          commented += ch == '\n' ? std::string("\n# ") : std::string(1, ch);
+        edits.push_back({where.begin, where.end,
+                         commented + "  # replaced by thermnet diagnose: " + f.candidate.kind});
+      }
   std::vector<std::string> elsewhere;
   auto inserts = rewrite::case_block_edits(model, file, f.case_statements,
                                            "# thermnet diagnose: " + f.candidate.kind, elsewhere);
@@ -205,6 +218,10 @@ void add_diagnose_command(CLI::App& app, int& status) {
       ->check(rule_validator(non_negative_whole_rule, "INT"));
   sub->add_option("--top", o->top, "most findings reported")
       ->check(rule_validator(positive_whole_rule, "INT"));
+  sub->add_option("--min-gain", o->min_gain,
+                  "practical floor, K: no finding that lowers the RMS error over 10 consecutive "
+                  "samples of a series by less than this (default 0.05)")
+      ->check(rule_validator(non_negative_number_rule, "NUMBER"));
   add_set_option(sub, o->sets, "; the model diagnosed has them (--write does not write them)");
   sub->add_option("--events", o->events,
                   "CSV of known events (case,event,start,end in s; empty case: every case): "

@@ -34,6 +34,10 @@ std::string positive_number_rule(double value) {
   return std::isfinite(value) && value > 0 ? std::string() : "a positive number";
 }
 
+std::string non_negative_number_rule(double value) {
+  return std::isfinite(value) && value >= 0 ? std::string() : "a number from 0";
+}
+
 std::string positive_whole_rule(double value) {
   return whole(value) && value > 0 ? std::string() : "a positive whole number";
 }

@@ -20,6 +20,8 @@ std::string relative_tolerance_rule(double value);
 std::string absolute_tolerance_rule(double value);
 /// A finite number above 0 (a time in s, an acceptance limit).
 std::string positive_number_rule(double value);
+/// A finite number from 0 (a floor in K that may be turned off with 0).
+std::string non_negative_number_rule(double value);
 /// A whole number above 0 (a count of samples, of findings).
 std::string positive_whole_rule(double value);
 /// A whole number from 0 (a seed, a number of threads with 0 for all cores).

@@ -332,6 +332,13 @@ LeastSquaresCovariance least_squares_covariance(const ResidualProblem& problem,
   std::vector<Index> live;
   for (Index j = 0; j < p; ++j)
     if (c[j] > 0) live.push_back(j);
+  if (live.empty()) { // no parameter has an effect: nothing to decompose (an SVD of n x 0 crashes)
+    for (Index j = 0; j < p; ++j) {
+      cov.std_errors[static_cast<std::size_t>(j)] = std::numeric_limits<double>::infinity();
+      cov.no_effect.push_back(static_cast<std::size_t>(j));
+    }
+    return cov;
+  }
   MatrixXd Js(n, static_cast<Index>(live.size()));
   for (std::size_t k = 0; k < live.size(); ++k)
     Js.col(static_cast<Index>(k)) = Ju.col(live[k]) / c[live[k]];

@@ -44,11 +44,11 @@ private:
 
 /// The candidate's parameters fitted by the least-squares core. A warm fit (a validation fold's
 /// refit) starts at the warm fit's optimum with its Jacobian and residuals restricted to the
-/// part's points, so its first step needs no new Jacobian. Standard errors come from the last
-/// Jacobian (NaN when the parameters are not all determined).
+/// part's points, so its first step needs no new Jacobian. Standard errors (when asked for) come
+/// from the last Jacobian (NaN when the parameters are not all determined).
 Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vector<double>& start,
-                        Part part, const Base& base, int max_iter, double rtol,
-                        const Fit* warm) const {
+                        Part part, const Base& base, int max_iter, double rtol, const Fit* warm,
+                        bool std_errors) const {
   const CandidateResiduals problem(c, [&](const std::vector<double>& x, std::vector<double>& r) {
     try {
       residuals(simulate(&h, &c, x, part, base), part, r);
@@ -99,7 +99,7 @@ Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vect
   f.r = res.r;
   f.J = res.jacobian;
   f.se.assign(start.size(), std::numeric_limits<double>::quiet_NaN());
-  if (f.J.rows() == static_cast<long>(f.r.size()) && f.J.cols() == np) {
+  if (std_errors && f.J.rows() == static_cast<long>(f.r.size()) && f.J.cols() == np) {
     const LeastSquaresCovariance cov = least_squares_covariance(problem, f.p, f.J, f.sse);
     if (cov.determined()) f.se = cov.std_errors;
   }

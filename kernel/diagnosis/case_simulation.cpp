@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -61,20 +62,66 @@ std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
   return out;
 }
 
+void Engine::make_folds() {
+  // Each case is held out whole, unless a fit to the other cases cannot test what happens in it:
+  // with one case, or when it holds an event (--events) no other case holds, its time span is cut
+  // into equal stretches, each held out in turn (the other cases and stretches fitted).
+  std::vector<char> split(ev_.cases.size(), ev_.cases.size() < 2);
+  for (const std::string& name : event_names(ev_.events)) {
+    std::vector<std::size_t> with;
+    for (std::size_t c = 0; c < ev_.cases.size(); ++c)
+      if (std::any_of(ev_.events.begin(), ev_.events.end(), [&](const EventWindow& w) {
+            return w.event == name && (w.case_name.empty() || w.case_name == ev_.cases[c].name);
+          }))
+        with.push_back(c);
+    if (with.size() == 1) split[with.front()] = 1;
+  }
+  folds_.clear();
+  const int stretches = static_cast<int>(std::max<std::size_t>(1, opt_.time_folds));
+  for (std::size_t c = 0; c < ev_.cases.size(); ++c)
+    if (split[c])
+      for (int s = 0; s < stretches; ++s)
+        folds_.push_back({c, s});
+    else
+      folds_.push_back({c, -1});
+}
+
+std::string Engine::validation() const {
+  const bool any_split =
+      std::any_of(folds_.begin(), folds_.end(), [](const Fold& f) { return f.stretch >= 0; });
+  if (!any_split) return "leave_one_case_out";
+  return ev_.cases.size() == 1 ? "held_back_time" : "cases_and_time";
+}
+
+std::vector<std::string> Engine::split_cases() const {
+  std::vector<std::string> out;
+  if (ev_.cases.size() < 2) return out;
+  for (const Fold& f : folds_)
+    if (f.stretch == 0) out.push_back(ev_.cases[f.c].name);
+  return out;
+}
+
+std::size_t Engine::stretch_of(std::size_t c, std::size_t k) const {
+  // The case's time span in time_folds equal stretches.
+  const std::size_t n = std::max<std::size_t>(1, opt_.time_folds);
+  const auto [t0, span] = span_[c];
+  const double x = span > 0 ? (ev_.cases[c].times()[k] - t0) / span : 0.0;
+  return std::min(n - 1, static_cast<std::size_t>(std::max(0.0, x * static_cast<double>(n))));
+}
+
 bool Engine::case_used(std::size_t c, Part part) const {
-  if (part.what == Part::all || !loco_) return true;
-  return (c == part.fold) == (part.what == Part::test);
+  if (part.what == Part::all) return true;
+  const Fold& f = folds_[part.fold];
+  if (part.what == Part::test) return c == f.c;
+  return c != f.c || f.stretch >= 0; // a split case trains on its other stretches
 }
 
 bool Engine::in_part(std::size_t c, std::size_t k, Part part) const {
   if (part.what == Part::all) return true;
-  if (loco_) return case_used(c, part);
-  // One case: its time span in folds() equal stretches, the fold's stretch held back.
-  const auto [t0, span] = span_[c];
-  const double x = span > 0 ? (ev_.cases[c].times()[k] - t0) / span : 0.0;
-  const auto stretch = std::min(
-      folds() - 1, static_cast<std::size_t>(std::max(0.0, x * static_cast<double>(folds()))));
-  return (stretch == part.fold) == (part.what == Part::test);
+  const Fold& f = folds_[part.fold];
+  const bool held =
+      c == f.c && (f.stretch < 0 || stretch_of(c, k) == static_cast<std::size_t>(f.stretch));
+  return held == (part.what == Part::test);
 }
 
 CaseSims Engine::model_sims(const Hypothesis* h, const Candidate* c, const std::vector<double>& p,

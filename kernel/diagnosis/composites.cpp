@@ -44,6 +44,10 @@ lang::ParamValues Stack::rewrites(const Candidate&, const std::vector<double>& p
   return free_ ? free_->rewrites(*fc_, p) : lang::ParamValues();
 }
 
+std::vector<std::string> Stack::retires(const Candidate&, const Evidence& ev) const {
+  return free_ ? free_->retires(*fc_, ev) : std::vector<std::string>();
+}
+
 Candidate Compose::candidate() const {
   Candidate c;
   c.measurement_side = true;
@@ -111,6 +115,15 @@ lang::ParamValues Compose::rewrites(const Candidate&, const std::vector<double>&
   return v;
 }
 
+std::vector<std::string> Compose::retires(const Candidate&, const Evidence& ev) const {
+  std::vector<std::string> out;
+  for (const auto& part : parts_) {
+    auto more = part.h->retires(part.c, ev);
+    out.insert(out.end(), more.begin(), more.end());
+  }
+  return out;
+}
+
 Candidate Joint::candidate(const std::vector<double>& ranged) const {
   Candidate c = ic_;
   c.names.insert(c.names.end(), pc_.names.begin(), pc_.names.end());
@@ -149,6 +162,10 @@ CaseLines Joint::case_statements(const Candidate&, const std::vector<double>& p,
 
 lang::ParamValues Joint::rewrites(const Candidate&, const std::vector<double>& p) const {
   return inner_->rewrites(ic_, head(p));
+}
+
+std::vector<std::string> Joint::retires(const Candidate&, const Evidence& ev) const {
+  return inner_->retires(ic_, ev);
 }
 
 std::vector<double> Joint::head(const std::vector<double>& p) const {

@@ -34,6 +34,10 @@ public:
   CaseLines case_statements(const Candidate&, const std::vector<double>& p,
                             const Evidence& ev) const override;
   lang::ParamValues rewrites(const Candidate&, const std::vector<double>& p) const override;
+  std::vector<std::string> retires(const Candidate&, const Evidence& ev) const override;
+  bool degenerate(const Candidate&, const std::vector<double>& p) const override {
+    return free_ && free_->degenerate(*fc_, p);
+  }
 
 private:
   const std::vector<Applied>* applied_;
@@ -53,6 +57,10 @@ public:
   std::vector<Candidate> propose(const Evidence&) const override { return {}; }
   /// True: the ranged params are refitted with the candidate.
   bool recalibrates() const override { return true; }
+  bool reroutes() const override { return inner_->reroutes(); }
+  bool degenerate(const Candidate&, const std::vector<double>& p) const override {
+    return inner_->degenerate(ic_, head(p));
+  }
   lang::ParamValues overrides(const Candidate&, const std::vector<double>& p) const override;
   void extend(const Candidate&, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override;
@@ -63,6 +71,7 @@ public:
   CaseLines case_statements(const Candidate&, const std::vector<double>& p,
                             const Evidence& ev) const override;
   lang::ParamValues rewrites(const Candidate&, const std::vector<double>& p) const override;
+  std::vector<std::string> retires(const Candidate&, const Evidence& ev) const override;
 
 private:
   std::vector<double> head(const std::vector<double>& p) const;
@@ -94,6 +103,7 @@ public:
   CaseLines case_statements(const Candidate&, const std::vector<double>& p,
                             const Evidence& ev) const override;
   lang::ParamValues rewrites(const Candidate&, const std::vector<double>& p) const override;
+  std::vector<std::string> retires(const Candidate&, const Evidence& ev) const override;
 
 private:
   std::vector<Applied> parts_;

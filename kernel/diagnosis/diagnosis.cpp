@@ -22,17 +22,25 @@ DiagnosisReport diagnose(const lang::Model& model, const DiagnosisOptions& optio
   for (const auto& ce : engine.evidence().cases)
     rep.cases.push_back(ce.name);
   rep.noise_floor = engine.evidence().noise_floor;
-  rep.validation = engine.leave_one_case_out() ? "leave_one_case_out" : "held_back_time";
+  rep.validation = engine.validation();
+  rep.split_cases = engine.split_cases();
   rep.folds = engine.folds();
   rep.baseline = engine.declared().metrics;
   rep.at_noise_floor = engine.declared().at_floor;
   rep.criterion = options.criterion;
+  rep.min_gain = options.min_gain;
   // Under the prediction criterion the likelihood-ratio tests decide (a model at the noise floor
-  // gains nothing significant there either); the output error's selection otherwise.
+  // gains nothing significant there either); the output error's selection otherwise, which also
+  // describes the error its last model leaves.
+  detail::Base last = engine.declared();
   const detail::Base best = options.criterion == "prediction"
                                 ? detail::select_by_likelihood(engine, options, rep)
                             : rep.at_noise_floor ? engine.declared()
-                                                 : detail::Selection(engine, options).run(rep);
+                                                 : detail::Selection(engine, options).run(rep, last);
+  if (options.criterion != "prediction") {
+    rep.structural = detail::residual_signature(engine.evidence(), last.sims, last.metrics.rmse);
+    rep.structural.remains = !last.at_floor && last.metrics.rmse >= 2.0 * rep.noise_floor;
+  }
   rep.curves = engine.curves(best);
   rep.batches = engine.batches();
   rep.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -30,6 +30,9 @@ struct DiagnosisOptions {
   /// (one-step-ahead predictions of a Kalman filter, likelihood-ratio tests)
   std::string criterion = "output-error";
   double initial_sd = 1.0; ///< prediction: initial states' standard deviation, K
+  /// The practical floor: no finding whose largest local gain (the RMS error over 10 consecutive
+  /// samples of a series, lowered at most) is below this, K.
+  double min_gain = 0.05;
 };
 
 /// How far the simulation is off for one node (one case or all cases together).
@@ -74,6 +77,7 @@ struct Finding {
   std::string statement;               ///< netlist statements that add it (top level)
   CaseLines case_statements;           ///< lines that complete it inside case blocks, by case
   lang::ParamValues param_rewrites;    ///< params --write rewrites instead (name -> SI value)
+  std::vector<std::string> retired;    ///< elements whose declarations --write comments out
   std::string evidence;                ///< the evidence in words
   bool mechanism_identified = true;    ///< the data tell the kind's mechanisms apart
   std::string mechanism_note;          ///< e.g. "linear and radiation fit equally; kept linear"
@@ -90,9 +94,33 @@ struct Finding {
   double delta_bic = 0.0;              ///< BIC after - BIC before (negative: better)
   bool significant = false;            ///< passes the significance rule
   double holdout_z = 0.0;              ///< held-out gain over its reference fit, z
-  std::vector<Rival> rivals;           ///< candidates that fit as well (the ambiguity set)
-  std::string separate_by;             ///< what measurement would separate it from its rivals
+  /// The largest drop of the RMS error over 10 consecutive samples of one series against its
+  /// reference fit, K (the practical floor's measure)
+  double window_gain = 0.0;
+  std::map<std::string, std::string> at_bounds; ///< fitted values on a bound: name -> lower/upper
+  std::vector<Rival> rivals;                    ///< candidates that fit as well (the ambiguity set)
+  std::string separate_by; ///< what measurement would separate it from its rivals
   std::optional<LikelihoodTest> likelihood; ///< prediction criterion: its likelihood-ratio test
+};
+
+/// The signature of the error left after the findings, when it is far above the noise floor: what
+/// a model error no finding kind names looks like (its autocorrelation, its periodogram, its
+/// correlation with each input at each lag).
+struct StructuralError {
+  bool remains = false;     ///< the error left is far above the noise floor (2x or more)
+  double rmse = 0.0;        ///< K, after the findings
+  double independent = 0.0; ///< independent points the residuals hold (n over their AR(1) time)
+  /// (lag s, autocorrelation) at lags of 1, 2, 5, 10, 20, 50... samples (below half a case)
+  std::vector<std::pair<double, double>> autocorrelation;
+  double period_s = 0.0;     ///< the period of the sinusoid that explains most of the residual, s
+  double period_share = 0.0; ///< the share of the residual's sum of squares it explains
+  /// One input's largest correlation with the residual.
+  struct Input {
+    std::string name;   ///< a boundary's temperature (its name) or a source's power (ELEMENT.P)
+    double lag_s = 0.0; ///< the residual follows the input this much later, s
+    double r = 0.0;     ///< the correlation at that lag
+  };
+  std::vector<Input> inputs; ///< by falling |r|
 };
 
 /// Where a diagnosis spent its time: a batch of candidate refits (the costly part); consecutive
@@ -114,6 +142,8 @@ struct DiagnosisReport {
   std::vector<std::string> cases;    ///< cases used
   double noise_floor = 0.0;          ///< estimated measurement noise, K
   bool at_noise_floor = false;       ///< baseline error is measurement noise only
+  double min_gain = 0.0;             ///< the practical floor used (DiagnosisOptions::min_gain), K
+  StructuralError structural;        ///< what the error left looks like
   FitMetrics baseline;               ///< the model as declared
   std::vector<Finding> findings;     ///< significant findings, best first, each given the previous
   std::vector<Finding> alternatives; ///< significant alone, but explained by a finding above
@@ -122,10 +152,11 @@ struct DiagnosisReport {
   std::size_t refitted = 0;          ///< candidates refitted by simulation
   std::string criterion = "output-error";      ///< the criterion used (DiagnosisOptions::criterion)
   std::optional<PredictionSummary> prediction; ///< prediction criterion: likelihoods, whiteness
-  std::string validation;                      ///< "leave_one_case_out" or "held_back_time"
-  std::size_t folds = 0;                       ///< validation folds
-  double wall_s = 0.0;                         ///< wall time, s
-  double cpu_s = 0.0;                          ///< CPU time of the process (every thread), s
+  std::string validation;            ///< "leave_one_case_out", "held_back_time" or "cases_and_time"
+  std::vector<std::string> split_cases; ///< with "cases_and_time": the cases held out by stretches
+  std::size_t folds = 0;                ///< validation folds
+  double wall_s = 0.0;                  ///< wall time, s
+  double cpu_s = 0.0;                   ///< CPU time of the process (every thread), s
   double setup_wall_s = 0.0; ///< wall time of loading the data, the baseline and the heat flows, s
   std::vector<RefitBatch> batches; ///< the refit batches, in order
   /// Per case: times, and per measured node: measured, baseline and best-finding series (K).

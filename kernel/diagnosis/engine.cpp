@@ -19,6 +19,7 @@ Engine::Engine(const lang::Model& model, const DiagnosisOptions& options)
     : model_(model), opt_(options) {
   load_cases();
   simulate_baseline();
+  make_folds();
   base0_ = make_base({});
   std::vector<double> r;
   residuals(base0_.sims, Part{}, r);
@@ -26,7 +27,32 @@ Engine::Engine(const lang::Model& model, const DiagnosisOptions& options)
   for (std::size_t f = 0; f < folds(); ++f) {
     residuals(base0_.sims, Part{Part::test, f}, r);
     n_test_ += r.size();
+    // (residuals() lists a fold's held-out points series by series)
+    for (std::size_t c = 0; c < ev_.cases.size(); ++c) {
+      if (!case_used(c, Part{Part::test, f})) continue;
+      const auto& m = ev_.cases[c].measured;
+      for (const auto& se : m.series) {
+        std::size_t run = 0;
+        for (std::size_t k = 0; k < m.times.size(); ++k)
+          if (!std::isnan(se.values[k]) && in_part(c, k, Part{Part::test, f})) ++run;
+        if (run) segments_.push_back(run);
+      }
+    }
   }
+}
+
+std::vector<std::vector<double>> Engine::series_residuals(const CaseSims& sims) const {
+  std::vector<std::vector<double>> out;
+  for (std::size_t c = 0; c < ev_.cases.size(); ++c) {
+    const auto& m = ev_.cases[c].measured;
+    for (std::size_t s = 0; s < m.series.size(); ++s) {
+      out.emplace_back();
+      for (std::size_t k = 0; k < m.times.size(); ++k)
+        if (!std::isnan(m.series[s].values[k]))
+          out.back().push_back(sims[c][s][k] - m.series[s].values[k]);
+    }
+  }
+  return out;
 }
 
 bool same_candidate(const Candidate& a, const Candidate& b) {
@@ -39,6 +65,17 @@ void write_extension(Finding& f, const Hypothesis& h, const Candidate& c,
   f.statement = h.statement(c, p, ev);
   f.case_statements = h.case_statements(c, p, ev);
   f.param_rewrites = h.rewrites(c, p);
+  f.retired = h.retires(c, ev);
+  mark_bounds(f, c, p);
+}
+
+void mark_bounds(Finding& f, const Candidate& c, const std::vector<double>& p) {
+  f.at_bounds.clear();
+  for (std::size_t j = 0; j < p.size() && j < c.names.size(); ++j)
+    if (on_bound(c, p, j, false))
+      f.at_bounds[c.names[j]] = "lower";
+    else if (on_bound(c, p, j, true))
+      f.at_bounds[c.names[j]] = "upper";
 }
 
 Base Engine::make_base(std::vector<Applied> applied) const {
@@ -64,6 +101,7 @@ Base Engine::make_base(std::vector<Applied> applied) const {
     b.sse_test += sum_of_squares(r);
     b.holdout_r.insert(b.holdout_r.end(), r.begin(), r.end());
   }
+  b.r = series_residuals(b.sims);
   b.metrics = metrics(b.sims);
   b.at_floor = at_floor(b.metrics);
   return b;
@@ -140,6 +178,7 @@ Evaluated Engine::evaluated(const Entry& e, const Base& base, Refit refit) const
     }
   f.values = refit.p;
   f.std_errors = std::move(refit.se);
+  out.degenerate = e.h->degenerate(e.c, refit.p);
   measure_gain(f, base, refit.sse, out.holdout_sse);
   write_extension(f, *e.h, e.c, refit.p, ev_);
   return out;
@@ -149,14 +188,34 @@ bool Engine::validate(const Hypothesis& h, const Candidate& c, const Fit& all, c
                       int max_iter, double rtol, std::vector<double>& holdout_r) const {
   std::vector<double> r;
   for (std::size_t k = 0; k < folds(); ++k) {
-    const Fit a = fit(h, c, all.p, Part{Part::train, k}, base, max_iter, rtol, &all);
-    if (!a.ok) return false;
     try {
-      residuals(simulate(&h, &c, a.p, Part{Part::test, k}, base), Part{Part::test, k}, r);
+      if (!determined_in(all, Part{Part::train, k})) {
+        // The fold's fitted data cannot tell some parameter (an event none of them holds): the
+        // candidate cannot predict its held-out data, which are scored as the base predicts them
+        // (no gain there; a refit would keep the all-data value, fitted on those very data).
+        residuals(base.sims, Part{Part::test, k}, r);
+      } else {
+        const Fit a = fit(h, c, all.p, Part{Part::train, k}, base, max_iter, rtol, &all, false);
+        if (!a.ok) return false;
+        residuals(simulate(&h, &c, a.p, Part{Part::test, k}, base), Part{Part::test, k}, r);
+      }
     } catch (const std::exception&) {
       return false;
     }
     holdout_r.insert(holdout_r.end(), r.begin(), r.end());
+  }
+  return true;
+}
+
+bool Engine::determined_in(const Fit& all, Part part) const {
+  // Every column of the all-data Jacobian has an effect on the part's points.
+  if (all.J.rows() != static_cast<long>(all.r.size())) return true; // no Jacobian: unknown
+  const std::vector<char> in = rows_in(part);
+  for (long j = 0; j < all.J.cols(); ++j) {
+    bool effect = false;
+    for (long i = 0; i < all.J.rows() && !effect; ++i)
+      effect = in[static_cast<std::size_t>(i)] && all.J(i, j) != 0.0;
+    if (!effect) return false;
   }
   return true;
 }

@@ -38,8 +38,9 @@ struct Base {
   double sse_all = 0.0;          ///< SSE on all data, K^2
   double sse_test = 0.0;         ///< SSE on the held-out points of every fold, K^2
   std::vector<double> holdout_r; ///< residuals on the held-out points of every fold, K
-  FitMetrics metrics;            ///< its fit
-  bool at_floor = false;         ///< its error is measurement noise only
+  std::vector<std::vector<double>> r; ///< residuals on all data, per measured series, K
+  FitMetrics metrics;                 ///< its fit
+  bool at_floor = false;              ///< its error is measurement noise only
 };
 
 /// A hypothesis with one candidate (what the engine refits).
@@ -56,6 +57,7 @@ struct Evaluated {
   std::vector<std::vector<double>> r; ///< residuals on all data, per measured series
   double holdout_sse = 0.0;           ///< SSE on the held-out points of every fold
   std::vector<double> holdout_r;      ///< residuals on them (fold by fold, series order), K
+  bool degenerate = false;            ///< the fit is another kind's candidate (not reported)
 };
 
 /// What a candidate's refit computes (the costly part of Engine::evaluate()): all that processes
@@ -87,16 +89,24 @@ public:
   const Evidence& evidence() const { return ev_; }
   /// The declared model as a base (the baseline).
   const Base& declared() const { return base0_; }
-  /// Validation folds: the cases (leave one case out), or the stretches of the one case.
-  std::size_t folds() const {
-    return loco_ ? ev_.cases.size() : std::max<std::size_t>(1, opt_.time_folds);
-  }
-  /// True when the validation leaves one case out (two cases or more).
-  bool leave_one_case_out() const { return loco_; }
+  /// Validation folds: each case held out whole, or each stretch of a case split in time.
+  std::size_t folds() const { return folds_.size(); }
+  /// How the data are held out: "leave_one_case_out" (every case whole), "held_back_time" (one
+  /// case, its stretches) or "cases_and_time" (cases held out whole, and the cases split_cases()
+  /// names by their stretches).
+  std::string validation() const;
+  /// The cases validated by their stretches of time, though other cases exist: an event of theirs
+  /// no other case has, which a fit to the other cases could not test.
+  std::vector<std::string> split_cases() const;
   /// Measured points, all data.
   std::size_t points() const { return n_all_; }
   /// Measured points held out over every fold.
   std::size_t held_out_points() const { return n_test_; }
+  /// The held-out points (in the order of a base's or refit's holdout_r) as runs of consecutive
+  /// samples of one series, their lengths.
+  const std::vector<std::size_t>& holdout_segments() const { return segments_; }
+  /// Residuals on all data per measured series (the order of Evaluated::r).
+  std::vector<std::vector<double>> series_residuals(const CaseSims& sims) const;
 
   /// The declared model with findings applied at their values.
   Base make_base(std::vector<Applied> applied) const;
@@ -135,8 +145,10 @@ private:
   void build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all,
                     double& screen_total, const std::set<int>& distrusted = {}) const;
   // case_simulation.cpp
+  void make_folds();
   bool case_used(std::size_t c, Part part) const;
   bool in_part(std::size_t c, std::size_t k, Part part) const;
+  std::size_t stretch_of(std::size_t c, std::size_t k) const;
   CaseSims model_sims(const Hypothesis* h, const Candidate* c, const std::vector<double>& p,
                       Part part, const Base& base) const;
   void correct(const Hypothesis& h, const Candidate& c, const std::vector<double>& p,
@@ -148,12 +160,14 @@ private:
   double sst(Part part) const;
   // candidate_fit.cpp
   Fit fit(const Hypothesis& h, const Candidate& c, const std::vector<double>& start, Part part,
-          const Base& base, int max_iter, double rtol, const Fit* warm = nullptr) const;
+          const Base& base, int max_iter, double rtol, const Fit* warm = nullptr,
+          bool std_errors = true) const;
   // engine.cpp
   Refit refit(const Entry& e, const Base& base, bool joint) const;
   Evaluated evaluated(const Entry& e, const Base& base, Refit refit) const;
   bool validate(const Hypothesis& h, const Candidate& c, const Fit& all, const Base& base,
                 int max_iter, double rtol, std::vector<double>& holdout_r) const;
+  bool determined_in(const Fit& all, Part part) const;
   void measure_gain(Finding& f, const Base& base, double sse, double holdout_sse) const;
   template <class Work>
   void timed(const Base& base, bool joint, std::size_t refits, Work&& work) const;
@@ -165,8 +179,14 @@ private:
   DiagnosisOptions opt_;
   Evidence ev_;
   std::vector<std::pair<double, double>> span_; // per case: first time and time span, s
-  bool loco_ = false;                           // leave one case out (>= 2 cases)
+  /// A validation fold: case c held out whole (stretch < 0), or its stretch held out.
+  struct Fold {
+    std::size_t c = 0;
+    int stretch = -1;
+  };
+  std::vector<Fold> folds_;
   std::size_t n_all_ = 0, n_test_ = 0;
+  std::vector<std::size_t> segments_;               // held-out runs, per fold and series
   Base base0_;                                      // the declared model
   mutable std::atomic<std::size_t> simulations_{0}; // case simulations run (every thread)
   mutable std::vector<RefitBatch> batches_;         // timing of the refits (main thread only)
@@ -180,6 +200,10 @@ std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
                                                const MeasuredData* measured = nullptr,
                                                std::vector<Series>* series = nullptr);
 
+/// The signature of the error a model leaves (sims: its series at the measured times, rmse its
+/// RMSE): residual_signature.cpp; `remains` is left for the caller to decide.
+StructuralError residual_signature(const Evidence& ev, const CaseSims& sims, double rmse);
+
 /// Two candidates at the same site with the same mechanism.
 bool same_candidate(const Candidate& a, const Candidate& b);
 
@@ -187,5 +211,8 @@ bool same_candidate(const Candidate& a, const Candidate& b);
 /// for the candidate at p.
 void write_extension(Finding& f, const Hypothesis& h, const Candidate& c,
                      const std::vector<double>& p, const Evidence& ev);
+
+/// Sets which of a finding's values p ended on a bound of the candidate's box (at_bounds).
+void mark_bounds(Finding& f, const Candidate& c, const std::vector<double>& p);
 
 } // namespace thermnet::detail

@@ -50,7 +50,6 @@ void Engine::load_cases() {
   if (ev_.cases.empty())
     throw DiagnosisError("no case of the model has measured data; nothing to diagnose (add "
                          "`data \"file.csv\"` to a case)");
-  loco_ = ev_.cases.size() >= 2;
 }
 
 void Engine::simulate_baseline() {
@@ -71,6 +70,29 @@ void Engine::simulate_baseline() {
     s2 += s * s;
   ev_.noise_floor = sigmas.empty() ? 0.0 : std::sqrt(s2 / static_cast<double>(sigmas.size()));
 }
+
+namespace {
+
+/// The times in (t0, t1] at which an input of the network jumps: the corners of its step signals
+/// (boundary temperatures and element keys).
+std::vector<double> jumps(const lang::NetworkSpec& spec, double t0, double t1) {
+  std::vector<double> out;
+  const auto add = [&](const lang::Signal& s) {
+    if (s.kind() != lang::Signal::Kind::step) return;
+    for (double c : s.times())
+      if (c > t0 && c <= t1) out.push_back(c);
+  };
+  for (const auto& n : spec.nodes)
+    if (n.boundary) add(n.T);
+  for (const auto& e : spec.elements)
+    for (const auto& [key, value] : e.values)
+      add(value);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+} // namespace
 
 void Engine::build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all,
                           double& screen_total, const std::set<int>& distrusted) const {
@@ -100,8 +122,9 @@ void Engine::build_screen(CaseEvidence& ce, const std::vector<std::vector<double
     if (!ce.spec.nodes[i].boundary && ce.spec.nodes[i].C > 0.0 && unknown_of[i] >= 0)
       ce.rows.push_back(s.node_index);
   }
-  // Samples whose smoothing window straddles a jump of a source or boundary are left out.
-  const std::vector<double> corners = net.breakpoints(t.front(), t.back());
+  // Samples whose smoothing window straddles a jump of a source or boundary are left out (the
+  // corners of a step signal; a pwl signal, a measured table, is continuous and only bends).
+  const std::vector<double> corners = jumps(ce.spec, t.front(), t.back());
   std::vector<double> Tu(static_cast<std::size_t>(net.size())), F(Tu.size());
   for (std::size_t k = 0; k < nk; ++k) {
     const double ta = t[k >= half ? k - half : 0], tb = t[std::min(nk - 1, k + half)];

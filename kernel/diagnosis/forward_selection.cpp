@@ -6,13 +6,28 @@
 
 #include "kernel/diagnosis/selection.hpp"
 
+#include "kernel/calibration/least_squares.hpp"
+
 #include <algorithm>
 #include <memory>
 #include <set>
 
 namespace thermnet::detail {
 
-Base Selection::select_forward(DiagnosisReport& rep) const {
+namespace {
+
+/// A base whose held-out residuals are those of its own validation folds (each fold's data
+/// predicted by a fit without them), as a candidate's are: the next step compares like with like.
+Base with_holdout(Base base, std::vector<double> holdout_r) {
+  if (holdout_r.size() != base.holdout_r.size()) return base;
+  base.holdout_r = std::move(holdout_r);
+  base.sse_test = sum_of_squares(base.holdout_r);
+  return base;
+}
+
+} // namespace
+
+Base Selection::select_forward(DiagnosisReport& rep, Base& last) const {
   std::vector<Applied> applied;
   Base best = engine_.declared();
   if (!first_.empty()) {
@@ -22,7 +37,7 @@ Base Selection::select_forward(DiagnosisReport& rep) const {
     add_rivals(rep.findings.back(), b, chosen_, res_);
     best = engine_.make_base(applied);
   }
-  Base base = best;
+  Base base = first_.empty() ? best : with_holdout(best, res_[first_.front()].holdout_r);
   // The ranged params are not recalibrated again once a finding has recalibrated them.
   const bool params_applied = !applied.empty() && applied.front().h->recalibrates();
   while (!applied.empty() && rep.findings.size() < opt_.top && !base.at_floor) {
@@ -34,17 +49,21 @@ Base Selection::select_forward(DiagnosisReport& rep) const {
     }
     std::vector<Evaluated> nres = engine_.evaluate_all(next, base);
     rep.refitted += next.size();
-    judge(nres, base.holdout_r);
+    judge(nres, base);
     merge_mechanisms(next, nres);
     rep.refitted += rerank_jointly(applied, base, next, nres);
+    for (const auto& e : nres)
+      if (!e.f.values.empty() && !e.f.significant) rep.rejected.push_back(e.f);
     const auto order = ranked(nres);
     if (order.empty()) break;
     const std::size_t b = order.front();
     add_rivals(nres[b].f, b, next, nres);
     applied.push_back({next[b].h, next[b].c, nres[b].f.values});
-    if (!reestimate(applied, nres[b].f, rep)) break;
-    base = engine_.make_base(applied);
+    std::vector<double> holdout_r;
+    if (!reestimate(applied, nres[b].f, rep, holdout_r)) break;
+    base = with_holdout(engine_.make_base(applied), std::move(holdout_r));
   }
+  last = base;
   return best;
 }
 
@@ -52,12 +71,14 @@ std::size_t Selection::rerank_jointly(const std::vector<Applied>& applied, const
                                       const std::vector<Entry>& next,
                                       std::vector<Evaluated>& nres) const {
   // A candidate fitted on top of the applied findings meets them (and the ranged params they
-  // recalibrated) at values fitted without it, which favours proxies of what they absorbed. The
-  // best sites are refitted together with every applied finding (values and ranged params free)
-  // and judged and ranked on that joint fit; the others are not selected at this step.
+  // recalibrated) at values fitted without it, which favours proxies of what they absorbed, and
+  // may gain little alone where it would with them refitted (a solar gain's size once the house's
+  // envelope and capacity move with it). The best sites by that refit, significant or not, are
+  // refitted together with every applied finding (values and ranged params free) and judged and
+  // ranked on that joint fit; the others are not selected at this step.
   std::vector<std::size_t> top;
   std::set<std::string> sites;
-  for (std::size_t i : ranked(nres)) {
+  for (std::size_t i : ranked(nres, false)) {
     if (top.size() >= opt_.refits) break;
     if (sites.insert(site(nres[i].f.candidate)).second) top.push_back(i);
   }
@@ -95,7 +116,7 @@ std::size_t Selection::rerank_jointly(const std::vector<Applied>& applied, const
     e.holdout_r = std::move(jres[k].holdout_r);
     e.holdout_sse = jres[k].holdout_sse;
   }
-  judge(nres, base.holdout_r);
+  judge(nres, base);
   for (std::size_t i = 0; i < nres.size(); ++i)
     nres[i].f.significant = nres[i].f.significant && keep[i];
   return top.size();
@@ -111,6 +132,7 @@ std::vector<Entry> Selection::next_entries(const Base& base, const std::vector<A
   for (auto& e : shortlisted(s.side, ev, opt_.refits, nullptr))
     next.push_back(std::move(e));
   for (std::size_t i : first_) {
+    if (chosen_[i].own_h->recalibrates() && params_applied) continue;
     Entry e;
     e.h = e.own_h = chosen_[i].own_h;
     e.c = e.own = chosen_[i].own;
@@ -118,17 +140,23 @@ std::vector<Entry> Selection::next_entries(const Base& base, const std::vector<A
                      [&](const Entry& x) { return same_candidate(x.c, e.c); }))
       next.push_back(std::move(e));
   }
+  // Not again, and not a second rerouting of an element a finding has rerouted (a heater's
+  // power moved onto a mass cannot be moved again from where the model had it).
   next.erase(std::remove_if(next.begin(), next.end(),
                             [&](const Entry& x) {
                               return std::any_of(
-                                  applied.begin(), applied.end(),
-                                  [&](const Applied& a) { return same_candidate(a.c, x.c); });
+                                  applied.begin(), applied.end(), [&](const Applied& a) {
+                                    return same_candidate(a.c, x.c) ||
+                                           (a.h->reroutes() && x.own_h->reroutes() &&
+                                            !x.c.element.empty() && a.c.element == x.c.element);
+                                  });
                             }),
              next.end());
   return next;
 }
 
-bool Selection::reestimate(std::vector<Applied>& applied, Finding f, DiagnosisReport& rep) const {
+bool Selection::reestimate(std::vector<Applied>& applied, Finding f, DiagnosisReport& rep,
+                           std::vector<double>& holdout_r) const {
   // The selected findings are re-estimated together (the earlier ones were fitted without this
   // one): their values, and this step's gain, come from the joint refit.
   const Compose all(applied);
@@ -139,6 +167,9 @@ bool Selection::reestimate(std::vector<Applied>& applied, Finding f, DiagnosisRe
   rep.refitted += 1;
   if (joint.f.values.empty()) return false;
   rep.findings.push_back(f);
+  std::vector<std::string> mechanisms;
+  for (const auto& a : applied)
+    mechanisms.push_back(a.c.mechanism);
   redecide_mechanisms(applied, all, joint, rep);
   f = rep.findings.back();
   rep.findings.pop_back();
@@ -157,13 +188,18 @@ bool Selection::reestimate(std::vector<Applied>& applied, Finding f, DiagnosisRe
   f.validation_r2_before = rep.findings.back().validation_r2_after;
   f.validation_rmse_after = joint.f.validation_rmse_after;
   f.validation_r2_after = joint.f.validation_r2_after;
+  // An earlier finding keeps the values its own step fitted, with which its stated gain was
+  // reached (and which --write writes, whatever --top is); only one whose mechanism was decided
+  // again takes the joint values of its new mechanism.
   const Evidence& ev = engine_.evidence();
-  for (std::size_t i = 0; i < rep.findings.size(); ++i) {
-    rep.findings[i].values = applied[i].p;
-    write_extension(rep.findings[i], *applied[i].h, applied[i].c, applied[i].p, ev);
-  }
+  for (std::size_t i = 0; i < rep.findings.size(); ++i)
+    if (applied[i].c.mechanism != mechanisms[i]) {
+      rep.findings[i].values = applied[i].p;
+      write_extension(rep.findings[i], *applied[i].h, applied[i].c, applied[i].p, ev);
+    }
   write_extension(f, *applied.back().h, applied.back().c, applied.back().p, ev);
   rep.findings.push_back(std::move(f));
+  holdout_r = std::move(joint.holdout_r);
   return true;
 }
 

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <stdexcept>
 
 namespace thermnet {
@@ -77,6 +78,158 @@ std::string unique_name(const lang::NetworkSpec& spec, const std::string& base) 
   for (int i = 2; taken(n); ++i)
     n = fmt::format("{}_{}", base, i);
   return n;
+}
+
+std::string unique_model_name(const Evidence& ev, const std::string& base) {
+  std::set<std::string> params;
+  if (ev.model)
+    for (const auto& p : ev.model->params())
+      params.insert(p.name);
+  std::string n = unique_name(ev.declared.spec, base);
+  for (int i = 2; params.count(n) != 0; ++i)
+    n = unique_name(ev.declared.spec, fmt::format("{}_{}", base, i));
+  return n;
+}
+
+double sampling_interval(const Evidence& ev) {
+  std::vector<double> dt;
+  for (const auto& ce : ev.cases)
+    for (std::size_t k = 1; k < ce.times().size(); ++k)
+      dt.push_back(ce.times()[k] - ce.times()[k - 1]);
+  if (dt.empty()) return 0.0;
+  std::nth_element(dt.begin(), dt.begin() + static_cast<long>(dt.size() / 2), dt.end());
+  return dt[dt.size() / 2];
+}
+
+double longest_span(const Evidence& ev) {
+  double span = 0.0;
+  for (const auto& ce : ev.cases)
+    if (!ce.times().empty()) span = std::max(span, ce.times().back() - ce.times().front());
+  return span;
+}
+
+std::vector<double> screen_taus(const Evidence& ev) {
+  std::vector<double> out;
+  const double dt = sampling_interval(ev), span = longest_span(ev);
+  for (double tau = 3.0 * dt; dt > 0.0 && tau <= 0.5 * span; tau *= 2.0)
+    out.push_back(tau);
+  return out;
+}
+
+std::vector<double> lowpass(const std::vector<double>& times, const std::vector<double>& u,
+                            double tau, double y0) {
+  std::vector<double> y(u.size());
+  if (u.empty()) return y;
+  y[0] = y0;
+  for (std::size_t k = 1; k < u.size(); ++k) {
+    const double h = times[k] - times[k - 1];
+    if (!(h > 0.0)) {
+      y[k] = y[k - 1];
+      continue;
+    }
+    const double E = std::exp(-h / tau), slope = (u[k] - u[k - 1]) / h;
+    y[k] = u[k] - slope * tau + (y[k - 1] - u[k - 1] + slope * tau) * E;
+  }
+  return y;
+}
+
+std::map<std::string, double> start_temperatures(const Evidence& ev, int node) {
+  std::map<std::string, double> out;
+  for (const auto& ce : ev.cases)
+    if (!ce.T.empty()) out[ce.name] = ce.T.front().at(static_cast<std::size_t>(node));
+  return out;
+}
+
+std::optional<double> start_in(const Candidate& c, const lang::NetworkSpec& spec, int fallback) {
+  if (auto it = c.start_T.find(spec.settings.name); it != c.start_T.end()) return it->second;
+  return spec.nodes.at(static_cast<std::size_t>(fallback)).T0;
+}
+
+namespace {
+/// The start written at the node's declaration: that of the first case (by name) in start_T, K.
+std::optional<double> first_start(const Candidate& c) {
+  if (c.start_T.empty()) return std::nullopt;
+  return c.start_T.begin()->second;
+}
+} // namespace
+
+std::string start_text(const Candidate& c) {
+  const auto t = first_start(c);
+  return t ? " T0 = " + netlist_number(*t - 273.15) : "";
+}
+
+CaseLines start_case_lines(const Candidate& c, const std::string& node, const Evidence& ev) {
+  CaseLines out;
+  const auto first = first_start(c);
+  for (const auto& d : ev.declared_cases) {
+    auto it = c.start_T.find(d.case_name);
+    if (it == c.start_T.end() || !first ||
+        netlist_number(it->second - 273.15) == netlist_number(*first - 273.15))
+      continue;
+    out[d.case_name] = fmt::format("{}.T0 = {}", node, netlist_number(it->second - 273.15));
+  }
+  return out;
+}
+
+bool on_bound(const Candidate& c, const std::vector<double>& p, std::size_t j, bool upper) {
+  if (j >= p.size() || j >= c.lo.size() || !(c.hi[j] > c.lo[j])) return false;
+  const double bound = upper ? c.hi[j] : c.lo[j];
+  if (c.lo[j] > 0.0 && p[j] > 0.0)
+    return std::abs(std::log(p[j] / bound)) <= 1e-3 * std::log(c.hi[j] / c.lo[j]);
+  return std::abs(p[j] - bound) <= 1e-3 * (c.hi[j] - c.lo[j]);
+}
+
+int add_node(lang::NetworkSpec& spec, const std::string& base, double C, std::optional<double> T0,
+             const std::string& doc) {
+  lang::NodeSpec m;
+  m.name = unique_name(spec, base);
+  m.C = C;
+  m.T0 = T0;
+  m.set_doc(doc);
+  spec.nodes.push_back(std::move(m));
+  return static_cast<int>(spec.nodes.size()) - 1;
+}
+
+int add_tied_mass(lang::NetworkSpec& spec, const std::string& base, double C,
+                  std::optional<double> T0, const std::string& doc, int node, double G) {
+  const int mass = add_node(spec, base, C, T0, doc);
+  spec.elements.push_back(
+      make_element("conductance", unique_name(spec, base + "_g"), {mass, node}, {{"G", G}}));
+  return mass;
+}
+
+std::string tied_mass_statements(const Evidence& ev, const Candidate& c, std::size_t k,
+                                 const std::vector<double>& p, const std::string& base,
+                                 const std::string& node, const std::string& doc) {
+  const std::string m = unique_model_name(ev, base);
+  const std::string pc = unique_model_name(ev, m + "_C"), pg = unique_model_name(ev, m + "_G");
+  return fmt::format("{}\n{}\nnode {} C = {}{} \"{}\"\nconductance {} {} {} G = {}",
+                     param_statement(pc, p[k], c.lo[k], c.hi[k], "J/K", "capacity of the mass"),
+                     param_statement(pg, p[k] / p[k + 1], c.lo[k] / c.hi[k + 1],
+                                     c.hi[k] / c.lo[k + 1], "W/K", "its conductance to " + node),
+                     m, pc, start_text(c), doc, unique_model_name(ev, m + "_g"), m, node, pg);
+}
+
+bool sensed(const Evidence& ev, int node) {
+  for (const auto& ce : ev.cases)
+    for (const auto& s : ce.measured.series)
+      if (s.node_index == node) return true;
+  return false;
+}
+
+std::string unscreened_words(const Evidence& ev, int node) {
+  const std::string& name = ev.cases.front().spec.nodes.at(static_cast<std::size_t>(node)).name;
+  return sensed(ev, node) ? fmt::format("the sensor of {} was found faulty by a finding above, "
+                                        "so {} is screened with its simulated temperature",
+                                        name, name)
+                          : fmt::format("{} is not measured", name);
+}
+
+std::string param_statement(const std::string& name, double value, double lo, double hi,
+                            const std::string& unit, const std::string& doc) {
+  const std::string u = unit.empty() ? "" : " [" + unit + "]";
+  return fmt::format("param {} = {}{} range {}{} .. {}{} \"{}\"", name, netlist_number(value), u,
+                     netlist_number(lo), u, netlist_number(hi), u, doc);
 }
 
 ScreenFit Evidence::regress(

@@ -12,6 +12,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -87,6 +88,8 @@ struct Candidate {
   std::string evidence;             ///< what the screen saw, in words
   std::vector<int> index;           ///< resolved spec indices (nodes, element) for the plugin
   std::vector<EventWindow> windows; ///< when it acts, by case (event_loss: its event's windows)
+  /// Where a node the candidate adds starts, by case name, K (start_temperatures()).
+  std::map<std::string, double> start_T;
 };
 
 /// Netlist lines for inside case blocks, by case name.
@@ -111,6 +114,16 @@ public:
   /// the screen), the basis of the joint refit, and not proposed again once a finding has
   /// recalibrated them (default: false).
   virtual bool recalibrates() const { return false; }
+  /// True when a fit at p is another kind's candidate in disguise (input_split: all of a power
+  /// through a mass is a heater's own mass): it is not reported, the other kind is (default:
+  /// false).
+  virtual bool degenerate(const Candidate&, const std::vector<double>& /*p*/) const {
+    return false;
+  }
+  /// True when its candidates move their element's effect elsewhere (a heater's power onto a
+  /// mass, a link split around one): once such a finding is applied, no other one of this sort
+  /// names the same element (default: false).
+  virtual bool reroutes() const { return false; }
   /// Param overrides for Model::instantiate at parameters p (default: none).
   virtual lang::ParamValues overrides(const Candidate&, const std::vector<double>&) const {
     return {};
@@ -134,6 +147,9 @@ public:
   virtual lang::ParamValues rewrites(const Candidate&, const std::vector<double>&) const {
     return {};
   }
+  /// Elements of the model whose declarations `--write` comments out because the statements
+  /// replace them (wall_mass: the link it splits; default: none).
+  virtual std::vector<std::string> retires(const Candidate&, const Evidence&) const { return {}; }
 };
 
 /// A named hypothesis kind with a one-line doc and a factory.
@@ -175,5 +191,78 @@ lang::ElementSpec make_element(const std::string& kind, const std::string& name,
 
 /// `base`, or `base_2`, `base_3`... whichever names no element or node of the spec.
 std::string unique_name(const lang::NetworkSpec& spec, const std::string& base);
+
+/// `base`, or `base_2`, `base_3`... whichever names no element, node or param of the model
+/// (the names a finding's statements declare).
+std::string unique_model_name(const Evidence& ev, const std::string& base);
+
+/// The median interval between samples over every case, s (0 with fewer than two samples).
+double sampling_interval(const Evidence& ev);
+
+/// The longest time span of a case, s.
+double longest_span(const Evidence& ev);
+
+/// The time constants a hidden mass's screen tries: from three sampling intervals to half the
+/// longest case, a factor of two apart.
+std::vector<double> screen_taus(const Evidence& ev);
+
+/// A sampled series through a first-order lag tau (dy/dt = (u - y) / tau, u linear between the
+/// samples), starting at y0.
+std::vector<double> lowpass(const std::vector<double>& times, const std::vector<double>& u,
+                            double tau, double y0);
+
+/// Where a node a finding adds next to `node` starts in each case (case name -> K): the
+/// temperature of `node` at the first sample as the data say (the smoothed measurement; the
+/// simulated start where it is not measured). A test rarely starts in a steady state: the mass
+/// shares the history of the node it is in contact with, which the local steady state against a
+/// boundary ignores.
+std::map<std::string, double> start_temperatures(const Evidence& ev, int node);
+
+/// The start of a node a finding adds in the case of `spec` (start_T, else the T0 of `fallback`,
+/// a spec node), K; nullopt where neither is known (the case's initial applies).
+std::optional<double> start_in(const Candidate& c, const lang::NetworkSpec& spec, int fallback);
+
+/// ` T0 = X` (degC) for the declaration of a node a finding adds: its start in the first case
+/// (by name) of start_T; empty when unknown.
+std::string start_text(const Candidate& c);
+
+/// `NODE.T0 = X` for every declared case block with data whose start differs from start_text's.
+CaseLines start_case_lines(const Candidate& c, const std::string& node, const Evidence& ev);
+
+/// True when parameter j of a candidate's fit p ended on its lower (or upper) bound: within 1e-3
+/// of its box (of the logarithm's for a positive range), where a least-squares fit pressed
+/// against the box stops.
+bool on_bound(const Candidate& c, const std::vector<double>& p, std::size_t j, bool upper);
+
+/// Adds a node of capacity C [J/K] starting at T0 (K; none: the case's initial) to a spec, named
+/// `base` or a free variant of it, and returns its index.
+int add_node(lang::NetworkSpec& spec, const std::string& base, double C, std::optional<double> T0,
+             const std::string& doc);
+
+/// Adds a mass (add_node) tied to spec node `node` by a conductance G [W/K] named `base`_g, and
+/// returns the mass's index.
+int add_tied_mass(lang::NetworkSpec& spec, const std::string& base, double C,
+                  std::optional<double> T0, const std::string& doc, int node, double G);
+
+/// The statements declaring a mass a finding adds, tied to `node`: ranged params MASS_C and
+/// MASS_G (their ranges from the candidate's box for C and tau = C / G, its parameters k and
+/// k + 1, p their values), the node MASS (its start_text, `doc`) and the conductance MASS_g. MASS
+/// is `base` or a free variant of it in the model.
+std::string tied_mass_statements(const Evidence& ev, const Candidate& c, std::size_t k,
+                                 const std::vector<double>& p, const std::string& base,
+                                 const std::string& node, const std::string& doc);
+
+/// Why the screen has no unexplained heat flow for a node of a candidate, in words: it is not
+/// measured, or its sensor was found faulty by an applied finding (screened with its simulated
+/// temperature).
+std::string unscreened_words(const Evidence& ev, int node);
+
+/// True when a spec node has a measured series in some case (whether or not it is screened).
+bool sensed(const Evidence& ev, int node);
+
+/// A ranged param declaration for a finding's statements:
+/// `param NAME = VALUE [UNIT] range LO [UNIT] .. HI [UNIT] "DOC"` (values SI).
+std::string param_statement(const std::string& name, double value, double lo, double hi,
+                            const std::string& unit, const std::string& doc);
 
 } // namespace thermnet

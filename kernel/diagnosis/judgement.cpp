@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 
 namespace thermnet::detail {
@@ -28,19 +29,45 @@ void note_mechanism(Finding& keep, const Finding& drop, const FitComparison& cmp
                                   numbers, keep.candidate.mechanism);
 }
 
-void Selection::judge(std::vector<Evaluated>& res, const std::vector<double>& reference) const {
+void Selection::judge(std::vector<Evaluated>& res, const Base& reference) const {
   // Better by the information criterion, a real drop of the error, and a held-out gain over the
   // reference (the model the candidate is added to) beyond chance: the paired test on the
-  // held-out residuals (holdout_gain_z), counting independent points only.
+  // held-out residuals (holdout_gain_z), counting independent points only, and beyond the
+  // practical floor where it matters most.
   const double nf = engine_.evidence().noise_floor;
+  const double z_min = threshold(res);
   for (auto& e : res) {
     Finding& f = e.f;
     if (f.values.empty()) continue;
-    f.holdout_z = holdout_gain_z(reference, e.holdout_r, nf);
-    f.significant = f.delta_bic < -10.0 &&
+    f.holdout_z = 0.0;
+    f.window_gain = std::numeric_limits<double>::infinity();
+    f.significant = !e.degenerate && f.delta_bic < -10.0 &&
                     f.validation_rmse_after <= f.validation_rmse_before + 0.1 * nf &&
-                    f.rmse_after < 0.97 * f.rmse_before && f.holdout_z >= significant_gain_z;
+                    f.rmse_after < 0.97 * f.rmse_before;
+    judge_against(e, reference.holdout_r, reference.r, z_min);
   }
+}
+
+double Selection::threshold(const std::vector<Evaluated>& res) {
+  // (the candidates refitted together, the comparisons a step makes)
+  return significant_gain_z_for(static_cast<std::size_t>(std::count_if(
+      res.begin(), res.end(), [](const Evaluated& e) { return !e.f.values.empty(); })));
+}
+
+void Selection::judge_against(Evaluated& e, const std::vector<double>& holdout_r,
+                              const std::vector<std::vector<double>>& r, double z_min) const {
+  // The output-error criterion's test of a candidate against one reference fit (its held-out and
+  // all-data residuals): the held-out gain beyond the variation neither explains, and the largest
+  // local gain beyond the practical floor. A finding must pass it against every reference; z and
+  // the gain kept are the smallest. z_min: the threshold for the candidates compared in the step.
+  Finding& f = e.f;
+  const double z = holdout_gain_z(holdout_r, e.holdout_r, engine_.evidence().noise_floor,
+                                  engine_.holdout_segments());
+  const double gain = largest_window_gain(r, e.r);
+  f.holdout_z =
+      f.window_gain == std::numeric_limits<double>::infinity() ? z : std::min(f.holdout_z, z);
+  f.window_gain = std::min(f.window_gain, gain);
+  f.significant = f.significant && z >= z_min && gain >= opt_.min_gain;
 }
 
 void Selection::add_rivals(Finding& f, std::size_t best, const std::vector<Entry>& entries,
@@ -125,10 +152,13 @@ double Selection::score(const Finding& f) const {
          static_cast<double>(f.values.size()) * std::log(na);
 }
 
-std::vector<std::size_t> Selection::ranked(const std::vector<Evaluated>& res) const {
+std::vector<std::size_t> Selection::ranked(const std::vector<Evaluated>& res,
+                                           bool significant_only) const {
   std::vector<std::size_t> idx;
   for (std::size_t i = 0; i < res.size(); ++i)
-    if (!res[i].f.values.empty() && res[i].f.significant) idx.push_back(i);
+    if (!res[i].f.values.empty() &&
+        (significant_only ? res[i].f.significant : res[i].f.rmse_after < res[i].f.rmse_before))
+      idx.push_back(i);
   std::stable_sort(idx.begin(), idx.end(),
                    [&](std::size_t a, std::size_t b) { return score(res[a].f) < score(res[b].f); });
   return idx;

@@ -61,12 +61,14 @@ nlohmann::json finding_json(const Finding& f) {
   }
   x["values"] = finding_values(f);
   if (f.likelihood) x["likelihood"] = likelihood_test_json(*f.likelihood);
+  if (!f.at_bounds.empty()) x["at_bounds"] = f.at_bounds;
   if (!f.param_rewrites.empty()) x["params"] = f.param_rewrites;
   nlohmann::json se = nlohmann::json::object();
   for (std::size_t k = 0; k < f.std_errors.size() && k < f.candidate.names.size(); ++k)
     if (std::isfinite(f.std_errors[k])) se[f.candidate.names[k]] = f.std_errors[k];
   x["std_errors"] = se;
   x["statement"] = f.statement;
+  if (!f.retired.empty()) x["retired"] = f.retired;
   x["case_statements"] = f.case_statements;
   x["evidence"] = f.evidence;
   x["rmse_before"] = f.rmse_before;
@@ -79,6 +81,7 @@ nlohmann::json finding_json(const Finding& f) {
   x["validation_r2_after"] = f.validation_r2_after;
   x["delta_bic"] = f.delta_bic;
   x["holdout_z"] = f.holdout_z;
+  if (std::isfinite(f.window_gain)) x["window_gain"] = f.window_gain;
   if (f.given > 0) x["given"] = f.given;
   if (!f.rivals.empty()) {
     // The ambiguity set: the finding itself first, then the candidates that fit as well.
@@ -123,6 +126,7 @@ nlohmann::json diagnosis_json(const DiagnosisReport& r) {
   j["cases"] = r.cases;
   j["noise_floor"] = r.noise_floor;
   j["at_noise_floor"] = r.at_noise_floor;
+  j["min_gain"] = r.min_gain;
   nlohmann::json base;
   base["rmse"] = r.baseline.rmse;
   base["r2"] = r.baseline.r2;
@@ -143,9 +147,41 @@ nlohmann::json diagnosis_json(const DiagnosisReport& r) {
   j["alternatives"] = nlohmann::json::array();
   for (const auto& f : r.alternatives)
     j["alternatives"].push_back(finding_json(f));
+  if (r.structural.remains) {
+    const StructuralError& e = r.structural;
+    nlohmann::json x;
+    x["rmse"] = e.rmse;
+    x["independent_points"] = e.independent;
+    x["autocorrelation"] = nlohmann::json::array();
+    for (const auto& [lag, rho] : e.autocorrelation)
+      x["autocorrelation"].push_back({{"lag_s", lag}, {"r", rho}});
+    x["period_s"] = e.period_s;
+    x["period_share"] = e.period_share;
+    x["inputs"] = nlohmann::json::array();
+    for (const auto& in : e.inputs)
+      x["inputs"].push_back({{"input", in.name}, {"lag_s", in.lag_s}, {"r", in.r}});
+    j["structural_error"] = x;
+  }
+  // The refitted candidates that were not significant, briefly (what the rule turned down).
+  j["rejected"] = nlohmann::json::array();
+  for (const auto& f : r.rejected) {
+    nlohmann::json x = {{"kind", f.candidate.kind},
+                        {"nodes", f.candidate.nodes},
+                        {"values", finding_values(f)},
+                        {"rmse_after", f.rmse_after},
+                        {"validation_rmse_after", f.validation_rmse_after},
+                        {"holdout_z", f.holdout_z},
+                        {"delta_bic", f.delta_bic}};
+    if (!f.candidate.element.empty()) x["element"] = f.candidate.element;
+    if (!f.candidate.mechanism.empty()) x["mechanism"] = f.candidate.mechanism;
+    if (std::isfinite(f.window_gain)) x["window_gain"] = f.window_gain;
+    if (f.given > 0) x["given"] = f.given;
+    j["rejected"].push_back(std::move(x));
+  }
   j["validation"] = {{"method", r.validation}, {"folds", r.folds}};
   j["criterion"] = r.criterion;
   if (r.prediction) j["prediction"] = prediction_json(r);
+  if (!r.split_cases.empty()) j["validation"]["split_cases"] = r.split_cases;
   j["screened"] = r.screened;
   j["refitted"] = r.refitted;
   j["wall_s"] = r.wall_s;
@@ -166,6 +202,41 @@ std::string diagnosis_timing_text(const DiagnosisReport& r) {
   }
   return s;
 }
+
+namespace {
+
+/// A duration in the unit that reads best (s, min, h or d).
+std::string duration_words(double s) {
+  if (s >= 2 * 86400.0) return fmt::format("{:.3g} d", s / 86400.0);
+  if (s >= 2 * 3600.0) return fmt::format("{:.3g} h", s / 3600.0);
+  if (s >= 120.0) return fmt::format("{:.3g} min", s / 60.0);
+  return fmt::format("{:.3g} s", s);
+}
+
+/// "Structural error remains" with its signature.
+std::string structural_text(const DiagnosisReport& r) {
+  const StructuralError& e = r.structural;
+  std::string s = fmt::format(
+      "\nStructural error remains: RMSE {:.3g} K {}against a measurement noise of about {:.3g} K, "
+      "in about {:.0f} independent points; no finding kind explains it. Its signature:\n",
+      e.rmse, r.findings.empty() ? "" : "after the findings ", r.noise_floor, e.independent);
+  std::vector<std::string> acf;
+  for (const auto& [lag, rho] : e.autocorrelation)
+    acf.push_back(fmt::format("{:.2f} at {}", rho, duration_words(lag)));
+  if (!acf.empty()) s += fmt::format("  autocorrelation: {}\n", fmt::join(acf, ", "));
+  if (e.period_s > 0.0)
+    s += fmt::format("  periodogram: a period of {} explains {:.0f} % of it{}\n",
+                     duration_words(e.period_s), 100.0 * e.period_share,
+                     std::abs(e.period_s / 86400.0 - 1.0) < 0.1
+                         ? " (a daily period: a daily input is missing or mis-modelled)"
+                         : "");
+  for (std::size_t i = 0; i < e.inputs.size() && i < 4; ++i)
+    s += fmt::format("  follows {} with correlation {:+.2f} at a lag of {}\n", e.inputs[i].name,
+                     e.inputs[i].r, duration_words(e.inputs[i].lag_s));
+  return s;
+}
+
+} // namespace
 
 std::string diagnosis_text(const DiagnosisReport& r) {
   if (r.prediction) return prediction_diagnosis_text(r);
@@ -190,25 +261,45 @@ std::string diagnosis_text(const DiagnosisReport& r) {
   if (r.findings.empty()) {
     s += r.at_noise_floor
              ? "\nNo finding: the remaining error is at the measurement noise floor.\n"
-             : "\nNo significant finding: no candidate extension explains the error better than "
-               "noise on held-out data.\n";
+             : fmt::format("\nNo significant finding: no candidate extension predicts held-out "
+                           "data better beyond chance and lowers the error by at least {:.3g} K "
+                           "somewhere (--min-gain).\n",
+                           r.min_gain);
+    if (r.structural.remains) s += structural_text(r);
     return s;
   }
-  const std::string validation =
-      r.validation == "leave_one_case_out"
-          ? fmt::format("each case predicted by a fit to the other {}", r.folds - 1)
-          : fmt::format("each of {} equal stretches of the case predicted by a fit to the others",
-                        r.folds);
+  std::string validation;
+  if (r.validation == "leave_one_case_out")
+    validation = fmt::format("each case predicted by a fit to the other {}", r.folds - 1);
+  else if (r.validation == "held_back_time")
+    validation = fmt::format("each of {} equal stretches of the case predicted by a fit to the "
+                             "others",
+                             r.folds);
+  else
+    validation = fmt::format("each case predicted by a fit to the others, and each equal stretch "
+                             "of {} (an event no other case has) by a fit to the rest",
+                             fmt::join(r.split_cases, ", "));
   s += "\nCauses (ranked; each given the ones above):\n";
   for (const auto& f : r.findings) {
     std::string what = f.candidate.kind;
     if (!f.candidate.mechanism.empty()) what += " (" + f.candidate.mechanism + ")";
     if (!f.candidate.element.empty()) what += " " + f.candidate.element;
     std::string vals;
-    for (const auto& [k, v] : finding_values(f))
+    for (const auto& [k, v] : finding_values(f)) {
       vals += fmt::format("{}{} = {:.4g}", vals.empty() ? "" : ", ", k, v);
+      if (auto b = f.at_bounds.find(k); b != f.at_bounds.end())
+        vals += fmt::format(" (on its {} bound)", b->second);
+    }
     s += fmt::format("  {}. {} [{}]: {}\n", f.rank, what, fmt::join(f.candidate.nodes, ", "), vals);
     s += fmt::format("     evidence: {}\n", f.evidence);
+    if (!f.at_bounds.empty()) {
+      std::vector<std::string> names;
+      for (const auto& [k, side] : f.at_bounds)
+        names.push_back(k);
+      s += fmt::format("     note: {} ended on a bound of the fitted range: the data push it "
+                       "beyond, so it is a limit, not an estimate\n",
+                       fmt::join(names, ", "));
+    }
     if (!f.mechanism_note.empty()) s += fmt::format("     mechanism: {}\n", f.mechanism_note);
     if (f.given > 0)
       s += fmt::format("     given finding{} {} applied\n", f.given > 1 ? "s" : "",
@@ -227,10 +318,14 @@ std::string diagnosis_text(const DiagnosisReport& r) {
       s += fmt::format("     to separate them: {}\n", f.separate_by);
     }
     s += "     extension:\n";
+    if (!f.retired.empty())
+      s += fmt::format("       (replacing {}: --write comments out its declaration)\n",
+                       fmt::join(f.retired, ", "));
     if (!f.statement.empty()) s += indent_lines(f.statement, "       ");
     for (const auto& [name, lines] : f.case_statements)
       s += fmt::format("       in case {}:\n", name) + indent_lines(lines, "         ");
   }
+  if (r.structural.remains) s += structural_text(r);
   if (!r.alternatives.empty()) {
     s += "\nAlso significant alone, explained by the findings above:\n";
     for (const auto& f : r.alternatives)

@@ -14,12 +14,12 @@ Selection::Selection(const Engine& engine, const DiagnosisOptions& options)
     hyps_.push_back(HypothesisRegistry::global().find(name)->create());
 }
 
-Base Selection::run(DiagnosisReport& rep) {
+Base Selection::run(DiagnosisReport& rep, Base& last) {
   refit_shortlist(rep);
   const std::size_t recal = joint_refit(rep);
   rank_first(recal);
   if (refit_tied_variants(recal, rep)) rank_first(recal);
-  const Base best = select_forward(rep);
+  const Base best = select_forward(rep, last);
   finish(rep);
   return best;
 }
@@ -45,7 +45,7 @@ void Selection::widen(std::size_t sites, std::set<std::size_t>& taken) {
   // order is a poor guide here: the next sites are refitted too (at most twice).
   const std::vector<std::string> order = site_order(side_);
   for (int round = 0; round < 2; ++round) {
-    judge(res_, engine_.declared().holdout_r);
+    judge(res_, engine_.declared());
     const auto best = ranked(res_);
     std::size_t pos = 0;
     for (std::size_t i : best)
@@ -69,14 +69,12 @@ void Selection::widen(std::size_t sites, std::set<std::size_t>& taken) {
 void Selection::rank_first(std::size_t recal) {
   // When recalibrating the ranged params alone is significant (`recal`), every other candidate
   // must beat that recalibration on held-out data by more than chance, not only the baseline.
-  judge(res_, engine_.declared().holdout_r);
+  judge(res_, engine_.declared());
   if (recal < res_.size())
     for (std::size_t i = 0; i < res_.size(); ++i) {
       Finding& f = res_[i].f;
       if (i == recal || f.values.empty()) continue;
-      f.holdout_z =
-          holdout_gain_z(res_[recal].holdout_r, res_[i].holdout_r, engine_.evidence().noise_floor);
-      f.significant = f.significant && f.holdout_z >= significant_gain_z;
+      judge_against(res_[i], res_[recal].holdout_r, res_[recal].r, threshold(res_));
       if (f.significant) against_own_params(i, recal);
     }
   merge_mechanisms(chosen_, res_);
@@ -95,10 +93,7 @@ void Selection::against_own_params(std::size_t i, std::size_t recal) {
   const std::vector<double> params(f.values.begin() + static_cast<long>(own), f.values.end());
   try {
     const Base alone = engine_.make_base({Applied{chosen_[recal].h, chosen_[recal].c, params}});
-    const double z =
-        holdout_gain_z(alone.holdout_r, res_[i].holdout_r, engine_.evidence().noise_floor);
-    f.holdout_z = std::min(f.holdout_z, z);
-    f.significant = z >= significant_gain_z;
+    judge_against(res_[i], alone.holdout_r, alone.r, threshold(res_));
   } catch (const std::exception&) {
     // the params alone cannot be simulated: the comparison with the recalibration stands
   }

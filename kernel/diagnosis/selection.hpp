@@ -51,8 +51,9 @@ public:
   /// A selection over the engine's evidence (both kept by reference).
   Selection(const Engine& engine, const DiagnosisOptions& options);
   /// Screens, refits, judges and selects: fills the report's findings, alternatives, rejected
-  /// and counts; returns the base with the findings applied (the declared one if none).
-  Base run(DiagnosisReport& rep);
+  /// and counts; returns the base with the best finding applied (the declared one if none), and
+  /// in `last` the base with every finding applied.
+  Base run(DiagnosisReport& rep, Base& last);
 
 private:
   // The stages, in order (selection.cpp, joint_refit.cpp, tied_variants.cpp,
@@ -67,12 +68,13 @@ private:
   void note_joint(Finding& f, std::size_t recal) const;
   void rank_first(std::size_t recal);
   bool refit_tied_variants(std::size_t recal, DiagnosisReport& rep);
-  Base select_forward(DiagnosisReport& rep) const;
+  Base select_forward(DiagnosisReport& rep, Base& last) const;
   std::vector<Entry> next_entries(const Base& base, const std::vector<Applied>& applied,
                                   bool params_applied) const;
   std::size_t rerank_jointly(const std::vector<Applied>& applied, const Base& base,
                              const std::vector<Entry>& next, std::vector<Evaluated>& nres) const;
-  bool reestimate(std::vector<Applied>& applied, Finding f, DiagnosisReport& rep) const;
+  bool reestimate(std::vector<Applied>& applied, Finding f, DiagnosisReport& rep,
+                  std::vector<double>& holdout_r) const;
   void redecide_mechanisms(std::vector<Applied>& applied, const Compose& all, Evaluated& joint,
                            DiagnosisReport& rep) const;
   void finish(DiagnosisReport& rep);
@@ -88,12 +90,18 @@ private:
   std::vector<Entry> shortlisted(const std::vector<Entry>& side, const Evidence& ev,
                                  std::size_t sites, std::set<std::size_t>* taken) const;
   // judgement.cpp
-  void judge(std::vector<Evaluated>& res, const std::vector<double>& reference) const;
+  void judge(std::vector<Evaluated>& res, const Base& reference) const;
+  void judge_against(Evaluated& e, const std::vector<double>& holdout_r,
+                     const std::vector<std::vector<double>>& r, double z_min) const;
+  static double threshold(const std::vector<Evaluated>& res);
   void add_rivals(Finding& f, std::size_t best, const std::vector<Entry>& entries,
                   const std::vector<Evaluated>& res) const;
   void merge_mechanisms(const std::vector<Entry>& entries, std::vector<Evaluated>& res) const;
   double score(const Finding& f) const;
-  std::vector<std::size_t> ranked(const std::vector<Evaluated>& res) const;
+  /// Indices of the significant refits (or, with significant_only false, of every refit that
+  /// lowers the error), best score first.
+  std::vector<std::size_t> ranked(const std::vector<Evaluated>& res,
+                                  bool significant_only = true) const;
 
   const Engine& engine_;
   const DiagnosisOptions& opt_;

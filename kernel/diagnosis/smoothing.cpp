@@ -25,7 +25,18 @@ double estimate_noise(const std::vector<double>& v) {
   const double m = median(d);
   for (double& x : d)
     x = std::abs(x - m);
-  return 1.4826 * median(d) / std::sqrt(6.0);
+  const double sigma = 1.4826 * median(d) / std::sqrt(6.0);
+  // Quantised readings (a sensor's resolution, an average of such sensors) move by whole steps:
+  // their second differences are mostly 0, whatever the rounding error of q^2 / 12 each reading
+  // carries. The resolution is the smallest gap between distinct values.
+  std::vector<double> u;
+  for (double x : v)
+    if (std::isfinite(x)) u.push_back(x);
+  std::sort(u.begin(), u.end());
+  double q = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 1; k < u.size(); ++k)
+    if (u[k] > u[k - 1]) q = std::min(q, u[k] - u[k - 1]);
+  return std::isfinite(q) ? std::sqrt(sigma * sigma + q * q / 12.0) : sigma;
 }
 
 void smooth_series(const std::vector<double>& t, const std::vector<double>& v, int half,

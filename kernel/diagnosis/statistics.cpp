@@ -2,6 +2,8 @@
 
 #include "kernel/diagnosis/statistics.hpp"
 
+#include <boost/math/distributions/normal.hpp>
+
 #include <algorithm>
 #include <cmath>
 
@@ -49,16 +51,103 @@ FitComparison compare_fits(const FitResiduals& a, const FitResiduals& b, double 
   return c;
 }
 
-double holdout_gain_z(const std::vector<double>& reference, const std::vector<double>& candidate,
-                      double noise) {
-  if (reference.empty() || reference.size() != candidate.size() || !(noise > 0.0)) return 0.0;
-  double gain = 0.0, diff2 = 0.0;
-  for (std::size_t i = 0; i < reference.size(); ++i) {
-    gain += reference[i] * reference[i] - candidate[i] * candidate[i];
-    diff2 += (reference[i] - candidate[i]) * (reference[i] - candidate[i]);
+namespace {
+
+/// The runs of a series: the given lengths, or the whole series.
+std::vector<std::size_t> runs_of(const std::vector<double>& values,
+                                 const std::vector<std::size_t>& segments) {
+  return segments.empty() ? std::vector<std::size_t>{values.size()} : segments;
+}
+
+} // namespace
+
+std::vector<double> positive_autocorrelation(const std::vector<double>& values,
+                                             const std::vector<std::size_t>& segments,
+                                             std::size_t max_lag) {
+  const std::vector<std::size_t> runs = runs_of(values, segments);
+  std::vector<double> c(values.size());
+  double lag0 = 0.0;
+  std::size_t from = 0, longest = 0;
+  for (std::size_t len : runs) {
+    if (from + len > values.size()) break;
+    double mean = 0.0;
+    for (std::size_t k = from; k < from + len; ++k)
+      mean += values[k];
+    mean /= static_cast<double>(std::max<std::size_t>(1, len));
+    for (std::size_t k = from; k < from + len; ++k) {
+      c[k] = values[k] - mean;
+      lag0 += c[k] * c[k];
+    }
+    from += len;
+    longest = std::max(longest, len);
   }
-  if (diff2 <= 0.0) return 0.0;
-  return gain / (2.0 * noise * std::sqrt(diff2));
+  std::vector<double> rho;
+  if (!(lag0 > 0.0)) return rho;
+  for (std::size_t lag = 1; lag <= max_lag && lag < longest; ++lag) {
+    double sum = 0.0;
+    from = 0;
+    for (std::size_t len : runs) {
+      for (std::size_t k = from; k + lag < from + len && k + lag < c.size(); ++k)
+        sum += c[k] * c[k + lag];
+      from += len;
+    }
+    const double r = sum / lag0;
+    if (!(r > 0.0)) break;
+    rho.push_back(r);
+  }
+  return rho;
+}
+
+double holdout_gain_z(const std::vector<double>& reference, const std::vector<double>& candidate,
+                      double noise, const std::vector<std::size_t>& segments) {
+  if (reference.empty() || reference.size() != candidate.size() || !(noise > 0.0)) return 0.0;
+  const std::vector<std::size_t> runs = runs_of(reference, segments);
+  const std::vector<double> rho = positive_autocorrelation(candidate, runs);
+  double gain = 0.0, cand2 = 0.0, dd = 0.0, cross = 0.0;
+  std::size_t from = 0;
+  for (std::size_t len : runs) {
+    if (from + len > reference.size()) break;
+    for (std::size_t i = from; i < from + len; ++i) {
+      const double d = reference[i] - candidate[i];
+      dd += d * d;
+      for (std::size_t lag = 1; lag <= rho.size() && i + lag < from + len; ++lag)
+        cross += rho[lag - 1] * d * (reference[i + lag] - candidate[i + lag]);
+      gain += reference[i] * reference[i] - candidate[i] * candidate[i];
+      cand2 += candidate[i] * candidate[i];
+    }
+    from += len;
+  }
+  // (a truncated autocorrelation need not be positive definite: never below the white value)
+  const double dRd = std::max(dd, dd + 2.0 * cross);
+  if (!(dRd > 0.0)) return 0.0;
+  const double s2 = std::max(noise * noise, cand2 / static_cast<double>(candidate.size()));
+  return gain / (2.0 * std::sqrt(s2 * dRd));
+}
+
+double significant_gain_z_for(std::size_t compared) {
+  const double p = 0.01 / static_cast<double>(std::max<std::size_t>(1, compared));
+  const double z = boost::math::quantile(boost::math::complement(boost::math::normal(), p));
+  return std::min(significant_gain_z, z);
+}
+
+double largest_window_gain(const std::vector<std::vector<double>>& reference,
+                           const std::vector<std::vector<double>>& candidate, std::size_t window) {
+  double best = 0.0;
+  for (std::size_t s = 0; s < reference.size() && s < candidate.size(); ++s) {
+    const auto& r = reference[s];
+    const auto& c = candidate[s];
+    if (r.size() != c.size() || r.empty()) continue;
+    const std::size_t w = std::min(window, r.size());
+    double sr = 0.0, sc = 0.0;
+    for (std::size_t k = 0; k < r.size(); ++k) {
+      sr += r[k] * r[k], sc += c[k] * c[k];
+      if (k >= w) sr -= r[k - w] * r[k - w], sc -= c[k - w] * c[k - w];
+      if (k + 1 >= w)
+        best = std::max(best, std::sqrt(std::max(sr, 0.0) / static_cast<double>(w)) -
+                                  std::sqrt(std::max(sc, 0.0) / static_cast<double>(w)));
+    }
+  }
+  return best;
 }
 
 } // namespace thermnet

@@ -36,16 +36,41 @@ struct FitComparison {
 FitComparison compare_fits(const FitResiduals& a, const FitResiduals& b, double noise,
                            double threshold = 3.0);
 
-/// The paired held-out comparison of a candidate with a reference fit against measurement noise:
-/// z = (SSE_ref - SSE_cand) / (2 noise ||r_ref - r_cand||) over the same held-out points. With
-/// white noise of that level and the two predictions differing by r_ref - r_cand, the SSE
-/// difference has that spread; positive: the candidate predicts the held-out data better; 0 when
-/// there is nothing to compare.
-double holdout_gain_z(const std::vector<double>& reference, const std::vector<double>& candidate,
-                      double noise);
+/// The pooled autocorrelation of a series cut into consecutive segments of the given lengths
+/// (none: one segment), each centred on its own mean, at lags 1, 2, ... up to the first lag where
+/// it is no longer positive (Geyer's initial positive sequence) or `max_lag`: element k - 1 is
+/// lag k. Empty for a series without correlation.
+std::vector<double> positive_autocorrelation(const std::vector<double>& values,
+                                             const std::vector<std::size_t>& segments = {},
+                                             std::size_t max_lag = 1000);
 
-/// The z a held-out gain must reach to be more than chance (one-sided, about 1 in 10^4 per
-/// comparison, margin for the many candidates compared).
+/// The paired held-out comparison of a candidate with a reference fit, against the variation
+/// neither explains: z = (SSE_ref - SSE_cand) / (2 s sqrt(d' R d)) over the same held-out points,
+/// d = r_ref - r_cand, s^2 the larger of noise^2 and the candidate's mean square, and R the
+/// correlation of the candidate's residuals within the segments (consecutive runs of samples of
+/// one series; none: one run) as positive_autocorrelation() measures it. With white residuals at
+/// the noise level (R = I, s = noise) the SSE difference has the spread 2 noise |d|; residuals
+/// that keep a structure the candidate does not explain are correlated over many samples and
+/// count as fewer independent points (for a slowly varying d, d' R d is |d|^2 times the
+/// integrated autocorrelation time). Positive: the candidate predicts the held-out data better; 0
+/// when there is nothing to compare.
+double holdout_gain_z(const std::vector<double>& reference, const std::vector<double>& candidate,
+                      double noise, const std::vector<std::size_t>& segments = {});
+
+/// The largest drop of the RMS error over any `window` consecutive samples of one series:
+/// max over windows of rms(reference) - rms(candidate) (series of the same lengths), K; what a
+/// finding changes where it matters most (the practical floor of the significance rule).
+double largest_window_gain(const std::vector<std::vector<double>>& reference,
+                           const std::vector<std::vector<double>>& candidate,
+                           std::size_t window = 10);
+
+/// The z a held-out gain must reach to be more than chance when many candidates are compared
+/// (one-sided, about 2 in 10^4 per comparison).
 inline constexpr double significant_gain_z = 3.5;
+
+/// The z a held-out gain must reach when `compared` candidates are judged together: a one-sided
+/// family-wise error of 1 % over them (Bonferroni, z = Phi^-1(1 - 0.01 / compared)), never above
+/// significant_gain_z (the threshold validated on the scenario tables for hundreds).
+double significant_gain_z_for(std::size_t compared);
 
 } // namespace thermnet

@@ -15,17 +15,6 @@
 namespace thermnet {
 namespace {
 
-/// The median interval between samples over every case, s.
-double sampling_interval(const Evidence& ev) {
-  std::vector<double> dt;
-  for (const auto& ce : ev.cases)
-    for (std::size_t k = 1; k < ce.times().size(); ++k)
-      dt.push_back(ce.times()[k] - ce.times()[k - 1]);
-  if (dt.empty()) return 0.0;
-  std::nth_element(dt.begin(), dt.begin() + static_cast<long>(dt.size() / 2), dt.end());
-  return dt[dt.size() / 2];
-}
-
 /// Time constants the screen tries, s.
 constexpr std::array<double, 6> kTaus = {60.0, 150.0, 300.0, 600.0, 1200.0, 2400.0};
 
@@ -52,6 +41,8 @@ std::vector<double> lagged(const lang::Signal& P, const std::vector<double>& tim
 
 class HeaterMass final : public Hypothesis {
 public:
+  bool reroutes() const override { return true; }
+
   std::vector<Candidate> propose(const Evidence& ev) const override {
     std::vector<Candidate> out;
     if (ev.cases.empty()) return out;
@@ -94,11 +85,11 @@ public:
       c.screen = best.reduction;
       c.index = {e, node};
       c.unobserved = unobserved;
+      c.start_T = start_temperatures(ev, node);
       c.evidence =
           unobserved
-              ? fmt::format("{} is not measured; the delayed power of {} shows at "
-                            "its measured neighbours",
-                            c.nodes[0], el.name)
+              ? fmt::format("{}; the delayed power of {} shows at its measured neighbours",
+                            unscreened_words(ev, node), el.name)
               : fmt::format("the unexplained heat flow of {} follows the power of {} delayed by "
                             "about {:g} s (correlation {:.2f}): it heats through a mass",
                             c.nodes[0], el.name, best_tau, best.correlation);
@@ -108,19 +99,12 @@ public:
   }
 
   // The heater moves onto a new node of capacity C, linked to its node by G; the new node starts
-  // at the temperature its node starts at.
+  // where its node starts as the data say (start_temperatures).
   void extend(const Candidate& c, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override {
     const int node = c.index[1];
-    const int mass = static_cast<int>(spec.nodes.size());
-    lang::NodeSpec m;
-    m.name = unique_name(spec, mass_name(c));
-    m.C = p[0];
-    m.T0 = spec.nodes[static_cast<std::size_t>(node)].T0;
-    m.set_doc("the heater's own mass (thermnet diagnose)");
-    spec.nodes.push_back(std::move(m));
-    spec.elements.push_back(make_element("conductance", unique_name(spec, mass_name(c) + "_g"),
-                                         {mass, node}, {{"G", p[0] / p[1]}}));
+    const int mass = add_tied_mass(spec, mass_name(c), p[0], start_in(c, spec, node),
+                                   "the heater's own mass (thermnet diagnose)", node, p[0] / p[1]);
     spec.elements.at(static_cast<std::size_t>(c.index[0])).set_nodes(std::array{mass});
   }
 
@@ -137,7 +121,8 @@ public:
         "conductance {} {} {} G = {} [W/K]\n"
         "heater {} {} P = {}\n"
         "heater {} {} P = {}",
-        m, netlist_number(p[0]), node.T0 ? " T0 = " + netlist_number(*node.T0 - 273.15) : "",
+        m, netlist_number(p[0]),
+        c.start_T.empty() && node.T0 ? " T0 = " + netlist_number(*node.T0 - 273.15) : start_text(c),
         name(ev, mass_name(c) + "_g"), m, c.nodes[0], netlist_number(p[0] / p[1]),
         name(ev, mass_name(c) + "_in"), m, signal_text(P, "W"), name(ev, mass_name(c) + "_out"),
         c.nodes[0], signal_text(P.scaled(-1.0), "W"));
@@ -145,14 +130,15 @@ public:
 
   CaseLines case_statements(const Candidate& c, const std::vector<double>&,
                             const Evidence& ev) const override {
-    CaseLines out;
+    CaseLines out = start_case_lines(c, name(ev, mass_name(c)), ev);
     const lang::Signal& declared = heater_power(ev.declared, c.element);
     for (const auto& d : ev.declared_cases) {
       const lang::Signal& P = heater_power(d, c.element);
       if (!same_signal(P, declared))
-        out[d.case_name] =
-            fmt::format("{}.P = {}\n{}.P = {}", name(ev, mass_name(c) + "_in"), signal_text(P, "W"),
-                        name(ev, mass_name(c) + "_out"), signal_text(P.scaled(-1.0), "W"));
+        merge_case_lines(
+            out, {{d.case_name, fmt::format("{}.P = {}\n{}.P = {}", name(ev, mass_name(c) + "_in"),
+                                            signal_text(P, "W"), name(ev, mass_name(c) + "_out"),
+                                            signal_text(P.scaled(-1.0), "W"))}});
     }
     return out;
   }

@@ -27,7 +27,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import generate  # noqa: E402
 
-FAST = ["S09", "S03", "S11", "S13", "S15", "S17", "D01", "D02", "C05"]
+FAST = ["S09", "S03", "S11", "S13", "S15", "S17", "S23", "S24", "S25", "D01", "D02", "C05"]
 
 
 def check(row: dict, thermnet: str, folder: str) -> list[str]:

@@ -12,6 +12,11 @@ issue 14 adds):
                   an extra node (capacity C, conductance G to the node the model attaches it to)
   event_loss      a conductance between a node and a boundary that exists only while an event is
                   on (the box's lid opened at the times listed in events.csv)
+and issue 29's three mass and input forms:
+  wall_mass       a mass inside a linear link a-b (an envelope, a bracket): the link's conductance G
+                  is split around a node of capacity C, G/f on a's side and G/(1-f) on b's
+  hidden_mass     a mass of capacity C tied to a node by G = C / tau (an object, furniture)
+  input_split     a share of a heater's power heats another node b instead of its own
 
 An effect's size is one number, its *strength* x (G, GR, |P|, |ln factor|, |factor - 1|, tau,
 |offset|, the heater mass's time constant C/G, the event conductance); generate.py scales it so
@@ -25,10 +30,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from network import Heater, Link, Network, Node, Signal, capacity, sig4
+from network import Heater, Link, Network, Node, Signal, capacity, conductance, sig4
 
 KINDS = ("missing_link", "missing_source", "capacity_error", "heater_gain", "sensor_lag",
-         "sensor_offset", "heater_mass", "event_loss")
+         "sensor_offset", "heater_mass", "event_loss", "wall_mass", "hidden_mass", "input_split")
 SENSOR_KINDS = ("sensor_lag", "sensor_offset")
 MASS_NODE = "hidden_mass"
 
@@ -43,6 +48,9 @@ BOUNDS = {
     "sensor_offset": (0.5, 2.0),  # K
     "heater_mass": (120.0, 2400.0),  # s, C/G of the heater's own mass
     "event_loss": (0.05, 20.0),  # W/K (air exchange through an open lid)
+    "wall_mass": (120.0, 20000.0),  # s, C f (1 - f) / G of the mass inside the link
+    "hidden_mass": (0.05, 10.0),  # its capacity / the node's
+    "input_split": (0.1, 0.9),  # the share of the heater's power that heats the other node
 }
 
 
@@ -56,6 +64,8 @@ class Effect:
     sign: float = 1.0
     strength: float = 0.0
     mass_ratio: float = 1.0  # heater_mass: its capacity / the node's
+    share: float = 0.5  # wall_mass: the share of the link's resistance on the first node's side
+    tau: float = 600.0  # hidden_mass: C / G, s
     impact: float = 0.0  # K, peak change of a measured reading by this effect alone
 
     @property
@@ -84,6 +94,13 @@ class Effect:
         if self.kind == "heater_mass":
             c = sig4(self.mass_ratio * capacity(net.node(self.nodes[0]), params))
             return {"C": c, "G": sig4(c / x)}
+        if self.kind == "wall_mass":
+            g = conductance(next(lk for lk in net.links if lk.name == self.element), params)
+            return {"C": sig4(x * g / (self.share * (1.0 - self.share))), "f": self.share}
+        if self.kind == "hidden_mass":
+            return {"C": sig4(x * capacity(net.node(self.nodes[0]), params)), "tau": self.tau}
+        if self.kind == "input_split":
+            return {"share": x}
         return {"G": x}  # event_loss
 
 
@@ -113,6 +130,11 @@ def randomize(e: Effect, rng) -> None:
     Sources (dissipating parts) and forgotten masses are more common than sinks and overestimates."""
     e.sign = 1.0 if rng.uniform() < (0.7 if e.kind in ("missing_source", "capacity_error") else 0.5) else -1.0
     e.mass_ratio = sig4(rng.uniform(0.5, 1.5))
+    # (drawn for their kinds only: the other kinds' scenarios keep the draws they always had)
+    if e.kind == "wall_mass":
+        e.share = sig4(rng.uniform(0.25, 0.75))
+    if e.kind == "hidden_mass":
+        e.tau = sig4(rng.uniform(300.0, 1800.0))
 
 
 def sites(net: Network, e: Effect, base, rng, measured: set[str], taken: set[str]) -> list[tuple[list[str], str | None]]:
@@ -150,6 +172,29 @@ def sites(net: Network, e: Effect, base, rng, measured: set[str], taken: set[str
         return [([a], None) for a in ranked]
     if e.kind == "sensor_offset":
         return [([a], None) for a in ok[:6]]
+    if e.kind == "wall_mass":  # a linear link with a node end; links to a boundary (walls) first
+        out = []
+        links = [lk for lk in net.links if lk.kind != "radiation" and not lk.during_event]
+        rng.shuffle(links)
+        links.sort(key=lambda lk: not (net.is_boundary(lk.a) or net.is_boundary(lk.b)))
+        for lk in links:
+            a = next((x for x in (lk.a, lk.b) if x in ok), None)
+            if a is not None:
+                out.append(([a, lk.b if a == lk.a else lk.a], lk.name))
+        return out[:6]
+    if e.kind == "hidden_mass":  # a node whose temperature moves, so a mass tied to it matters
+        ranked = sorted(ok, key=lambda a: -swing[a])
+        return [([a], None) for a in ranked[: max(3, len(ranked) // 3)]][:6]
+    if e.kind == "input_split":  # a heater's power partly heating a node one or two links away
+        hs = [h for h in net.heaters if h.node in ok]
+        rng.shuffle(hs)
+        out = []
+        for h in hs:
+            dist = _distances(net, h.node)
+            near = sorted(b for b, d in dist.items() if 1 <= d <= 2)
+            if near:
+                out.append(([h.node, str(rng.choice(near))], h.name))
+        return out
     if e.kind == "event_loss":  # the box's lid: the inside air mixes with the room's
         if "air_in" in names:
             return [(["air_in", "room"], None)] if "air_in" in ok else []
@@ -206,6 +251,27 @@ def apply(net: Network, effects: list[Effect], params: dict[str, float]):
             truth.nodes.append(Node(m, c_mass, "the heater's own mass"))
             truth.links.append(Link(f"hidden_g_{m}", "conductance", m, a, {"G": sig4(c_mass / x)}))
             next(h for h in truth.heaters if h.name == e.element).node = m
+        elif e.kind == "wall_mass":
+            a, b = e.nodes
+            lk = next(k for k in truth.links if k.name == e.element)
+            g, f = conductance(lk, params), e.share
+            m = f"hidden_wall_{e.element}"
+            truth.nodes.append(Node(m, sig4(x * g / (f * (1.0 - f))), "the mass inside the link"))
+            truth.links.remove(lk)
+            truth.links.append(Link(f"hidden_wall_a_{e.element}", "conductance", a, m, {"G": sig4(g / f)}))
+            truth.links.append(Link(f"hidden_wall_b_{e.element}", "conductance", m, b, {"G": sig4(g / (1.0 - f))}))
+        elif e.kind == "hidden_mass":
+            a = e.nodes[0]
+            c_mass = sig4(x * capacity(net.node(a), params))
+            m = f"hidden_obj_{a}"
+            truth.nodes.append(Node(m, c_mass, "a mass tied to the node"))
+            truth.links.append(Link(f"hidden_g_{m}", "conductance", m, a, {"G": sig4(c_mass / e.tau)}))
+        elif e.kind == "input_split":
+            name = f"hidden_split_{e.element}"
+            truth.heaters.append(Heater(name, e.nodes[1]))
+            for c in truth.cases:
+                c.heater_P[name] = c.heater_P[e.element].scaled(x)
+                c.heater_P[e.element] = c.heater_P[e.element].scaled(1.0 - x)
         elif e.kind == "event_loss":
             a, b = e.nodes
             truth.links.append(Link(f"hidden_event_{a}_{b}", "conductance", a, b, {"G": x}, during_event="lid"))

@@ -108,6 +108,7 @@ def _first_strength(net: Network, params, e: fx.Effect) -> float:
         "missing_link/linear": 0.3 * g, "missing_link/radiation": 0.3 * g / 5.5,
         "missing_source": 2.0 * g, "capacity_error": 0.5, "heater_gain": 0.25, "sensor_lag": 300.0,
         "heater_mass": 600.0, "event_loss": 1.0 * g,
+        "wall_mass": 1200.0, "hidden_mass": 0.5, "input_split": 0.4,
     }[e.key]
 
 
@@ -134,7 +135,7 @@ def scale(net, params, e: fx.Effect, measured, base_readings, target: float) -> 
 
 def _tied(net: Network, e: fx.Effect) -> list[str]:
     """The few nodes an effect can sit on (a heater's, the box's inside air), or [] for any."""
-    if e.kind in ("heater_gain", "heater_mass"):
+    if e.kind in ("heater_gain", "heater_mass", "input_split"):
         return [h.node for h in net.heaters]
     if e.kind == "event_loss" and any(n.name == "air_in" for n in net.nodes):
         return ["air_in"]

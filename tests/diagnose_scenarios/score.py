@@ -17,6 +17,13 @@ ambiguity set; only the first MAX_SET members, finding first, count, so a set ca
   heater_gain at that heater or node is a PARTIAL hit (it names the right place, not the cause).
 - event_loss (a loss only while an event is on): an `event_loss` finding with the same two names
   matches in full; a missing_link between the same two names is a PARTIAL hit.
+- wall_mass (a mass inside a link): a `wall_mass` finding naming the link (`element`) or its two
+  ends matches in full; a hidden_mass or capacity_error at one of its ends is a PARTIAL hit.
+- hidden_mass (a mass tied to a node): a `hidden_mass` finding at the node matches in full; a
+  capacity_error at the node, or a wall_mass with the node as an end, is a PARTIAL hit.
+- input_split (a share of a heater's power heating another node): an `input_split` finding naming
+  the heater and both nodes matches in full; a heater_gain at that heater, or a missing_source at
+  the other node, is a PARTIAL hit.
 - A `parameter` finding never matches a structural effect, and is never counted against a
   scenario: every scenario except the `nothing` control has its ranged params off, so
   recalibrating them is always true.
@@ -81,6 +88,23 @@ def match_member(m: dict, effect: dict, truth: dict) -> str | None:
         return "partial" if kind == "heater_gain" and at_heater else None
     if ek == "event_loss" and kind == "missing_link" and nodes == en:
         return "partial"
+    if ek == "wall_mass":
+        if kind == "wall_mass" and (element == heater if element else nodes == en):
+            return "full"
+        return "partial" if kind in ("hidden_mass", "capacity_error") and nodes <= en else None
+    if ek == "hidden_mass":
+        if kind == "hidden_mass" and nodes == en:
+            return "full"
+        if kind == "capacity_error" and nodes == en:
+            return "partial"
+        return "partial" if kind == "wall_mass" and en <= nodes else None
+    if ek == "input_split":
+        if kind == "input_split" and element == heater and nodes == en:
+            return "full"
+        if kind == "heater_gain" and at_heater:
+            return "partial"
+        b = set(effect["nodes"][1:])
+        return "partial" if kind == "missing_source" and nodes == b else None
     return None
 
 

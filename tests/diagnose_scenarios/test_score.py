@@ -164,5 +164,35 @@ class Acceptance(unittest.TestCase):
         self.assertFalse(sc.acceptance([self.row(1.0)] * 8 + [self.row(0.0)] * 2)["score_ok"])
 
 
+
+WALL = effect("wall_mass", ["a", "out"], element="g_a_out", values={"C": 4e4, "f": 0.4})
+OBJECT = effect("hidden_mass", ["a"], values={"C": 900.0, "tau": 600.0})
+SPLIT = effect("input_split", ["a", "b"], element="h", values={"share": 0.4})
+
+
+class Masses(unittest.TestCase):
+    def test_wall_named_by_its_link(self):
+        v = sc.score(report(finding("wall_mass", ["a", "out"], element="g_a_out")), truth(WALL))
+        self.assertEqual(v["score"], 1.0)
+
+    def test_wall_in_another_link_is_a_miss(self):
+        v = sc.score(report(finding("wall_mass", ["a", "c"], element="g_a_c")), truth(WALL))
+        self.assertEqual(v["score"], 0.0)
+
+    def test_a_mass_at_an_end_of_the_wall_is_partial(self):
+        v = sc.score(report(finding("hidden_mass", ["a"])), truth(WALL))
+        self.assertEqual(v["score"], 0.5)
+
+    def test_hidden_mass_at_its_node(self):
+        self.assertEqual(sc.score(report(finding("hidden_mass", ["a"])), truth(OBJECT))["score"], 1.0)
+        self.assertEqual(sc.score(report(finding("capacity_error", ["a"])), truth(OBJECT))["score"], 0.5)
+        self.assertEqual(sc.score(report(finding("hidden_mass", ["b"])), truth(OBJECT))["score"], 0.0)
+
+    def test_split_needs_heater_and_both_nodes(self):
+        self.assertEqual(sc.score(report(finding("input_split", ["a", "b"], element="h")), truth(SPLIT))["score"], 1.0)
+        self.assertEqual(sc.score(report(finding("input_split", ["a", "c"], element="h")), truth(SPLIT))["score"], 0.0)
+        self.assertEqual(sc.score(report(finding("heater_gain", ["a"], element="h")), truth(SPLIT))["score"], 0.5)
+        self.assertEqual(sc.score(report(finding("missing_source", ["b"])), truth(SPLIT))["score"], 0.5)
+
 if __name__ == "__main__":
     unittest.main()

@@ -1,0 +1,136 @@
+// Unit tests of how `thermnet diagnose` holds data out when the cases cannot test a candidate:
+// an event that only one case holds (issue 29: the leave-one-case-out fold whose fitted cases
+// held no lid event crashed in the covariance of a Jacobian without a live column), and a model's
+// own simulation fed back (exact data) gives no finding.
+#include "kernel/calibration/least_squares.hpp"
+#include "kernel/core/network.hpp"
+#include "kernel/core/simulation.hpp"
+#include "kernel/diagnosis/diagnosis.hpp"
+#include "kernel/diagnosis/report.hpp"
+
+#include <doctest/doctest.h>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "loaded_model.hpp"
+#include "temp_dir.hpp"
+
+namespace {
+
+using namespace thermnet;
+
+/// Writes `name.csv` with the simulated temperatures of `nodes` in case `name` of a model, plus
+/// N(0, sigma) noise, with `digits` decimals.
+void write_data(const test::TempDir& dir, const lang::Model& m, const std::string& name,
+                const std::vector<std::string>& nodes, double sigma, int digits, unsigned seed) {
+  Network net(m.instantiate(name));
+  const SimulationResult r = simulate(net);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::string csv = "time";
+  for (const auto& n : nodes)
+    csv += "," + n;
+  csv += "\n";
+  for (std::size_t k = 0; k < r.times.size(); ++k) {
+    csv += fmt::format("{}", r.times[k]);
+    for (const auto& n : nodes)
+      csv += fmt::format(",{:.{}f}",
+                         r.temps[k][static_cast<std::size_t>(net.spec().node_index(n))] - 273.15 +
+                             sigma * noise(rng),
+                         digits);
+    csv += "\n";
+  }
+  dir.write(name + ".csv", csv);
+}
+
+/// A heated box in a room: `lid` is what the truth adds (empty for the model).
+std::string box(const std::string& lid, bool data) {
+  return fmt::format(R"(boundary room T = 20
+node air C = 800 [J/K] T0 = 20
+node wall C = 3000 [J/K] T0 = 20
+conductance g_in air wall G = 4 [W/K]
+conductance g_out wall room G = 1.5 [W/K]
+heater h air P = step(0: 30 [W], 2400: 0 [W])
+{}
+case open {{ duration = 5400; output = 30{} }}
+case shut {{ duration = 5400; output = 30; h.P = step(0: 0 [W], 600: 20 [W], 3600: 0 [W]){}{} }}
+)",
+                     lid, data ? "; data \"open.csv\"" : "", lid.empty() ? "" : "; lid.on = 0",
+                     data ? "; data \"shut.csv\"" : "");
+}
+
+} // namespace
+
+TEST_CASE("least squares covariance: a Jacobian without any live column has no effect, no SVD") {
+  // (the parameter of an event loss on data without the event: every column zero)
+  struct One final : ResidualProblem {
+    std::vector<BoundedParam> p{{1e-6, 1e4, ParamScale::log}};
+    const std::vector<BoundedParam>& params() const override { return p; }
+    bool residuals(const std::vector<double>&, std::vector<double>& r) const override {
+      r.assign(5, 1.0);
+      return true;
+    }
+  } problem;
+  const Eigen::MatrixXd J = Eigen::MatrixXd::Zero(5, 1);
+  const LeastSquaresCovariance cov = least_squares_covariance(problem, {1.0}, J, 5.0);
+  CHECK(cov.computed);
+  CHECK_FALSE(cov.determined());
+  REQUIRE(cov.no_effect.size() == 1);
+  CHECK(std::isinf(cov.std_errors[0]));
+}
+
+TEST_CASE("diagnose: an event only one case holds is tested within that case") {
+  // The lid is opened twice in case `open` only: leaving `open` out, the fit to `shut` cannot
+  // tell the loss (it crashed); `open` is then validated by its stretches of time instead.
+  test::TempDir dir;
+  const std::string truth = dir.write(
+      "truth.tnet",
+      box("switched_conductance lid air room G = 3 [W/K] on = step(0: 0, 900: 1, 1500: 0, 3300: "
+          "1, 3900: 0)",
+          false));
+  {
+    test::LoadedModel gen(truth);
+    write_data(dir, *gen.model, "open", {"air", "wall"}, 0.05, 4, 11);
+    write_data(dir, *gen.model, "shut", {"air", "wall"}, 0.05, 4, 12);
+  }
+  dir.write("events.csv", "case,event,start,end\nopen,lid,900,1500\nopen,lid,3300,3900\n");
+  test::LoadedModel m(dir.write("model.tnet", box("", true)), test::Lint::clean);
+  DiagnosisOptions opt;
+  opt.events = read_events((dir.path / "events.csv").string(), m.model->run_case_names());
+  opt.threads = 1;
+  const DiagnosisReport r = diagnose(*m.model, opt);
+  INFO(diagnosis_text(r));
+  CHECK(r.validation == "cases_and_time");
+  CHECK(r.split_cases == std::vector<std::string>{"open"});
+  CHECK(r.folds == 4); // shut whole, open's three stretches
+  REQUIRE_FALSE(r.findings.empty());
+  const Finding& f = r.findings.front();
+  CHECK(f.candidate.kind == "event_loss");
+  CHECK(f.candidate.nodes == std::vector<std::string>{"air", "room"});
+  CHECK(finding_values(f).at("G") == doctest::Approx(3.0).epsilon(0.05));
+  CHECK(f.validation_rmse_after < 2.0 * r.noise_floor);
+}
+
+TEST_CASE("diagnose: a model's own simulation fed back gives no finding") {
+  // Exact data (the model's simulation at 6 decimals): any candidate lowers an error of a
+  // micro-kelvin by a fraction of it, which no user would act on (the practical floor).
+  test::TempDir dir;
+  const std::string path = dir.write("model.tnet", box("", true));
+  {
+    test::LoadedModel gen(dir.write("gen.tnet", box("", false)));
+    write_data(dir, *gen.model, "open", {"air", "wall"}, 0.0, 6, 1);
+    write_data(dir, *gen.model, "shut", {"air", "wall"}, 0.0, 6, 2);
+  }
+  test::LoadedModel m(path, test::Lint::clean);
+  DiagnosisOptions opt;
+  opt.threads = 1;
+  const DiagnosisReport r = diagnose(*m.model, opt);
+  INFO(diagnosis_text(r));
+  CHECK(r.findings.empty());
+  CHECK(r.baseline.rmse < 5e-3); // (the data's solver tolerances are not the diagnosis's)
+  CHECK_FALSE(r.structural.remains);
+}
