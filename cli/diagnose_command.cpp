@@ -11,11 +11,13 @@
 #include "kernel/diagnosis/report.hpp"
 #include "lang/rewrite/case_blocks.hpp"
 #include "lang/rewrite/param_values.hpp"
+#include "plot/style.hpp"
 #include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <iostream>
 #include <memory>
 
@@ -23,6 +25,10 @@ namespace thermnet::cli {
 namespace {
 
 constexpr double kZeroCelsius = 273.15;
+
+/// Palette indices of the plot's worst nodes, in rank order: the first ones as far apart as the
+/// palette allows (blue, vermillion, black, orange), so no two nodes of a panel look alike.
+constexpr std::array<int, 8> kNodeColors = {0, 1, 6, 4, 3, 5, 2, 7};
 
 struct DiagnoseOptions {
   std::string model;
@@ -64,7 +70,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
     else
       files.push_back({o.write, extended_model_text(*model, rep.findings.front())});
   }
-  if (!o.plot.empty()) files.push_back({o.plot, diagnosis_svg(rep)});
+  if (!o.plot.empty()) files.push_back({o.plot, diagnosis_svg(rep, model->name())});
   write_output_files(files);
   if (!o.write.empty() && !rep.findings.empty()) note_sets_not_written(*model, me, o.write);
   return exit_ok;
@@ -113,16 +119,19 @@ std::string extended_model_text(const lang::Model& model, const Finding& f) {
   return text + "\n" + why + applied;
 }
 
-std::string diagnosis_svg(const DiagnosisReport& r, std::size_t worst) {
+std::string diagnosis_svg(const DiagnosisReport& r, const std::string& model_name,
+                          std::size_t worst) {
   std::vector<std::pair<std::string, double>> nodes;
   for (const auto& [name, m] : r.baseline.nodes)
     nodes.emplace_back(name, m.rmse);
   std::stable_sort(nodes.begin(), nodes.end(),
                    [](const auto& a, const auto& b) { return a.second > b.second; });
+  // One colour per node: never more nodes than distinct colours.
+  worst = std::min({worst, kNodeColors.size(), static_cast<std::size_t>(plot::palette_size())});
   if (nodes.size() > worst) nodes.resize(worst);
   plot::Figure fig;
-  fig.title = r.findings.empty() ? fmt::format("{} — no finding", r.model)
-                                 : fmt::format("{} — before and after {}", r.model,
+  fig.title = r.findings.empty() ? fmt::format("{} — no finding", model_name)
+                                 : fmt::format("{} — before and after {}", model_name,
                                                r.findings.front().candidate.kind);
   for (const auto& cv : r.curves) {
     plot::Panel panel;
@@ -130,8 +139,8 @@ std::string diagnosis_svg(const DiagnosisReport& r, std::size_t worst) {
     panel.x_label = "time";
     panel.y_label = "temperature [°C]";
     panel.x_is_time_s = true;
-    int color = 0;
-    for (const auto& [name, rmse] : nodes) {
+    for (std::size_t rank = 0; rank < nodes.size(); ++rank) {
+      const std::string& name = nodes[rank].first;
       auto add = [&](const std::map<std::string, std::vector<double>>& m, const std::string& label,
                      plot::LineStyle style) {
         auto it = m.find(name);
@@ -139,7 +148,7 @@ std::string diagnosis_svg(const DiagnosisReport& r, std::size_t worst) {
         plot::Series s;
         s.label = name + " " + label;
         s.style = style;
-        s.color = color;
+        s.color = kNodeColors[rank];
         s.x = cv.times;
         for (double v : it->second)
           s.y.push_back(v - kZeroCelsius);
@@ -148,7 +157,6 @@ std::string diagnosis_svg(const DiagnosisReport& r, std::size_t worst) {
       add(cv.measured, "measured", plot::LineStyle::markers);
       add(cv.before, "before", plot::LineStyle::solid);
       add(cv.after, "after", plot::LineStyle::dashed);
-      ++color;
     }
     fig.panels.push_back(std::move(panel));
   }
