@@ -14,11 +14,13 @@
 #include "kernel/diagnosis/report.hpp"
 #include "lang/rewrite/case_blocks.hpp"
 #include "lang/rewrite/param_values.hpp"
+#include "plot/style.hpp"
 #include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <iostream>
 #include <memory>
 
@@ -26,6 +28,10 @@ namespace thermnet::cli {
 namespace {
 
 constexpr double kZeroCelsius = 273.15;
+
+/// Palette indices of the plot's worst nodes, in rank order: the first ones as far apart as the
+/// palette allows (blue, vermillion, black, orange), so no two nodes of a panel look alike.
+constexpr std::array<int, 8> kNodeColors = {0, 1, 6, 4, 3, 5, 2, 7};
 
 struct DiagnoseOptions {
   std::string model;
@@ -86,7 +92,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
       for (auto& f : extended_model_files(*model, rep.findings.front(), o.write))
         files.push_back({f.path, std::move(f.text)});
   }
-  if (!o.plot.empty()) files.push_back({o.plot, diagnosis_svg(rep)});
+  if (!o.plot.empty()) files.push_back({o.plot, diagnosis_svg(rep, model->name())});
   if (!o.whiteness_plot.empty() && rep.prediction) {
     const auto& p = *rep.prediction;
     const bool found = !rep.findings.empty();
@@ -94,7 +100,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
         {o.whiteness_plot,
          plot::render_svg(whiteness_figure(
              found ? p.whiteness_after : p.whiteness_before,
-             fmt::format("{} — innovations {} (log-likelihood {:.5g})", rep.model,
+             fmt::format("{} — innovations {} (log-likelihood {:.5g})", model->name(),
                          found ? "with the findings" : "of the declared structure",
                          found ? p.final_fit.log_likelihood : p.declared.log_likelihood)))});
   }
@@ -128,7 +134,12 @@ std::vector<rewrite::RewrittenFile> extended_model_files(const lang::Model& mode
   } else {
     applied = f.statement.empty() ? "" : f.statement + "\n";
   }
+  std::vector<std::string> elsewhere;
+  auto edits = rewrite::case_block_edits(model, file, f.case_statements,
+                                         "# thermnet diagnose: " + f.candidate.kind, elsewhere);
+  if (!edits.empty()) applied += "# (with the lines marked in the case blocks above)\n";
   // The declarations the finding's statements replace are kept as comments.
+  const std::string& text = model.sources().text(file);
   for (const auto& name : f.retired)
     for (const auto& d : model.elements())
       if (d.name == name && d.file == file && !d.scope) {
@@ -139,10 +150,6 @@ std::vector<rewrite::RewrittenFile> extended_model_files(const lang::Model& mode
         edits.push_back({where.begin, where.end,
                          commented + "  # replaced by thermnet diagnose: " + f.candidate.kind});
       }
-  std::vector<std::string> elsewhere;
-  auto inserts = rewrite::case_block_edits(model, file, f.case_statements,
-                                           "# thermnet diagnose: " + f.candidate.kind, elsewhere);
-  if (!inserts.empty()) applied += "# (with the lines marked in the case blocks above)\n";
   for (const auto& name : elsewhere) {
     applied +=
         fmt::format("# not applied: case {} is not in this file; add inside its block:\n", name);
@@ -151,10 +158,10 @@ std::vector<rewrite::RewrittenFile> extended_model_files(const lang::Model& mode
       lines.replace(p, 1, "\n#   ");
     applied += "#   " + lines + "\n";
   }
-  auto files = rewrite::rewrite_model(model.sources(), file, updates, out, std::move(inserts));
-  std::string& text = files.front().text;
-  if (!text.empty() && text.back() != '\n') text += '\n';
-  text += "\n" + why + applied;
+  auto files = rewrite::rewrite_model(model.sources(), file, updates, out, std::move(edits));
+  std::string& written = files.front().text;
+  if (!written.empty() && written.back() != '\n') written += '\n';
+  written += "\n" + why + applied;
   return files;
 }
 
@@ -162,16 +169,19 @@ std::string extended_model_text(const lang::Model& model, const Finding& f) {
   return extended_model_files(model, f, model.path() + ".extended.tnet").front().text;
 }
 
-std::string diagnosis_svg(const DiagnosisReport& r, std::size_t worst) {
+std::string diagnosis_svg(const DiagnosisReport& r, const std::string& model_name,
+                          std::size_t worst) {
   std::vector<std::pair<std::string, double>> nodes;
   for (const auto& [name, m] : r.baseline.nodes)
     nodes.emplace_back(name, m.rmse);
   std::stable_sort(nodes.begin(), nodes.end(),
                    [](const auto& a, const auto& b) { return a.second > b.second; });
+  // One colour per node: never more nodes than distinct colours.
+  worst = std::min({worst, kNodeColors.size(), static_cast<std::size_t>(plot::palette_size())});
   if (nodes.size() > worst) nodes.resize(worst);
   plot::Figure fig;
-  fig.title = r.findings.empty() ? fmt::format("{} — no finding", r.model)
-                                 : fmt::format("{} — before and after {}", r.model,
+  fig.title = r.findings.empty() ? fmt::format("{} — no finding", model_name)
+                                 : fmt::format("{} — before and after {}", model_name,
                                                r.findings.front().candidate.kind);
   for (const auto& cv : r.curves) {
     plot::Panel panel;
@@ -179,8 +189,8 @@ std::string diagnosis_svg(const DiagnosisReport& r, std::size_t worst) {
     panel.x_label = "time";
     panel.y_label = "temperature [°C]";
     panel.x_is_time_s = true;
-    int color = 0;
-    for (const auto& [name, rmse] : nodes) {
+    for (std::size_t rank = 0; rank < nodes.size(); ++rank) {
+      const std::string& name = nodes[rank].first;
       auto add = [&](const std::map<std::string, std::vector<double>>& m, const std::string& label,
                      plot::LineStyle style) {
         auto it = m.find(name);
@@ -188,7 +198,7 @@ std::string diagnosis_svg(const DiagnosisReport& r, std::size_t worst) {
         plot::Series s;
         s.label = name + " " + label;
         s.style = style;
-        s.color = color;
+        s.color = kNodeColors[rank];
         s.x = cv.times;
         for (double v : it->second)
           s.y.push_back(v - kZeroCelsius);
@@ -197,7 +207,6 @@ std::string diagnosis_svg(const DiagnosisReport& r, std::size_t worst) {
       add(cv.measured, "measured", plot::LineStyle::markers);
       add(cv.before, "before", plot::LineStyle::solid);
       add(cv.after, "after", plot::LineStyle::dashed);
-      ++color;
     }
     fig.panels.push_back(std::move(panel));
   }

@@ -25,7 +25,9 @@ extended_model_files(const lang::Model& model, const Finding& finding, const std
 /// The root file's text of extended_model_files() (the copies of included files aside).
 std::string extended_model_text(const lang::Model& model, const Finding& finding);
 
-/// The --plot figure: measured, before and after curves of the worst nodes of every case.
-std::string diagnosis_svg(const DiagnosisReport& report, std::size_t worst = 3);
+/// The --plot figure: measured, before and after curves of the worst nodes of every case, one
+/// distinct colour per node (at most 8 nodes), titled with the model's name.
+std::string diagnosis_svg(const DiagnosisReport& report, const std::string& model_name,
+                          std::size_t worst = 3);
 
 } // namespace thermnet::cli

@@ -69,4 +69,9 @@ double uniform01(std::uint64_t seed, std::uint64_t stream, std::uint64_t index) 
   return static_cast<double>(h >> 11) * 0x1.0p-53;
 }
 
+std::uint64_t derived_seed(std::uint64_t seed, std::uint64_t key) {
+  constexpr std::uint64_t golden = 0x9e3779b97f4a7c15ULL;
+  return mix64(mix64(seed + 5 * golden) ^ (key + 7 * golden));
+}
+
 } // namespace thermnet

@@ -17,4 +17,8 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
 /// evaluation order and thread count.
 double uniform01(std::uint64_t seed, std::uint64_t stream, std::uint64_t index);
 
+/// A seed for the draws of one variant of a run (e.g. a sample count), derived from the user's seed
+/// and the variant's key: different keys give independent streams for the same seed.
+std::uint64_t derived_seed(std::uint64_t seed, std::uint64_t key);
+
 } // namespace thermnet

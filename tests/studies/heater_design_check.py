@@ -14,7 +14,9 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 MODEL = os.path.join(HERE, "..", "..", "models", "heater_design")
-R_M = 0.01  # K/W, the meter resistors of leak.tnet between each zone and its 20 degC source
+sys.path.insert(0, MODEL)
+import analyse  # noqa: E402  (leaks(): the paths to the air summed per part)
+
 ZONES = [f"zone{i}" for i in range(1, 7)]
 LENS = ["lens1_c", "lens1_e", "lens2_c", "lens2_e", "lens3_c", "lens3_e"]
 T_CLIMB = 2750.0
@@ -34,9 +36,18 @@ def simulate(out_dir, model, *args):
 
 
 with tempfile.TemporaryDirectory() as tmp:
-    leak = simulate(tmp, "leak.tnet", "--steady")
-    lens = sum((20.0 - float(leak[z])) / R_M for z in ZONES)
-    window = sum((20.0 - float(leak[n])) / R_M for n in ("window", "wseat"))
+    # The heat each path to the air carries with every part at 20 degC: `--flows` at t = 0.
+    flows = os.path.join(tmp, "leak_flows.csv")
+    subprocess.run([sys.argv[1], "simulate", os.path.join(MODEL, "leak.tnet"), "--flows", flows, "-o",
+                    os.path.join(tmp, "leak.csv")], check=True)
+    q = analyse.leaks(flows)
+    lens = sum(q[z] for z in ZONES)
+    window = q["window"] + q["wseat"]
+    check("every lens zone and the window assembly have a path to the air",
+          set(q) == set(ZONES) | {"window", "wseat"}, ", ".join(sorted(q)))
+    split = max(abs(q[z] - p) for _, z, p in analyse.HEATERS)
+    check("each zone leaks about what the study's heater split gives it", split < 0.25,
+          f"largest difference {split:.2f} W")
     check("lens heat leak at -35 degC (study 17.5 W)", abs(lens - 17.5) < 0.3, f"{lens:.2f} W")
     check("window heat loss at -35 degC (study 16.7 W)", abs(window - 16.7) < 0.3, f"{window:.2f} W")
 

@@ -22,6 +22,8 @@
 #include <fstream>
 #include <memory>
 #include <random>
+#include <regex>
+#include <set>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -591,9 +593,49 @@ TEST_CASE("diagnose plate: 20 nodes, 2 cases, hidden link to a boundary") {
   CHECK(refits == r.refitted);
   CHECK(simulations > r.refitted);
   // The plot renders before/after curves.
-  const std::string svg = cli::diagnosis_svg(r);
+  const std::string svg = cli::diagnosis_svg(r, "plate");
   CHECK(svg.find("<svg") != std::string::npos);
   CHECK(svg.find("after") != std::string::npos);
+}
+
+TEST_CASE("diagnosis plot: one distinct colour per node of a panel, titled with the model's name") {
+  DiagnosisReport r;
+  r.model = "/some/where/on/this/machine/camera.tnet";
+  DiagnosisReport::Curves cv;
+  cv.case_name = "c1";
+  cv.times = {0.0, 60.0, 120.0};
+  // Nine nodes with errors in rank order n0 (worst) ... n8: the plot shows the 8 worst.
+  for (int i = 0; i < 9; ++i) {
+    const std::string name = fmt::format("n{}", i);
+    r.baseline.nodes[name].rmse = 10.0 - i;
+    cv.measured[name] = {280.0 + i, 281.0 + i, 282.0 + i};
+    cv.before[name] = {280.0 + i, 280.5 + i, 281.0 + i};
+  }
+  r.curves = {cv, cv};
+  for (std::size_t worst : {3, 8, 12}) {
+    CAPTURE(worst);
+    const std::string svg = cli::diagnosis_svg(r, "aerial_camera", worst);
+    CHECK(svg.find("<title>aerial_camera — no finding</title>") != std::string::npos);
+    CHECK(svg.find("/some/where") == std::string::npos);
+    // The legend: each entry's swatch (stroke colour) is followed by its label.
+    const std::regex entry(
+        R"re(stroke="(#[0-9A-Fa-f]{6})"[^<]*/>\s*<text[^>]*>(n[0-9]) before</text>)re");
+    std::vector<std::pair<std::string, std::string>> seen; // (node, colour) in document order
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), entry);
+         it != std::sregex_iterator(); ++it)
+      seen.emplace_back((*it)[2], (*it)[1]);
+    const std::size_t shown = std::min<std::size_t>(worst, 8);
+    REQUIRE(seen.size() == 2 * shown); // two panels
+    for (std::size_t panel = 0; panel < 2; ++panel) {
+      std::set<std::string> colours;
+      for (std::size_t k = 0; k < shown; ++k) {
+        const auto& [node, colour] = seen[panel * shown + k];
+        CHECK(node == fmt::format("n{}", k));
+        colours.insert(colour);
+      }
+      CHECK(colours.size() == shown);
+    }
+  }
 }
 
 TEST_CASE("diagnose plate: the gain is validated by leaving each case out") {
