@@ -1,5 +1,7 @@
 #include "cli/estimate_command.hpp"
 
+#include "lang/measured_series.hpp"
+
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/output_files.hpp"
@@ -160,7 +162,7 @@ int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin&
   lang::CsvTable head;
   try {
     head = lang::parse_csv(header, "<stdin>");
-    head.check_all_numbers();
+    lang::check_celsius_columns(head);
   } catch (const lang::CsvError& e) {
     throw at_line(e, line_no);
   }
@@ -186,7 +188,7 @@ int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin&
     lang::CsvTable t;
     try {
       t = lang::parse_csv(header + "\n" + line, "<stdin>");
-      t.check_all_numbers();
+      lang::check_celsius_columns(t);
     } catch (const lang::CsvError& e) {
       throw at_line(e, line_no);
     }
@@ -211,7 +213,7 @@ int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin&
 int run_batch(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin& plugin,
               const std::string& title) {
   lang::CsvTable table = lang::read_csv(o.data);
-  table.check_all_numbers();
+  lang::check_celsius_columns(table);
   if (table.rows() == 0) throw lang::CsvError(o.data, 2, 0, "the file has no data rows");
   ctx.columns = table.columns;
   auto est = plugin.create(ctx);
