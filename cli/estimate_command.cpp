@@ -12,6 +12,7 @@
 #include "kernel/estimation/estimator.hpp"
 #include "lang/csv.hpp"
 #include "lang/diagnostics.hpp"
+#include "lang/measured_series.hpp"
 #include "lang/path_policy.hpp"
 #include "plot/svg_plot.hpp"
 
@@ -161,7 +162,7 @@ int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin&
   lang::CsvTable head;
   try {
     head = lang::parse_csv(header, "<stdin>");
-    head.check_all_numbers();
+    lang::check_celsius_columns(head);
   } catch (const lang::CsvError& e) {
     throw at_line(e, line_no);
   }
@@ -187,7 +188,7 @@ int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin&
     lang::CsvTable t;
     try {
       t = lang::parse_csv(header + "\n" + line, "<stdin>");
-      t.check_all_numbers();
+      lang::check_celsius_columns(t);
     } catch (const lang::CsvError& e) {
       throw at_line(e, line_no);
     }
@@ -212,7 +213,7 @@ int run_stream(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin&
 int run_batch(EstimateOptions& o, EstimatorContext& ctx, const EstimatorPlugin& plugin,
               const std::string& title) {
   lang::CsvTable table = lang::read_csv(o.data);
-  table.check_all_numbers();
+  lang::check_celsius_columns(table);
   if (table.rows() == 0) throw lang::CsvError(o.data, 2, 0, "the file has no data rows");
   ctx.columns = table.columns;
   auto est = plugin.create(ctx);

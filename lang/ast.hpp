@@ -167,13 +167,15 @@ struct FileOptions {
   std::optional<String> separator; ///< the field separator (default: `,`)
   std::vector<Tagged> misplaced;   ///< options given twice, or `hold` in a data statement
 };
-/// `table("file.csv", "column" [, hold] [, time = ...] [, separator = ...]) [unit]`, or
+/// `table("file.csv", "column" [, hold] [, before = VALUE] [, time = ...] [, separator = ...])
+/// [unit]`, or
 /// `table(data, "column", ...)` for a column of the case's data file.
 struct TableSignal : Tagged {
   String file;                  ///< CSV path relative to the model file (empty for `data`)
   bool case_data = false;       ///< `table(data, ...)`: the case's data file
   String column;                ///< column name
   bool hold = false;            ///< zero-order hold instead of linear interpolation
+  std::optional<Expr> before;   ///< `before = VALUE`: the value before the first row
   FileOptions options;          ///< the file's layout, when not the default
   std::optional<UnitText> unit; ///< unit of the column's values (bare when left out)
 };

@@ -85,12 +85,17 @@ bool is_missing(const std::string& s) {
   return l == "nan" || l == "na";
 }
 
-/// An on/off word as 1 or 0 (`True`/`False`, `on`/`off`, `yes`/`no`, any case).
+/// An on/off word as 1 or 0 (`True`/`False`, `on`/`off`, `yes`/`no`, `open`/`closed`,
+/// `start`/`stop`, any case), alone or last after a name (an event log's "Lid Opened").
 std::optional<double> on_off_word(const std::string& s) {
-  if (s.size() > 5) return std::nullopt;
-  const std::string l = lower(s);
-  if (l == "true" || l == "on" || l == "yes") return 1.0;
-  if (l == "false" || l == "off" || l == "no") return 0.0;
+  const std::size_t space = s.find_last_of(" \t");
+  const std::string l = lower(space == std::string::npos ? s : s.substr(space + 1));
+  static const char* const on[] = {"true", "on", "yes", "open", "opened", "start", "started"};
+  static const char* const off[] = {"false", "off", "no", "close", "closed", "stop", "stopped"};
+  for (const char* w : on)
+    if (l == w) return 1.0;
+  for (const char* w : off)
+    if (l == w) return 0.0;
   return std::nullopt;
 }
 
@@ -250,12 +255,10 @@ void CsvTable::check_column(std::size_t column) const {
 
 void CsvTable::check_numbers(std::size_t column) const {
   check_column(column);
-  if (column >= words.size() || !words[column]) return;
-  for (std::size_t r = 0; r < rows(); ++r)
-    if (!std::isnan(cells[column][r]))
-      throw CsvError(path, line_of(r), file_columns[column],
-                     fmt::format("column '{}' holds on/off words (True/False), not temperatures",
-                                 excerpt_for_display(columns[column])));
+  if (column >= word_line.size() || word_line[column] == 0) return;
+  throw CsvError(path, word_line[column], file_columns[column],
+                 fmt::format("column '{}' holds on/off words (True/False), not temperatures",
+                             excerpt_for_display(columns[column])));
 }
 
 CsvTable parse_csv(const std::string& text, const std::string& path, const CsvLayout& layout) {
@@ -317,7 +320,7 @@ CsvTable parse_csv(const std::string& text, const std::string& path, const CsvLa
         t.file_columns.push_back(c + 1);
       }
       t.cells.assign(width, {});
-      t.words.assign(width, false);
+      t.word_line.assign(width, 0);
       t.bad.assign(width, std::nullopt);
       continue;
     }
@@ -364,7 +367,7 @@ CsvTable parse_csv(const std::string& text, const std::string& path, const CsvLa
       if (!is_missing(fields[c]) && !parse_number(fields[c], v)) {
         if (auto w = on_off_word(fields[c])) {
           v = *w;
-          t.words[col] = true;
+          if (t.word_line[col] == 0) t.word_line[col] = line_no;
         } else if (!t.bad[col]) {
           t.bad[col] = BadCell{line_no, c + 1, fields[c]};
         }
@@ -380,7 +383,7 @@ CsvTable parse_csv(const std::string& text, const std::string& path, const CsvLa
         path, 1, 0,
         fmt::format("the file is empty; expected a header row '{},...'", layout.time_column));
   t.cells.resize(t.columns.size());
-  t.words.resize(t.columns.size());
+  t.word_line.resize(t.columns.size());
   t.bad.resize(t.columns.size());
   return t;
 }

@@ -64,7 +64,7 @@ struct CsvTable {
   std::vector<std::vector<double>> cells;  ///< cells[column][row]
   std::vector<std::size_t> file_columns;   ///< 1-based field of each column in the file
   std::vector<std::size_t> lines;          ///< 1-based line of each row
-  std::vector<bool> words;                 ///< per column: on/off words were read as 1/0
+  std::vector<std::size_t> word_line;      ///< per column: line of its first on/off word (0: none)
   std::vector<std::optional<BadCell>> bad; ///< per column: its first cell that is not a value
   bool absolute_time = false;              ///< times are UNIX seconds (UNIX or ISO layout)
   /// Number of data rows.
@@ -77,11 +77,7 @@ struct CsvTable {
   void check_column(std::size_t column) const;
   /// check_column(), and no on/off word either (a column of temperatures).
   void check_numbers(std::size_t column) const;
-  /// check_numbers() for every column.
-  void check_all_numbers() const {
-    for (std::size_t c = 0; c < columns.size(); ++c)
-      check_numbers(c);
-  }
+
   /// The 1-based line of a row.
   std::size_t line_of(std::size_t row) const { return row < lines.size() ? lines[row] : row + 2; }
 };

@@ -157,11 +157,12 @@ struct ParamValue {
 
 /// One option of a table or data statement: `hold`, `time = ...` or `separator = ...`.
 struct FileOption {
-  enum class Which : std::uint8_t { hold, time, separator };
+  enum class Which : std::uint8_t { hold, before, time, separator };
   Which which = Which::hold; ///< which option
   ast::Tagged at;            ///< where it is written
   ast::TimeOption time;      ///< `time = "COLUMN" [UNIT]`
   ast::String separator;     ///< `separator = "..."`
+  ast::Expr before;          ///< `before = VALUE`
 };
 
 // --- rules ------------------------------------------------------------------------------------
@@ -191,7 +192,7 @@ inline const x3::rule<class point_r, ast::SignalPoint> signal_point = "'time: va
 inline const x3::rule<class point_signal_r, ast::PointSignal> point_signal = "signal";
 inline const x3::rule<class table_signal_r, ast::TableSignal> table_signal = "table signal";
 inline const x3::rule<class file_option_r, FileOption> file_option =
-    "option ('hold', 'time = \"COLUMN\" [UNIT]' or 'separator = \";\"')";
+    "option ('hold', 'before = VALUE', 'time = \"COLUMN\" [UNIT]' or 'separator = \";\"')";
 inline const x3::rule<class time_option_r, ast::TimeOption> time_option = "time column";
 inline const x3::rule<class key_ref_r, ast::Ref> key_ref = "key reference";
 inline const x3::rule<class column_name_r, ast::String> column_name = "column name";
@@ -427,6 +428,14 @@ inline const auto option_time = [](auto& ctx) {
   _val(ctx).at = _attr(ctx);
   _val(ctx).time = std::move(_attr(ctx));
 };
+inline const auto option_before = [](auto& ctx) {
+  _val(ctx).which = FileOption::Which::before;
+  _val(ctx).before = builder(ctx).expr(_attr(ctx));
+};
+inline const auto option_at = [](auto& ctx) {
+  _val(ctx).at.begin = builder(ctx).off(_attr(ctx).begin());
+  _val(ctx).at.end = builder(ctx).off(_attr(ctx).end());
+};
 inline const auto option_separator = [](auto& ctx) {
   _val(ctx).which = FileOption::Which::separator;
   _val(ctx).separator = std::move(_attr(ctx));
@@ -438,10 +447,15 @@ inline const auto apply_file_option = [](auto& ctx) {
   FileOption& o = _attr(ctx);
   ast::FileOptions& opts = target.options;
   bool repeated = false;
-  if (o.which == FileOption::Which::hold) {
+  if (o.which == FileOption::Which::hold || o.which == FileOption::Which::before) {
     if constexpr (std::is_same_v<std::decay_t<decltype(target)>, ast::TableSignal>) {
-      repeated = target.hold;
-      target.hold = true;
+      if (o.which == FileOption::Which::hold) {
+        repeated = target.hold;
+        target.hold = true;
+      } else {
+        repeated = target.before.has_value();
+        target.before = o.before;
+      }
     } else {
       repeated = true; // no meaning in a data statement
     }
@@ -629,7 +643,8 @@ inline const auto time_option_def =
         -unit[set<&ast::TimeOption::unit>]][span];
 inline const auto file_option_def =
     raw[keyword("hold")][option_hold] | time_option[option_time] |
-    ((keyword("separator") > lit('=')) > string_literal[option_separator]);
+    ((keyword("separator") > lit('=')) > string_literal[option_separator]) |
+    raw[(keyword("before") > lit('=')) > expression[option_before]][option_at];
 // `table(` followed by something else than a file name or `data` is a call (of an unknown
 // function); after the file, the rest is certain.
 inline const auto table_signal_def =

@@ -30,6 +30,17 @@ void check_above_absolute_zero(const CsvTable& t, const SeriesValues& s,
 
 } // namespace
 
+void check_celsius_columns(const CsvTable& t) {
+  for (std::size_t c = 1; c < t.columns.size(); ++c) {
+    t.check_numbers(c);
+    for (std::size_t r = 0; r < t.rows(); ++r)
+      if (t.cells[c][r] < -kZeroCelsius)
+        throw CsvError(t.path, t.line_of(r), t.file_columns[c],
+                       fmt::format("{:g} degC is below absolute zero (-273.15 degC) in column '{}'",
+                                   t.cells[c][r], excerpt_for_display(t.columns[c])));
+  }
+}
+
 std::vector<double> case_times(const CsvTable& t, const CaseSettings& s) {
   std::vector<double> times = t.time();
   if (t.absolute_time)

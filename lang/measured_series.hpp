@@ -29,4 +29,9 @@ std::vector<double> case_times(const CsvTable& t, const CaseSettings& s);
 std::vector<SeriesValues> measured_series(const CsvTable& t, const CaseSettings& s,
                                           const std::function<bool(const std::string&)>& known);
 
+/// Checks a table whose every column after the time holds temperatures in degC (the data of
+/// `thermnet estimate` and `invert`): numbers or missing cells only, none below absolute zero;
+/// throws CsvError at the first bad cell's row and column.
+void check_celsius_columns(const CsvTable& t);
+
 } // namespace thermnet::lang

@@ -7,6 +7,7 @@
 #include "lang/time_program.hpp"
 
 #include <cmath>
+#include <limits>
 #include <filesystem>
 
 namespace thermnet::lang {
@@ -112,10 +113,13 @@ std::optional<Signal> Elaborator::whole_signal(const ast::SignalExpr& se, FileId
                                     describe(p.dim), describe(*table->dim)));
       return std::nullopt;
     }
-    if (s.is_constant()) return s; // `table(data, ...)` outside a case
-    if (!table->dim && p.absolute_temperature)
-      for (double& x : s.shape().v)
-        x += 273.15;
+    if (!table->dim && p.absolute_temperature) { // bare temperatures are degC
+      s.constant += 273.15;                       // (`table(data, ...)` outside a case: 0 degC)
+      if (!s.is_constant())
+        for (double& x : s.shape().v)
+          x += 273.15;
+    }
+    if (s.is_constant()) return s;
     for (double x : s.values())
       if (!check_range(x, p, at, span_of(f, *ts))) return std::nullopt;
     return s;
@@ -377,13 +381,14 @@ std::optional<CsvLayout> Elaborator::layout_of(const ast::FileOptions& o, FileId
   CsvLayout layout;
   bool ok = true;
   for (const ast::Tagged& m : o.misplaced) {
-    const std::string_view word =
-        std::string_view(m_.sources().text(f)).substr(m.begin, m.end - m.begin);
+    std::string_view word = std::string_view(m_.sources().text(f)).substr(m.begin, m.end - m.begin);
+    word = word.substr(0, word.find_first_of(" \t="));
     report(DiagnosticEngine::make(
         DiagId::bad_signal, at, span_of(f, m),
-        word == "hold" && !table
-            ? std::string("'hold' applies to a table's column (table(\"FILE\", \"COLUMN\", hold)), "
-                          "not to a data file")
+        (word == "hold" || word == "before") && !table
+            ? fmt::format("'{}' applies to a table's column (table(\"FILE\", \"COLUMN\", {})), "
+                          "not to a data file",
+                          word, word == "hold" ? "hold" : "before = VALUE")
             : fmt::format("'{}' is given twice", word)));
   }
   if (o.time) {
@@ -526,6 +531,24 @@ std::optional<Elaborator::TableValues> Elaborator::table_values(const ast::Table
     const double offset = unit ? unit->offset : 0.0;
     TableValues out{Signal{}, dim};
     Signal::Shape& corners = out.signal.shape(ts.hold ? Signal::Kind::step : Signal::Kind::pwl);
+    if (ts.before) {
+      // An event log starts with the first change: the value before it is given. It stands as a
+      // corner at -infinity, so a held signal has it until the first row.
+      if (!ts.hold) {
+        report(DiagnosticEngine::make(
+            DiagId::bad_signal, at, span_of(f, *ts.before),
+            "'before' gives a held column's value before its first row (table(..., hold, before "
+            "= 0)); a linear column keeps its first value"));
+        return std::nullopt;
+      }
+      static const KeySchema any;
+      Place place{[] { return std::string("the value before a table's first row"); }, Dimension{},
+                  false, &any};
+      auto b = number(*ts.before, f, place, at);
+      if (!b) return std::nullopt;
+      corners.t.push_back(-std::numeric_limits<double>::infinity());
+      corners.v.push_back(scale * *b + offset);
+    }
     const auto& cells = table->cells[static_cast<std::size_t>(col)];
     for (std::size_t r = 0; r < table->rows(); ++r) {
       const double x = cells[r];

@@ -55,25 +55,12 @@ public:
     P = P.scaled(p[0]);
   }
 
-  // An extra heater on the same node carrying (factor - 1) P(t): declared with the heater's
-  // declared power, and overridden in every case block that gives the heater another power.
+  // An extra heater on the same node carrying (factor - 1) P(t): it reads the heater's power by
+  // name (`P = 0.12 * film.P`), so it follows whatever power a case gives the heater.
   std::string statement(const Candidate& c, const std::vector<double>& p,
                         const Evidence& ev) const override {
-    return fmt::format("heater {} {} P = {}", name_of(c, ev), c.nodes[0],
-                       signal_text(heater_power(ev.declared, c.element).scaled(p[0] - 1.0), "W"));
-  }
-
-  CaseLines case_statements(const Candidate& c, const std::vector<double>& p,
-                            const Evidence& ev) const override {
-    CaseLines out;
-    const lang::Signal& declared = heater_power(ev.declared, c.element);
-    for (const auto& d : ev.declared_cases) {
-      const lang::Signal& P = heater_power(d, c.element);
-      if (!same_signal(P, declared))
-        out[d.case_name] =
-            fmt::format("{}.P = {}", name_of(c, ev), signal_text(P.scaled(p[0] - 1.0), "W"));
-    }
-    return out;
+    return fmt::format("heater {} {} P = {} * {}.P", name_of(c, ev), c.nodes[0],
+                       netlist_number(p[0] - 1.0), c.element);
   }
 
 private:
@@ -88,8 +75,8 @@ HypothesisPlugin make_heater_gain() {
           .create = [] { return std::make_unique<HeaterGain>(); },
           .screen = "the heater's P(t)",
           .fitted = "factor",
-          .writes = "an extra heater diag_gain_h on the node with (factor - 1) P(t), plus "
-                    "diag_gain_h.P = (factor - 1) P_case(t) in each case block whose P differs"};
+          .writes = "an extra heater diag_gain_h on the node with P = (factor - 1) * h.P, which "
+                    "reads the heater's power in every case"};
 }
 
 } // namespace

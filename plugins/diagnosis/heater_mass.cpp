@@ -109,38 +109,29 @@ public:
   }
 
   // A new node and its conductance; the heater's power is rerouted by two heaters (its power into
-  // the mass, the same power out of its node), so the heater's own declaration stays as written.
+  // the mass, the same power out of its node), which read the heater's power by name (`P =
+  // film.P`), so the heater's own declaration and every case's power for it stay as written.
   std::string statement(const Candidate& c, const std::vector<double>& p,
                         const Evidence& ev) const override {
     const auto& spec = ev.declared.spec;
     const auto& node = spec.nodes.at(static_cast<std::size_t>(spec.node_index(c.nodes[0])));
-    const lang::Signal& P = heater_power(ev.declared, c.element);
     const std::string m = name(ev, mass_name(c));
     return fmt::format(
         "node {} C = {} [J/K]{}\n"
         "conductance {} {} {} G = {} [W/K]\n"
-        "heater {} {} P = {}\n"
-        "heater {} {} P = {}",
+        "heater {} {} P = {}.P\n"
+        "heater {} {} P = -{}.P",
         m, netlist_number(p[0]),
         c.start_T.empty() && node.T0 ? " T0 = " + netlist_number(*node.T0 - 273.15) : start_text(c),
         name(ev, mass_name(c) + "_g"), m, c.nodes[0], netlist_number(p[0] / p[1]),
-        name(ev, mass_name(c) + "_in"), m, signal_text(P, "W"), name(ev, mass_name(c) + "_out"),
-        c.nodes[0], signal_text(P.scaled(-1.0), "W"));
+        name(ev, mass_name(c) + "_in"), m, c.element, name(ev, mass_name(c) + "_out"),
+        c.nodes[0], c.element);
   }
 
+  // The mass's start in every case block whose data start elsewhere; the power needs no line.
   CaseLines case_statements(const Candidate& c, const std::vector<double>&,
                             const Evidence& ev) const override {
-    CaseLines out = start_case_lines(c, name(ev, mass_name(c)), ev);
-    const lang::Signal& declared = heater_power(ev.declared, c.element);
-    for (const auto& d : ev.declared_cases) {
-      const lang::Signal& P = heater_power(d, c.element);
-      if (!same_signal(P, declared))
-        merge_case_lines(
-            out, {{d.case_name, fmt::format("{}.P = {}\n{}.P = {}", name(ev, mass_name(c) + "_in"),
-                                            signal_text(P, "W"), name(ev, mass_name(c) + "_out"),
-                                            signal_text(P.scaled(-1.0), "W"))}});
-    }
-    return out;
+    return start_case_lines(c, name(ev, mass_name(c)), ev);
   }
 
 private:
@@ -158,8 +149,8 @@ HypothesisPlugin make_heater_mass() {
           .fitted = "C [J/K] of the mass, tau [s] = C / G (at least two sampling intervals)",
           .writes =
               "node diag_mass_h C = ..., conductance diag_mass_h_g diag_mass_h a G = C / tau, "
-              "and heaters diag_mass_h_in (P(t) into the mass) and diag_mass_h_out (-P(t) "
-              "out of a), with their P in each case block whose P differs"};
+              "and heaters diag_mass_h_in (P = h.P, into the mass) and diag_mass_h_out (P = -h.P, "
+              "out of a), which read the heater's power in every case"};
 }
 
 } // namespace

@@ -39,6 +39,14 @@ check "bad cell: file:row:column" grep -q "bad.csv:3:3:" err.txt
 printf 'time,B,C,D\n0,1,2,3\n1,1,x,3\n' | "$TN" invert --stream --sensors B,C,D --window 1 >/dev/null 2>err.txt
 rc=$?
 check "stream bad cell: <stdin>:3:3 and exit 1" test "$rc" -eq 1 -a -n "$(grep '<stdin>:3:3:' err.txt)"
+printf 'time,B,C,D\n0,1,2,3\n1,1,-390,3\n' >cold.csv
+run invert cold.csv --sensors B,C,D --window 1
+check "data below absolute zero: exit 1 at its row and column (not an estimate of -390 degC)" \
+  test "$rc" -eq 1 -a -n "$(grep 'cold.csv:3:3:.*below absolute zero' err.txt)"
+printf 'time,B,C,D\n0,1,2,3\n1,True,2,3\n' >words.csv
+run invert words.csv --sensors B,C,D --window 1
+check "on/off words in a temperature column: exit 1 at its row and column" \
+  test "$rc" -eq 1 -a -n "$(grep 'words.csv:3:2:' err.txt)"
 run invert abcd.csv --sensors B,C,E --window 1
 check "missing column: exit 1 naming it" test "$rc" -eq 1 -a -n "$(grep "'E'" err.txt)"
 run invert nowhere.csv --sensors B,C,D --window 1

@@ -123,4 +123,37 @@ check "massless node below 0 K at the consistent start: exit 1 naming node s, t 
   eval 'test "$rc" -eq 1 && grep -q "node s falls below absolute zero at t = 0 s" err.txt &&
         grep -q "negative heater" err.txt && grep -q "negative root" err.txt'
 
+# ------------------------------------------------ values computed while the run goes on
+# A value written as an expression of the time is checked at every time the solver evaluates it,
+# not only at t = 0 (issue 31, item 9): the run stops with the statement's file:line:column and
+# the time, exit 1, and no CSV.
+# guard LABEL LINES PATTERN: a model whose lines (from line 5) go wrong after t = 0 stops there
+guard() {
+  cat >guard.tnet <<EOF
+model guard
+boundary air T = 0
+node box C = 1000 T0 = 50
+conductance g box air G = 1
+$2
+case c { duration = 1000; output = 100 }
+EOF
+  rm -f guard.csv
+  "$TN" lint guard.tnet >lint.txt 2>&1
+  lint_rc=$?
+  pattern=$3
+  run simulate guard.tnet -o guard.csv
+  check "$1: lint accepts it (valid at t = 0); simulate exits 1 at guard.tnet:5:1 with the time" \
+    eval 'test "$lint_rc" -eq 0 && test "$rc" -eq 1 && grep -q "guard.tnet:5:1" err.txt &&
+          grep -qE "$pattern" err.txt && grep -qE "at t = [0-9.e+-]+ s" err.txt &&
+          test ! -e guard.csv'
+}
+guard "a boundary falling below 0 K" "boundary cold T = 20 - time
+conductance gc box cold G = 0.1" "T of boundary 'cold' must be above absolute zero"
+guard "a switch leaving [0, 1]" \
+  "switched_conductance lid box air G = 2 on = 1 - time / 500" "on of switched_conductance 'lid' must be"
+guard "a thermostat's power turning negative" \
+  "thermostat t box P = 30 - time / 10 on = 60 off = 70" "P of thermostat 't' must be"
+guard "a power that is not finite" "heater h box P = sqrt(500 - time)" \
+  "P of heater 'h' is not a finite number"
+
 finish

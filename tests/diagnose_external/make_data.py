@@ -10,7 +10,8 @@ Usage: make_data.py OUTDIR EFFECT [SEED]
   EFFECT: rod_clean | rod_radiation (a3 radiates to the sky, GR = 0.01 m^2)
           rod_mass (the film heats a1 through a mass of its own: 400 J/K, 0.8 W/K to a1)
           rod_lid (a3 loses 0.5 W/K to the sky only while the lid is open; events.csv)
-          star_clean | star_source (hub gains 4 W) | star_offset (arm3 sensor reads +0.7 K)
+          star_clean | star_source (hub gains 4 W) | star_offset (arm3 sensor reads +0.7 K) |
+          star_lag (arm2's sensor lags it with tau = 150 s)
 """
 import sys
 
@@ -80,9 +81,10 @@ def star(hidden):
     air = pwl([(0, 22.0), (7200, 12.0)])
     pad = pwl([(0, 0.0), (1800, 30.0), (3600, 30.0), (4200, 0.0)])
     source = 4.0 if hidden == "source" else 0.0
+    tau = 150.0  # star_lag: arm2's sensor reads through a first-order lag, R' = (T - R) / tau
 
     def rhs(t, T):
-        q = np.zeros(5)
+        q = np.zeros(len(T))
         for i, g in enumerate(arm):
             f = g * (T[i + 1] - T[0])
             q[0] += f
@@ -91,9 +93,13 @@ def star(hidden):
             q[i] += g * (air(t) - T[i])
         q[2] += pad(t)
         q[0] += source
-        return q / np.array(C)
+        rates = q[:5] / np.array(C)
+        if hidden == "lag":
+            rates = np.append(rates, (T[2] - T[5]) / tau)
+        return rates
 
-    return nodes, [22.0] * 5, rhs, [1800, 3600, 4200], 7200.0, 30.0
+    T0 = [22.0] * (6 if hidden == "lag" else 5)
+    return nodes, T0, rhs, [1800, 3600, 4200], 7200.0, 30.0
 
 
 def simulate(net):
@@ -107,7 +113,10 @@ def simulate(net):
         assert sol.success, sol.message
         out.append(sol.y.T)
         T = solve_ivp(rhs, (a, b), T, method="BDF", rtol=1e-10, atol=1e-10).y[:, -1]
-    return nodes, times, np.vstack(out)[:, : len(nodes)]  # hidden nodes are not measured
+    temps = np.vstack(out)
+    if len(T0) > len(nodes) and nodes[0] == "hub":  # star_lag: arm2 is read through its lag
+        temps[:, 2] = temps[:, 5]
+    return nodes, times, temps[:, : len(nodes)]  # hidden nodes are not measured
 
 
 def write(path, nodes, times, temps, rng, offsets=None):

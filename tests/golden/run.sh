@@ -195,6 +195,15 @@ random.seed(7)
 print('\n'.join(''.join(random.choice('abc =+-*/()[]{}#\"12.;:\\\\,') for _ in range(40)) for _ in range(100000)))" >ascii.tnet
   hostile "100,000 lines of random punctuation" 20 1 "too-many-errors" ascii.tnet
 
+  # A table file named 20,000 times is read once (issue 31, item 6): lint stays fast and small.
+  printf 'time,P\n0,1\n3600,2\n' >small.csv
+  python3 -c "
+print('boundary b T = 20')
+for i in range(20000):
+    print('node n%d C = 1\nconductance g%d n%d b G = 1\nheater h%d n%d P = table(\"small.csv\", \"P\")' % ((i,) * 5))
+print('case c { duration = 3600 }')" >tables.tnet
+  hostile "a table file named 20,000 times" 30 0 "" tables.tnet
+
   python3 -c "print('\n'.join('node n%d C = = 1' % i for i in range(50000)))" >errors.tnet
   hostile "50,000 syntax errors" 20 1 "too many errors \(200\); stopping" errors.tnet
 

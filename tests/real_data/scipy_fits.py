@@ -7,6 +7,8 @@ simulated against the measured temperature), solved by other code (scipy.integra
 scipy.optimize.least_squares).
 
   scipy_fits.py incubator2   the 2-parameter incubator model (C_air, G_box), three experiments
+  scipy_fits.py incubator7   the 7-parameter incubator model (a heater node, an object, the lid's
+                             loss while open), three experiments
   scipy_fits.py house2r2c    the 2R2C test house (Ri, Ro, Ci, Ce, Ai, Ae, Te0), one sequence
 
 Prints `rmse <value>` and the fitted parameters as `name value` lines.
@@ -35,7 +37,7 @@ def on(x):
 # --------------------------------------------------------------------------------- incubator
 INCUBATOR = [("random_on_off_sequences_1.csv", 1.0), ("ramp_up_cool_down.csv", 1.0),
              ("lid_opening_experiment_jan_2021.csv", 1e-9)]
-P_ON = 12.0 * 1.4  # W while heater_on, as models/incubator/incubator.tnet writes it
+P_ON = 11.42 * 1.427  # W while heater_on, as models/incubator/incubator.tnet writes it (published V, I)
 
 
 def incubator_cases():
@@ -82,6 +84,58 @@ def fit_incubator2():
     return rmse, {"C_air": C, "G_box": G}
 
 
+def lid_windows():
+    """The lid's open windows in the lid experiment, s from its first row (events.csv, UNIX ns)."""
+    rows = read(os.path.join(MODELS, "incubator", "events.csv"))
+    t0 = float(read(os.path.join(MODELS, "incubator", INCUBATOR[2][0]))[0]["time"])
+    events = [((float(r["time"]) - t0) * 1e-9, r["event"].split()[-1] == "Opened") for r in rows]
+    return [(a, b) for (a, on_a), (b, on_b) in zip(events, events[1:]) if on_a and not on_b]
+
+
+def simulate_incubator7(p, case, windows):
+    C_air, G_box, C_h, G_h, C_o, G_o, G_lid = p
+    t, room, air, heat = case
+    cuts = sorted(set([0] + [k for k in range(1, len(t)) if heat[k] != heat[k - 1]] +
+                      [len(t) - 1]))
+    stops = sorted(set([t[k] for k in cuts] + [x for w in windows for x in w if t[0] < x < t[-1]]))
+    P0 = P_ON * heat[0]
+    y = [air[0], air[0] + P0 / G_h, air[0]]  # initial = data: the hidden nodes at steady state
+    out = np.empty_like(t)
+    out[0] = air[0]
+    for a, b in zip(stops[:-1], stops[1:]):
+        k = np.searchsorted(t, a, side="right") - 1
+        P = P_ON * heat[k]
+        lid = 1.0 if any(w0 <= a < w1 for w0, w1 in windows) else 0.0
+
+        def f(s, x):
+            Ta, Th, To = x
+            Tr = np.interp(s, t, room)
+            return [(G_box * (Tr - Ta) + G_h * (Th - Ta) + G_o * (To - Ta) + G_lid * lid * (Tr - Ta))
+                    / C_air, (P - G_h * (Th - Ta)) / C_h, G_o * (Ta - To) / C_o]
+
+        inside = (t > a) & (t <= b)
+        sol = solve_ivp(f, (a, b), y, method="LSODA", t_eval=t[inside], rtol=1e-9, atol=1e-9,
+                        max_step=30.0, dense_output=True)
+        out[inside] = sol.y[0]
+        y = sol.sol(b)
+    return out
+
+
+def fit_incubator7():
+    cases = incubator_cases()
+    windows = [[], [], lid_windows()]
+
+    def residuals(x):
+        p = np.exp(x)
+        return np.concatenate([simulate_incubator7(p, c, w) - c[2] for c, w in zip(cases, windows)])
+
+    x0 = np.log([267.6, 0.576, 329.3, 1.671, 500.0, 1.0, 1.0])
+    r = least_squares(residuals, x0, x_scale="jac", diff_step=1e-4, xtol=1e-10, ftol=1e-12)
+    rmse = np.sqrt(np.mean(r.fun ** 2))
+    names = ["C_air", "G_box", "C_heater", "G_heater", "C_object", "G_object", "G_lid"]
+    return rmse, dict(zip(names, np.exp(r.x)))
+
+
 # --------------------------------------------------------------------------------- house
 def fit_house2r2c():
     rows = read(os.path.join(MODELS, "armadillo", "statespace.csv"))
@@ -118,9 +172,9 @@ def fit_house2r2c():
 
 
 if __name__ == "__main__":
-    fits = {"incubator2": fit_incubator2, "house2r2c": fit_house2r2c}
+    fits = {"incubator2": fit_incubator2, "incubator7": fit_incubator7, "house2r2c": fit_house2r2c}
     if len(sys.argv) != 2 or sys.argv[1] not in fits:
-        sys.exit("usage: scipy_fits.py incubator2|house2r2c")
+        sys.exit("usage: scipy_fits.py incubator2|incubator7|house2r2c")
     rmse, params = fits[sys.argv[1]]()
     print(f"rmse {rmse:.6g}")
     for k, v in params.items():
