@@ -341,7 +341,7 @@ void add_calibrate_command(CLI::App& app, int& status) {
       ->check(CLI::IsMember({"output-error", "prediction"}));
   cmd->add_option("--initial-sd", o->initial_sd,
                   "prediction: standard deviation of the initial states in K (default 1)")
-      ->check(number_validator(false, false));
+      ->check(rule_validator(positive_number_rule, "NUMBER"));
   cmd->add_option("--whiteness-plot", o->whiteness_plot,
                   "prediction: SVG of the innovations' autocorrelation and cumulated periodogram "
                   "with their white-noise bounds");

@@ -21,6 +21,8 @@ std::string netlist_number(double v) {
 std::string signal_text(const lang::Signal& s, const std::string& unit) {
   const std::string u = unit.empty() ? "" : " [" + unit + "]";
   if (s.is_constant()) return netlist_number(s.constant) + u;
+  if (s.kind() == lang::Signal::Kind::expression) // no netlist text: read it by name instead
+    throw std::logic_error("signal_text: an expression has no constant, step or pwl text");
   std::string out = s.kind() == lang::Signal::Kind::step ? "step(" : "pwl(";
   for (std::size_t i = 0; i < s.times().size(); ++i)
     out += fmt::format("{}{}: {}{}", i ? ", " : "", s.times()[i], netlist_number(s.values()[i]), u);

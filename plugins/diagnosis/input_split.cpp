@@ -74,10 +74,10 @@ public:
   }
 
   // The heater's declaration stays as written: the share is moved by two heaters (into the other
-  // node or the mass, and out of the heater's node), their P in each case block whose P differs.
+  // node or the mass, and out of the heater's node) that read its power by name (`P = 0.3 *
+  // sun.P`), so they follow whatever power a case gives it, a table or an expression included.
   std::string statement(const Candidate& c, const std::vector<double>& p,
                         const Evidence& ev) const override {
-    const lang::Signal& P = heater_power(ev.declared, c.element);
     std::string s;
     std::string target = into_mass(c) ? std::string() : c.nodes[1];
     if (into_mass(c)) {
@@ -87,29 +87,18 @@ public:
           "\n";
       target = unique_model_name(ev, mass_name(c));
     }
-    return s + fmt::format("heater {} {} P = {}\nheater {} {} P = {}",
+    return s + fmt::format("heater {} {} P = {} * {}.P\nheater {} {} P = {} * {}.P",
                            unique_model_name(ev, heater_name(c) + "_in"), target,
-                           signal_text(P.scaled(p[0]), "W"),
+                           netlist_number(p[0]), c.element,
                            unique_model_name(ev, heater_name(c) + "_out"), c.nodes[0],
-                           signal_text(P.scaled(-p[0]), "W"));
+                           netlist_number(-p[0]), c.element);
   }
 
-  CaseLines case_statements(const Candidate& c, const std::vector<double>& p,
+  // The mass's start in every case block whose data start elsewhere; the power needs no line.
+  CaseLines case_statements(const Candidate& c, const std::vector<double>&,
                             const Evidence& ev) const override {
-    CaseLines out;
-    if (into_mass(c)) out = start_case_lines(c, unique_model_name(ev, mass_name(c)), ev);
-    const lang::Signal& declared = heater_power(ev.declared, c.element);
-    for (const auto& d : ev.declared_cases) {
-      const lang::Signal& P = heater_power(d, c.element);
-      if (!same_signal(P, declared))
-        merge_case_lines(out,
-                         {{d.case_name, fmt::format("{}.P = {}\n{}.P = {}",
-                                                    unique_model_name(ev, heater_name(c) + "_in"),
-                                                    signal_text(P.scaled(p[0]), "W"),
-                                                    unique_model_name(ev, heater_name(c) + "_out"),
-                                                    signal_text(P.scaled(-p[0]), "W"))}});
-    }
-    return out;
+    return into_mass(c) ? start_case_lines(c, unique_model_name(ev, mass_name(c)), ev)
+                        : CaseLines{};
   }
 
 private:
@@ -216,9 +205,9 @@ HypothesisPlugin make_input_split() {
           .screen = "-P at the heater's node a and +P at b; or lowpass_tau(P) - P at a (into a "
                     "mass)",
           .fitted = "share (of the power); into a mass also C [J/K] and tau [s] = C / G",
-          .writes = "heaters diag_split_h_b_in on b (share P(t)) and diag_split_h_b_out on a "
-                    "(-share P(t)); into a mass also ranged params, node diag_split_h_mass and "
-                    "its conductance to a"};
+          .writes = "heaters diag_split_h_b_in on b (P = share * h.P) and diag_split_h_b_out "
+                    "on a (P = -share * h.P), which read the heater's power in every case; into "
+                    "a mass also ranged params, node diag_split_h_mass and its conductance to a"};
 }
 
 } // namespace
