@@ -70,7 +70,14 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   }
   DiagnosisOptions opt;
   if (!o.events.empty()) {
-    opt.events = read_events(o.events, model->run_case_names());
+    // A log's UNIX times are placed in each case by the first time of its data file.
+    std::vector<CaseClock> clocks;
+    for (const auto& name : model->run_case_names()) {
+      const lang::CaseSettings s = model->instantiate(name).settings;
+      CaseClock& c = clocks.emplace_back(CaseClock{name, s.duration.value_or(0.0), std::nullopt});
+      if (s.data_layout.absolute()) c.epoch = s.data_epoch;
+    }
+    opt.events = place_events(read_events(o.events, model->run_case_names()), clocks, o.events);
   }
   refuse_repeated_cases(o.cases);
   opt.cases = o.cases;
@@ -233,8 +240,10 @@ void add_diagnose_command(CLI::App& app, int& status) {
       ->check(rule_validator(non_negative_number_rule, "NUMBER"));
   add_set_option(sub, o->sets, "; the model diagnosed has them (--write does not write them)");
   sub->add_option("--events", o->events,
-                  "CSV of known events (case,event,start,end in s; empty case: every case): "
-                  "event_loss looks for a loss that exists only while one is on");
+                  "CSV of known events: windows (case,event,start,end in s; empty case: every "
+                  "case) or a campaign's log (time,event: \"Lid Opened\", \"Lid Closed\"; UNIX "
+                  "times placed by each case's data): event_loss looks for a loss that exists "
+                  "only while one is on");
   sub->add_option("--criterion", o->criterion,
                   "how candidates are compared: output-error (default: simulation residuals, "
                   "held-out validation) or prediction (maximum likelihood of a Kalman filter's "
@@ -242,7 +251,7 @@ void add_diagnose_command(CLI::App& app, int& status) {
       ->check(CLI::IsMember({"output-error", "prediction"}));
   sub->add_option("--initial-sd", o->initial_sd,
                   "prediction: standard deviation of the initial states in K (default 1)")
-      ->check(CLI::PositiveNumber);
+      ->check(rule_validator(positive_number_rule, "NUMBER"));
   sub->add_option("--whiteness-plot", o->whiteness_plot,
                   "prediction: SVG of the innovations' autocorrelation and cumulated periodogram "
                   "(with the findings applied) with their white-noise bounds");

@@ -2,6 +2,7 @@
 
 #include "lang/diagnostics.hpp"
 #include "lang/display_text.hpp"
+#include "lang/on_off_words.hpp"
 #include "lang/source.hpp"
 #include "lang/units.hpp"
 
@@ -83,20 +84,6 @@ bool is_missing(const std::string& s) {
   if (s.empty()) return true;
   const std::string l = lower(s);
   return l == "nan" || l == "na";
-}
-
-/// An on/off word as 1 or 0 (`True`/`False`, `on`/`off`, `yes`/`no`, `open`/`closed`,
-/// `start`/`stop`, any case), alone or last after a name (an event log's "Lid Opened").
-std::optional<double> on_off_word(const std::string& s) {
-  const std::size_t space = s.find_last_of(" \t");
-  const std::string l = lower(space == std::string::npos ? s : s.substr(space + 1));
-  static const char* const on[] = {"true", "on", "yes", "open", "opened", "start", "started"};
-  static const char* const off[] = {"false", "off", "no", "close", "closed", "stop", "stopped"};
-  for (const char* w : on)
-    if (l == w) return 1.0;
-  for (const char* w : off)
-    if (l == w) return 0.0;
-  return std::nullopt;
 }
 
 /// Days from 1970-01-01 to a date of the proleptic Gregorian calendar (H. Hinnant's algorithm).
@@ -192,6 +179,18 @@ void reject_semicolons(const std::vector<std::string>& header, const std::string
 }
 
 } // namespace
+
+std::optional<double> on_off_word(const std::string& s) {
+  const std::size_t space = s.find_last_of(" \t");
+  const std::string l = lower(space == std::string::npos ? s : s.substr(space + 1));
+  static const char* const on[] = {"true", "on", "yes", "open", "opened", "start", "started"};
+  static const char* const off[] = {"false", "off", "no", "close", "closed", "stop", "stopped"};
+  for (const char* w : on)
+    if (l == w) return 1.0;
+  for (const char* w : off)
+    if (l == w) return 0.0;
+  return std::nullopt;
+}
 
 CsvError::CsvError(const std::string& path, std::size_t row_, std::size_t column_,
                    const std::string& msg)

@@ -111,6 +111,80 @@ TEST_CASE("events file: a byte order mark is skipped; overlaps are found in O(n 
       error_of(text).starts_with("ev.csv:3:1: event from 10 to 30 s overlaps its window of row 2"));
 }
 
+TEST_CASE("events log: the incubator's published log (UNIX ns) placed in the cases by their data") {
+  // models/incubator/events.csv: the lid of the third experiment, whose data start at
+  // 1611326938.72029 s; the other cases' data start elsewhere or have no UNIX time.
+  const auto log = parse_events("time,event\n"
+                                "1611327598000000000,\"Lid Opened\"\n"
+                                "1611327658000000000,\"Lid Closed\"\n"
+                                "1611328159000000000,\"Lid Opened\"\n"
+                                "1611328225000000000,\"Lid Closed\"\n",
+                                "events.csv", kCases);
+  REQUIRE(log.size() == 2);
+  CHECK(log[0].absolute);
+  CHECK(log[0].event == "lid");
+  CHECK(log[1].start == doctest::Approx(1611328159.0));
+  const double epoch = 1611326938.72029;
+  const auto w = place_events(log,
+                              {CaseClock{"slow", 1399, epoch}, CaseClock{"pulse", 1000, 1.5e9},
+                               CaseClock{"other", 5000, std::nullopt}},
+                              "events.csv");
+  REQUIRE(w.size() == 2);
+  for (const auto& x : w) {
+    CHECK(x.case_name == "slow");
+    CHECK_FALSE(x.absolute);
+  }
+  CHECK(w[0].start == doctest::Approx(659.27971));
+  CHECK(w[0].end == doctest::Approx(719.27971));
+  CHECK(w[1].start == doctest::Approx(1220.27971));
+  CHECK(w[1].end == doctest::Approx(1286.27971));
+  const lang::Signal on = event_schedule(w, "slow", "lid");
+  CHECK(on.at(700) == 1.0);
+  CHECK(on.at(1000) == 0.0);
+  CHECK(event_schedule(w, "pulse", "lid").at(700) == 0.0);
+  // A log whose times fall in no case says so.
+  try {
+    place_events(log, {CaseClock{"pulse", 1000, 1.5e9}}, "events.csv");
+    FAIL("no error");
+  } catch (const lang::CsvError& e) {
+    CHECK(std::string(e.what()).find("fall in no case") != std::string::npos);
+  }
+}
+
+TEST_CASE("events log: times from the start of each case, windows cut to the case") {
+  const auto log = parse_events("case,time,event\n"
+                                "slow,100,door open\n"
+                                "slow,50,heater ON\n"   // out of order: sorted
+                                "slow,300,door closed\n"
+                                "pulse,20,Door 2 stop\n" // off first: on from the start
+                                "slow,900,door open\n",  // never closed: on to the end
+                                "ev.csv", kCases);
+  const auto w = place_events(log, {CaseClock{"slow", 1000, {}}, CaseClock{"pulse", 500, {}}},
+                              "ev.csv");
+  auto find = [&](const std::string& c, const std::string& ev, double start) {
+    for (const auto& x : w)
+      if (x.case_name == c && x.event == ev && x.start == start) return x.end;
+    return -1.0;
+  };
+  CHECK(find("slow", "door", 100) == 300);
+  CHECK(find("slow", "door", 900) == 1000);
+  CHECK(find("slow", "heater", 50) == 1000);
+  CHECK(find("pulse", "door_2", 0) == 20);
+  CHECK(w.size() == 4);
+}
+
+TEST_CASE("events log: bad input names the file, row and column") {
+  CHECK(error_of("time,event\n5,lid ajar\n")
+            .starts_with("ev.csv:2:2: 'lid ajar' does not end in an on/off word"));
+  CHECK(error_of("time,event\n1611327598,lid open\n30,lid closed\n")
+            .starts_with("ev.csv:3:1: time 30 is not a UNIX time"));
+  CHECK(error_of("time,event\n-3,lid open\n").starts_with("ev.csv:2:1: time -3 is negative"));
+  CHECK(error_of("time,start,event\n").starts_with("ev.csv:1:1: a file lists windows"));
+  CHECK(error_of("time,case\n").starts_with("ev.csv:1: a log names the columns"));
+  CHECK(error_of("case,time,event\nnone,1,lid on\n")
+            .starts_with("ev.csv:2:1: the model has no case 'none'"));
+}
+
 TEST_CASE("switched_conductance: a node cools through it only while it is on (closed form)") {
   // C dT/dt = -G on(t) (T - Tb): constant while off, exp(-G t / C) towards Tb while on.
   test::TempDir dir;
