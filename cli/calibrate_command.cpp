@@ -287,7 +287,6 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
   for (const auto& note : r.notes)
     std::cerr << fmt::format("{}: note: {}\n", me, note);
   auto json = result_json(r, problem, {o.seed, o.tolerance, o.model});
-  json["criterion"] = "output-error";
   write_outputs(o, *model, problem, r, json, {});
   if (r.cancelled) {
     // Under mpirun only rank 0 writes; the others say so (their words are shown only if they

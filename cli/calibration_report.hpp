@@ -29,8 +29,8 @@ std::string format_result_table(const OptimizerResult& r, const CalibrationProbl
 
 /// The JSON report: {method, samples, evaluations, accepted, rmse, r2, params: {name: value},
 /// wall_s} plus units ("SI"), param_units, found, cancelled, simulations, seed, tolerance_K,
-/// cases, points, notes and, from least-squares methods, std_errors and correlation. rmse, r2 are
-/// null and params empty when nothing was found.
+/// cases, points, notes and, from least-squares methods, std_errors and correlation, and criterion
+/// ("output-error"). rmse, r2 are null and params empty when nothing was found.
 nlohmann::ordered_json result_json(const OptimizerResult& r, const CalibrationProblem& problem,
                                    const ReportContext& ctx);
 

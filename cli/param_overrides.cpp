@@ -45,6 +45,15 @@ SetTarget resolve_target(const lang::Model& model, const std::string& name,
                          const std::string& option) {
   SetTarget t;
   t.name = name;
+  // Params first: a start temperature calibrated in a case is a param named NODE.T0@CASE.
+  const auto params = model.params();
+  for (const auto& p : params)
+    if (p.name == name) {
+      t.dim = p.dim;
+      t.temperature = p.dim && *p.dim == lang::dim::temperature;
+      if (p.ranged()) t.range = std::pair{*p.lo, *p.hi};
+      return t;
+    }
   const auto dot = name.rfind('.');
   if (dot != std::string::npos) {
     t.object = name.substr(0, dot);
@@ -58,14 +67,6 @@ SetTarget resolve_target(const lang::Model& model, const std::string& name,
     t.schema = &ks;
     return t;
   }
-  const auto params = model.params();
-  for (const auto& p : params)
-    if (p.name == name) {
-      t.dim = p.dim;
-      t.temperature = p.dim && *p.dim == lang::dim::temperature;
-      if (p.ranged()) t.range = std::pair{*p.lo, *p.hi};
-      return t;
-    }
   std::vector<std::string> names;
   for (const auto& p : params)
     names.push_back(p.name);

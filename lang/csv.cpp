@@ -218,7 +218,7 @@ std::optional<std::string> parse_time_format(std::string_view text, CsvLayout& l
         {"s", 1.0}, {"ms", 1e-3}, {"us", 1e-6}, {"ns", 1e-9}};
     for (const auto& [name, scale] : units)
       if (unit == name) {
-        layout.format = TimeFormat::unix;
+        layout.format = TimeFormat::unix_time;
         layout.time_scale = scale;
         return std::nullopt;
       }

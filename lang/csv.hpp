@@ -24,9 +24,9 @@ struct CsvError : std::runtime_error {
 
 /// How the time column's values are written.
 enum class TimeFormat {
-  relative, ///< a number of units (seconds unless a unit is given) from the case's start
-  unix,     ///< a UNIX time stamp (seconds, ms, us or ns since 1970-01-01 UTC)
-  iso       ///< an ISO 8601 date and time (`2021-01-22T14:48:58.7Z`, `2021-01-22 14:48`)
+  relative,  ///< a number of units (seconds unless a unit is given) from the case's start
+  unix_time, ///< a UNIX time stamp (seconds, ms, us or ns since 1970-01-01 UTC)
+  iso        ///< an ISO 8601 date and time (`2021-01-22T14:48:58.7Z`, `2021-01-22 14:48`)
 };
 
 /// Where a CSV file keeps its time and how its fields are separated.

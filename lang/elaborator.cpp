@@ -953,10 +953,12 @@ bool Elaborator::afford_case_iterations(std::size_t n, Span at, Span mark) {
 }
 
 bool Elaborator::first_setting(const std::string& name, Span at, Span mark) {
-  const auto [it, fresh] = set_keys_.emplace(name, mark);
+  const auto [it, fresh] = set_keys_.emplace(name, std::pair{mark, false});
   if (fresh) return true;
+  // Once per key: a loop setting it in 5,000,000 iterations would build as many messages.
+  if (std::exchange(it->second.second, true)) return false;
   Diagnostic d = DiagnosticEngine::make(DiagId::duplicate_case_key, at, mark, case_->name, name);
-  d.notes.push_back(DiagnosticEngine::note(DiagId::note_text, it->second, "first set here"));
+  d.notes.push_back(DiagnosticEngine::note(DiagId::note_text, it->second.first, "first set here"));
   report(std::move(d));
   return false;
 }

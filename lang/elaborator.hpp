@@ -23,7 +23,7 @@ namespace thermnet::lang {
 inline constexpr std::size_t max_reference_depth = 100;
 
 /// Most iterations the loops of one case may run, all together.
-inline constexpr std::size_t max_case_iterations = 10'000'000;
+inline constexpr std::size_t max_case_iterations = 1'000'000;
 
 /// Receives each problem found; may throw to stop at the first error.
 using Reporter = std::function<void(Diagnostic)>;
@@ -215,9 +215,10 @@ private:
   std::vector<std::string> evaluating_;
   std::set<std::string, std::less<>> used_;
   std::vector<std::optional<Quantity>> instance_values_; // per instance value slot, once
-  std::vector<int> element_slot_;        // per element declaration: index in the network, or -1
-  std::map<std::string, Span> set_keys_; // OBJECT.KEY the case sets, and where (the first time)
-  std::size_t case_iterations_ = 0;      // iterations of the case's loops so far
+  std::vector<int> element_slot_; // per element declaration: index in the network, or -1
+  // OBJECT.KEY the case sets: where it was set first, and whether setting it again was reported
+  std::map<std::string, std::pair<Span, bool>> set_keys_;
+  std::size_t case_iterations_ = 0; // iterations of the case's loops so far
 };
 
 } // namespace thermnet::lang

@@ -7,8 +7,8 @@
 #include "lang/time_program.hpp"
 
 #include <cmath>
-#include <limits>
 #include <filesystem>
+#include <limits>
 
 namespace thermnet::lang {
 using namespace detail;
@@ -114,7 +114,7 @@ std::optional<Signal> Elaborator::whole_signal(const ast::SignalExpr& se, FileId
       return std::nullopt;
     }
     if (!table->dim && p.absolute_temperature) { // bare temperatures are degC
-      s.constant += 273.15;                       // (`table(data, ...)` outside a case: 0 degC)
+      s.constant += 273.15;                      // (`table(data, ...)` outside a case: 0 degC)
       if (!s.is_constant())
         for (double& x : s.shape().v)
           x += 273.15;

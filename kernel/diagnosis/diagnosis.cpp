@@ -33,10 +33,10 @@ DiagnosisReport diagnose(const lang::Model& model, const DiagnosisOptions& optio
   // gains nothing significant there either); the output error's selection otherwise, which also
   // describes the error its last model leaves.
   detail::Base last = engine.declared();
-  const detail::Base best = options.criterion == "prediction"
-                                ? detail::select_by_likelihood(engine, options, rep)
-                            : rep.at_noise_floor ? engine.declared()
-                                                 : detail::Selection(engine, options).run(rep, last);
+  const detail::Base best =
+      options.criterion == "prediction" ? detail::select_by_likelihood(engine, options, rep)
+      : rep.at_noise_floor              ? engine.declared()
+                                        : detail::Selection(engine, options).run(rep, last);
   if (options.criterion != "prediction") {
     rep.structural = detail::residual_signature(engine.evidence(), last.sims, last.metrics.rmse);
     rep.structural.remains = !last.at_floor && last.metrics.rmse >= 2.0 * rep.noise_floor;

@@ -99,7 +99,7 @@ struct Finding {
   double window_gain = 0.0;
   std::map<std::string, std::string> at_bounds; ///< fitted values on a bound: name -> lower/upper
   std::vector<Rival> rivals;                    ///< candidates that fit as well (the ambiguity set)
-  std::string separate_by; ///< what measurement would separate it from its rivals
+  std::string separate_by;                  ///< what measurement would separate it from its rivals
   std::optional<LikelihoodTest> likelihood; ///< prediction criterion: its likelihood-ratio test
 };
 
@@ -152,7 +152,7 @@ struct DiagnosisReport {
   std::size_t refitted = 0;          ///< candidates refitted by simulation
   std::string criterion = "output-error";      ///< the criterion used (DiagnosisOptions::criterion)
   std::optional<PredictionSummary> prediction; ///< prediction criterion: likelihoods, whiteness
-  std::string validation;            ///< "leave_one_case_out", "held_back_time" or "cases_and_time"
+  std::string validation; ///< "leave_one_case_out", "held_back_time" or "cases_and_time"
   std::vector<std::string> split_cases; ///< with "cases_and_time": the cases held out by stretches
   std::size_t folds = 0;                ///< validation folds
   double wall_s = 0.0;                  ///< wall time, s

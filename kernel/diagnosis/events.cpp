@@ -206,7 +206,10 @@ std::vector<EventWindow> log_windows(std::vector<LogRow> rows, const std::string
   for (const auto& r : rows)
     largest = std::max(largest, r.time);
   const bool absolute = largest >= unix_from;
-  const double scale = largest >= 1e17 ? 1e-9 : largest >= 1e14 ? 1e-6 : largest >= 1e11 ? 1e-3 : 1.0;
+  const double scale = largest >= 1e17   ? 1e-9
+                       : largest >= 1e14 ? 1e-6
+                       : largest >= 1e11 ? 1e-3
+                                         : 1.0;
   for (const auto& r : rows)
     if (absolute ? r.time * scale < unix_from : r.time < 0.0)
       throw lang::CsvError(
@@ -325,7 +328,8 @@ std::vector<EventWindow> read_events(const std::string& path,
 }
 
 std::vector<EventWindow> place_events(const std::vector<EventWindow>& events,
-                                      const std::vector<CaseClock>& cases, const std::string& path) {
+                                      const std::vector<CaseClock>& cases,
+                                      const std::string& path) {
   std::vector<EventWindow> out;
   bool any_absolute = false, placed_absolute = false;
   for (const auto& w : events) {
@@ -338,7 +342,8 @@ std::vector<EventWindow> place_events(const std::vector<EventWindow>& events,
       if (!w.case_name.empty() && w.case_name != c.name) continue;
       if (w.absolute && !c.epoch) continue;
       const double shift = w.absolute ? *c.epoch : 0.0;
-      const double start = std::max(0.0, w.start - shift), end = std::min(c.duration, w.end - shift);
+      const double start = std::max(0.0, w.start - shift),
+                   end = std::min(c.duration, w.end - shift);
       if (!(end > start)) continue;
       out.push_back(EventWindow{c.name, w.event, start, end, false});
       placed_absolute = placed_absolute || w.absolute;

@@ -22,9 +22,9 @@ struct EventWindow {
 
 /// When a case happens: what place_events() needs to put a log's events in it.
 struct CaseClock {
-  std::string name;             ///< the case
-  double duration = 0.0;        ///< s
-  std::optional<double> epoch;  ///< UNIX time of its start, s (a data file with UNIX/ISO times)
+  std::string name;            ///< the case
+  double duration = 0.0;       ///< s
+  std::optional<double> epoch; ///< UNIX time of its start, s (a data file with UNIX/ISO times)
 };
 
 /// Parses an events file, in one of two forms. Windows: a header naming the columns `start` and

@@ -116,16 +116,16 @@ public:
     const auto& spec = ev.declared.spec;
     const auto& node = spec.nodes.at(static_cast<std::size_t>(spec.node_index(c.nodes[0])));
     const std::string m = name(ev, mass_name(c));
-    return fmt::format(
-        "node {} C = {} [J/K]{}\n"
-        "conductance {} {} {} G = {} [W/K]\n"
-        "heater {} {} P = {}.P\n"
-        "heater {} {} P = -{}.P",
-        m, netlist_number(p[0]),
-        c.start_T.empty() && node.T0 ? " T0 = " + netlist_number(*node.T0 - 273.15) : start_text(c),
-        name(ev, mass_name(c) + "_g"), m, c.nodes[0], netlist_number(p[0] / p[1]),
-        name(ev, mass_name(c) + "_in"), m, c.element, name(ev, mass_name(c) + "_out"),
-        c.nodes[0], c.element);
+    return fmt::format("node {} C = {} [J/K]{}\n"
+                       "conductance {} {} {} G = {} [W/K]\n"
+                       "heater {} {} P = {}.P\n"
+                       "heater {} {} P = -{}.P",
+                       m, netlist_number(p[0]),
+                       c.start_T.empty() && node.T0 ? " T0 = " + netlist_number(*node.T0 - 273.15)
+                                                    : start_text(c),
+                       name(ev, mass_name(c) + "_g"), m, c.nodes[0], netlist_number(p[0] / p[1]),
+                       name(ev, mass_name(c) + "_in"), m, c.element,
+                       name(ev, mass_name(c) + "_out"), c.nodes[0], c.element);
   }
 
   // The mass's start in every case block whose data start elsewhere; the power needs no line.

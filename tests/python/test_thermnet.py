@@ -242,7 +242,7 @@ def lagged(times, values, tau):
     return np.array(out)
 
 
-def incubator_by_hand(rows, on, room, t_air0, times, C=600.0, G=0.5, P=12 * 1.4):
+def incubator_by_hand(rows, on, room, t_air0, times, C=600.0, G=0.5, P=11.42 * 1.427):
     """The published 2-parameter incubator, C dT/dt = G (room - T) + P on(t), solved exactly
     between breakpoints: `on` held from each row to the next, `room` linear between rows and
     constant after the last (as thermnet's held and linear tables are)."""

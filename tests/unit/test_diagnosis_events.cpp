@@ -154,13 +154,13 @@ TEST_CASE("events log: the incubator's published log (UNIX ns) placed in the cas
 TEST_CASE("events log: times from the start of each case, windows cut to the case") {
   const auto log = parse_events("case,time,event\n"
                                 "slow,100,door open\n"
-                                "slow,50,heater ON\n"   // out of order: sorted
+                                "slow,50,heater ON\n" // out of order: sorted
                                 "slow,300,door closed\n"
                                 "pulse,20,Door 2 stop\n" // off first: on from the start
                                 "slow,900,door open\n",  // never closed: on to the end
                                 "ev.csv", kCases);
-  const auto w = place_events(log, {CaseClock{"slow", 1000, {}}, CaseClock{"pulse", 500, {}}},
-                              "ev.csv");
+  const auto w =
+      place_events(log, {CaseClock{"slow", 1000, {}}, CaseClock{"pulse", 500, {}}}, "ev.csv");
   auto find = [&](const std::string& c, const std::string& ev, double start) {
     for (const auto& x : w)
       if (x.case_name == c && x.event == ev && x.start == start) return x.end;
