@@ -8,7 +8,8 @@
 # event made it segfault), must name the lid's loss to the room first, the heater's own mass and a
 # mass tied to the air within its first three findings, lower the held-out error at every finding,
 # and reach within 10 % the fit of the published 7-parameter structure (incubator7.tnet,
-# calibrated by thermnet calibrate --method lm from its published values).
+# calibrated by thermnet calibrate --method lm from its published values, whose RMSE an
+# independent SciPy simulation of that structure at the fitted params confirms).
 # Usage: incubator.sh PATH/TO/thermnet
 . "$(dirname "$0")/../lib/harness.sh" "$@"
 
@@ -39,6 +40,9 @@ ok = ok and all(b < a for a, b in zip(held, held[1:]))
 ok = ok and f[2]["rmse_after"] <= 1.10 * c7["rmse"]
 sys.exit(not ok)
 PYEOF
+ref=$("$PY" "$HERE/../real_data/scipy_fits.py" incubator7 c7.json | awk '/^rmse/ {print $2}')
+check "SciPy's simulation of the 7-parameter structure at thermnet's fit gives its RMSE ($ref K)" \
+  "$PY" -c "import json, sys; r = json.load(open('c7.json'))['rmse']; sys.exit(abs(r / $ref - 1) > 0.005)"
 run lint --werror ext.tnet
 check "the written extension (the lid's loss as a switched conductance) lints clean" test "$rc" -eq 0
 check "its switch follows the lid's log in the lid experiment only" \
