@@ -14,8 +14,8 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <numeric>
+#include <optional>
 #include <string_view>
 #include <tuple>
 #include <unordered_map>
