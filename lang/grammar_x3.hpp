@@ -391,28 +391,24 @@ inline const auto push_ref_part = [](auto& ctx) {
 };
 
 // signals and references in expressions
+/// An expression node of kind `op` standing for the matched item, which is moved into the file's
+/// list `pool` (the node's `a` is its index there).
+template <Op op, auto pool>
+inline const auto make_pooled_node = [](auto& ctx) {
+  Builder& b = builder(ctx);
+  auto& items = b.file.*pool;
+  ast::ExprNode n;
+  n.op = op;
+  n.a = static_cast<ast::Index>(items.size());
+  n.begin = _attr(ctx).begin;
+  n.end = _attr(ctx).end;
+  items.push_back(std::move(_attr(ctx)));
+  _val(ctx) = b.add(n);
+};
 /// An expression node standing for the matched step/pwl or table signal.
-inline const auto make_signal_node = [](auto& ctx) {
-  Builder& b = builder(ctx);
-  ast::ExprNode n;
-  n.op = Op::signal;
-  n.a = static_cast<ast::Index>(b.file.signals.size());
-  n.begin = _attr(ctx).begin;
-  n.end = _attr(ctx).end;
-  b.file.signals.emplace_back(std::move(_attr(ctx)));
-  _val(ctx) = b.add(n);
-};
+inline const auto& make_signal_node = make_pooled_node<Op::signal, &ast::File::signals>;
 /// An expression node standing for the matched reference to a key (`film.P`).
-inline const auto make_ref_node = [](auto& ctx) {
-  Builder& b = builder(ctx);
-  ast::ExprNode n;
-  n.op = Op::ref;
-  n.a = static_cast<ast::Index>(b.file.expr_refs.size());
-  n.begin = _attr(ctx).begin;
-  n.end = _attr(ctx).end;
-  b.file.expr_refs.push_back(std::move(_attr(ctx)));
-  _val(ctx) = b.add(n);
-};
+inline const auto& make_ref_node = make_pooled_node<Op::ref, &ast::File::expr_refs>;
 inline const auto set_case_data_file = [](auto& ctx) { _val(ctx).case_data = true; };
 inline const auto set_option_time = [](auto& ctx) { _val(ctx).time = std::move(_attr(ctx)); };
 inline const auto set_option_separator = [](auto& ctx) {
