@@ -16,6 +16,7 @@
 #include "cli/output_files.hpp"
 #include "cli/param_overrides.hpp"
 #include "cli/prediction_calibration.hpp"
+#include "cli/prediction_options.hpp"
 #include "cli/progress_bar.hpp"
 #include "cli/run_command.hpp"
 #include "cli/whiteness_figure.hpp"
@@ -48,9 +49,7 @@ struct CalibrateOptions {
   std::string plot;
   std::vector<std::string> cases;
   std::vector<std::string> sets;
-  std::string criterion = "output-error";
-  double initial_sd = 1.0;
-  std::string whiteness_plot;
+  PredictionOptions prediction;
   std::string predictions;
 };
 
@@ -187,19 +186,19 @@ int run_prediction(const CalibrateOptions& o, const lang::Model& model,
                            me, problem.dimension(), problem.dimension() == 1 ? "" : "s",
                            problem.cases().size(), problem.cases().size() == 1 ? "" : "s",
                            problem.points());
-  const auto pc = calibrate_by_prediction(model, problem, o.initial_sd, o.threads,
+  const auto pc = calibrate_by_prediction(model, problem, o.prediction.initial_sd, o.threads,
                                           {o.seed, o.tolerance, o.model});
   std::cout << pc.text;
   std::cout.flush();
   for (const auto& note : pc.result.notes)
     std::cerr << fmt::format("{}: note: {}\n", me, note);
   std::vector<OutputFile> extra;
-  if (pc.result.found && !o.whiteness_plot.empty())
-    extra.push_back(
-        {o.whiteness_plot, plot::render_svg(whiteness_figure(
-                               pc.whiteness, fmt::format("{} — innovations of the one-step-ahead "
-                                                         "predictions (log-likelihood {:.5g})",
-                                                         model.name(), pc.fit.log_likelihood)))});
+  if (pc.result.found && !o.prediction.whiteness_plot.empty())
+    extra.push_back({o.prediction.whiteness_plot,
+                     plot::render_svg(whiteness_figure(
+                         pc.whiteness, fmt::format("{} — innovations of the one-step-ahead "
+                                                   "predictions (log-likelihood {:.5g})",
+                                                   model.name(), pc.fit.log_likelihood)))});
   if (pc.result.found && !o.predictions.empty())
     extra.push_back({o.predictions, predictions_csv(pc.innovations)});
   write_outputs(o, model, problem, pc.result, pc.json, std::move(extra));
@@ -218,11 +217,11 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
   check_outputs({{"-o", o.out},
                  {"--json", o.json},
                  {"--plot", o.plot},
-                 {"--whiteness-plot", o.whiteness_plot},
+                 {"--whiteness-plot", o.prediction.whiteness_plot},
                  {"--predictions", o.predictions}},
                 model_inputs(*model));
-  const bool prediction = o.criterion == "prediction";
-  if ((!o.whiteness_plot.empty() || !o.predictions.empty()) && !prediction) {
+  const bool prediction = o.prediction.prediction();
+  if ((!o.prediction.whiteness_plot.empty() || !o.predictions.empty()) && !prediction) {
     std::cerr << fmt::format("{}: error: {} needs --criterion prediction (it writes the "
                              "one-step-ahead prediction errors of that criterion)\n",
                              me, o.predictions.empty() ? "--whiteness-plot" : "--predictions");
@@ -333,17 +332,13 @@ void add_calibrate_command(CLI::App& app, int& status) {
                   "cases to compare (repeat --case or separate by commas; default: all with data)")
       ->allow_extra_args(false)
       ->delimiter(',');
-  cmd->add_option("--criterion", o->criterion,
-                  "what the fit minimises: output-error (default: the simulation's RMSE) or "
-                  "prediction (the likelihood of a Kalman filter's one-step-ahead predictions, "
-                  "with process and measurement noise fitted; docs/calibration.md)")
-      ->check(CLI::IsMember({"output-error", "prediction"}));
-  cmd->add_option("--initial-sd", o->initial_sd,
-                  "prediction: standard deviation of the initial states in K (default 1)")
-      ->check(rule_validator(positive_number_rule, "NUMBER"));
-  cmd->add_option("--whiteness-plot", o->whiteness_plot,
-                  "prediction: SVG of the innovations' autocorrelation and cumulated periodogram "
-                  "with their white-noise bounds");
+  add_prediction_options(
+      cmd, o->prediction,
+      "what the fit minimises: output-error (default: the simulation's RMSE) or "
+      "prediction (the likelihood of a Kalman filter's one-step-ahead predictions, "
+      "with process and measurement noise fitted; docs/calibration.md)",
+      "prediction: SVG of the innovations' autocorrelation and cumulated periodogram "
+      "with their white-noise bounds");
   cmd->add_option("--predictions", o->predictions,
                   "prediction: CSV of the one-step-ahead predictions at the fit "
                   "(case,time,node,measured,predicted,sd; degC and K)");

@@ -9,6 +9,7 @@
 #include "cli/option_rules.hpp"
 #include "cli/output_files.hpp"
 #include "cli/param_overrides.hpp"
+#include "cli/prediction_options.hpp"
 #include "cli/run_command.hpp"
 #include "cli/whiteness_figure.hpp"
 #include "kernel/diagnosis/report.hpp"
@@ -45,9 +46,7 @@ struct DiagnoseOptions {
   double min_gain = DiagnosisOptions{}.min_gain;
   std::vector<std::string> sets;
   bool stats = false;
-  std::string criterion = "output-error";
-  double initial_sd = 1.0;
-  std::string whiteness_plot;
+  PredictionOptions prediction;
 };
 
 int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
@@ -60,9 +59,9 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   check_outputs({{"--json", o.json},
                  {"--write", o.write},
                  {"--plot", o.plot},
-                 {"--whiteness-plot", o.whiteness_plot}},
+                 {"--whiteness-plot", o.prediction.whiteness_plot}},
                 inputs);
-  if (!o.whiteness_plot.empty() && o.criterion != "prediction") {
+  if (!o.prediction.whiteness_plot.empty() && !o.prediction.prediction()) {
     std::cerr << fmt::format("{}: error: --whiteness-plot needs --criterion prediction (the "
                              "whiteness tests are of its one-step-ahead prediction errors)\n",
                              me);
@@ -70,21 +69,15 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   }
   DiagnosisOptions opt;
   if (!o.events.empty()) {
-    // A log's UNIX times are placed in each case by the first time of its data file.
-    std::vector<CaseClock> clocks;
-    for (const auto& name : model->run_case_names()) {
-      const lang::CaseSettings s = model->instantiate(name).settings;
-      CaseClock& c = clocks.emplace_back(CaseClock{name, s.duration.value_or(0.0), std::nullopt});
-      if (s.data_layout.absolute()) c.epoch = s.data_epoch;
-    }
-    opt.events = place_events(read_events(o.events, model->run_case_names()), clocks, o.events);
+    opt.events = read_events(o.events, model->run_case_names());
+    opt.events_path = o.events;
   }
   refuse_repeated_cases(o.cases);
   opt.cases = o.cases;
   opt.threads = o.threads;
   opt.top = o.top;
-  opt.criterion = o.criterion;
-  opt.initial_sd = o.initial_sd;
+  opt.criterion = o.prediction.criterion;
+  opt.initial_sd = o.prediction.initial_sd;
   opt.min_gain = o.min_gain;
   const DiagnosisReport rep = diagnose(*model, opt);
   std::cout << diagnosis_text(rep);
@@ -100,11 +93,11 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
         files.push_back({f.path, std::move(f.text)});
   }
   if (!o.plot.empty()) files.push_back({o.plot, diagnosis_svg(rep, model->name())});
-  if (!o.whiteness_plot.empty() && rep.prediction) {
+  if (!o.prediction.whiteness_plot.empty() && rep.prediction) {
     const auto& p = *rep.prediction;
     const bool found = !rep.findings.empty();
     files.push_back(
-        {o.whiteness_plot,
+        {o.prediction.whiteness_plot,
          plot::render_svg(whiteness_figure(
              found ? p.whiteness_after : p.whiteness_before,
              fmt::format("{} — innovations {} (log-likelihood {:.5g})", model->name(),
@@ -244,17 +237,13 @@ void add_diagnose_command(CLI::App& app, int& status) {
                   "case) or a campaign's log (time,event: \"Lid Opened\", \"Lid Closed\"; UNIX "
                   "times placed by each case's data): event_loss looks for a loss that exists "
                   "only while one is on");
-  sub->add_option("--criterion", o->criterion,
-                  "how candidates are compared: output-error (default: simulation residuals, "
-                  "held-out validation) or prediction (maximum likelihood of a Kalman filter's "
-                  "one-step-ahead predictions, likelihood-ratio tests; docs/diagnose.md)")
-      ->check(CLI::IsMember({"output-error", "prediction"}));
-  sub->add_option("--initial-sd", o->initial_sd,
-                  "prediction: standard deviation of the initial states in K (default 1)")
-      ->check(rule_validator(positive_number_rule, "NUMBER"));
-  sub->add_option("--whiteness-plot", o->whiteness_plot,
-                  "prediction: SVG of the innovations' autocorrelation and cumulated periodogram "
-                  "(with the findings applied) with their white-noise bounds");
+  add_prediction_options(
+      sub, o->prediction,
+      "how candidates are compared: output-error (default: simulation residuals, "
+      "held-out validation) or prediction (maximum likelihood of a Kalman filter's "
+      "one-step-ahead predictions, likelihood-ratio tests; docs/diagnose.md)",
+      "prediction: SVG of the innovations' autocorrelation and cumulated periodogram "
+      "(with the findings applied) with their white-noise bounds");
   sub->add_flag("--stats", o->stats,
                 "print where the time went (setup, each batch of refits) to standard error");
   sub->callback([o, &status] {

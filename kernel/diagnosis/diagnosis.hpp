@@ -18,14 +18,17 @@ namespace thermnet {
 
 /// How to diagnose.
 struct DiagnosisOptions {
-  std::vector<std::string> cases;  ///< cases to use (empty: every case with data)
-  int threads = 0;                 ///< worker threads (0: all cores)
-  std::size_t top = 5;             ///< most findings reported
-  std::size_t refits = 6;          ///< model-side candidates refitted by simulation (plus the
-                                   ///< best of each kind)
-  std::size_t time_folds = 3;      ///< with one case: equal stretches of its time span, each held
-                                   ///< back once for validation
-  std::vector<EventWindow> events; ///< known events (a lid opened), for event_loss candidates
+  std::vector<std::string> cases; ///< cases to use (empty: every case with data)
+  int threads = 0;                ///< worker threads (0: all cores)
+  std::size_t top = 5;            ///< most findings reported
+  std::size_t refits = 6;         ///< model-side candidates refitted by simulation (plus the
+                                  ///< best of each kind)
+  std::size_t time_folds = 3;     ///< with one case: equal stretches of its time span, each held
+                                  ///< back once for validation
+  /// known events (a lid opened), for event_loss candidates: as read_events() gives them (a log's
+  /// UNIX times are placed in each case by its data file's first time)
+  std::vector<EventWindow> events;
+  std::string events_path; ///< the file the events come from, named in errors
   /// "output-error" (the default: simulation residuals, held-out validation) or "prediction"
   /// (one-step-ahead predictions of a Kalman filter, likelihood-ratio tests)
   std::string criterion = "output-error";

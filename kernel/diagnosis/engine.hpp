@@ -141,6 +141,7 @@ private:
 
   // evidence.cpp
   void load_cases();
+  void place_known_events();
   void simulate_baseline();
   void build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all,
                     double& screen_total, const std::set<int>& distrusted = {}) const;

@@ -16,7 +16,6 @@ namespace thermnet::detail {
 
 void Engine::load_cases() {
   ev_.model = &model_;
-  ev_.events = opt_.events;
   // What the findings' netlist text is written against: the declarations, and every case block.
   const lang::Reporter fail = [](lang::Diagnostic d) {
     if (d.severity == lang::Severity::error) throw lang::ModelError(std::move(d));
@@ -24,6 +23,7 @@ void Engine::load_cases() {
   ev_.declared.spec = lang::Elaborator(model_, fail, nullptr, {}, false).run();
   for (const auto& name : model_.case_names())
     ev_.declared_cases.push_back({name, model_.instantiate(name)});
+  place_known_events();
   std::vector<std::string> names = opt_.cases;
   const bool all = names.empty();
   if (all) names = model_.run_case_names();
@@ -50,6 +50,21 @@ void Engine::load_cases() {
   if (ev_.cases.empty())
     throw DiagnosisError("no case of the model has measured data; nothing to diagnose (add "
                          "`data \"file.csv\"` to a case)");
+}
+
+void Engine::place_known_events() {
+  // A log's UNIX times are placed in each case by the first time of its data file.
+  std::vector<CaseClock> clocks;
+  for (const auto& name : model_.run_case_names()) {
+    const auto declared = std::find_if(ev_.declared_cases.begin(), ev_.declared_cases.end(),
+                                       [&](const DeclaredSpec& d) { return d.case_name == name; });
+    const lang::CaseSettings s = declared != ev_.declared_cases.end()
+                                     ? declared->spec.settings
+                                     : model_.instantiate(name).settings;
+    CaseClock& c = clocks.emplace_back(CaseClock{name, s.duration.value_or(0.0), std::nullopt});
+    if (s.data_layout.absolute()) c.epoch = s.data_epoch;
+  }
+  ev_.events = place_events(opt_.events, clocks, opt_.events_path);
 }
 
 void Engine::simulate_baseline() {
