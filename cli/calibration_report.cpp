@@ -11,7 +11,7 @@ namespace thermnet::cli {
 
 namespace {
 
-constexpr double kZeroCelsius = 273.15;
+using lang::kZeroCelsius;
 
 /// Display width of UTF-8 text (code points; enough for the headings used here).
 std::size_t width_of(const std::string& s) {

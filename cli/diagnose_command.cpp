@@ -15,6 +15,7 @@
 #include "kernel/diagnosis/report.hpp"
 #include "lang/rewrite/case_blocks.hpp"
 #include "lang/rewrite/param_values.hpp"
+#include "lang/units.hpp"
 #include "plot/style.hpp"
 #include "plot/svg_plot.hpp"
 
@@ -28,7 +29,7 @@
 namespace thermnet::cli {
 namespace {
 
-constexpr double kZeroCelsius = 273.15;
+using lang::kZeroCelsius;
 
 /// Palette indices of the plot's worst nodes, in rank order: the first ones as far apart as the
 /// palette allows (blue, vermillion, black, orange), so no two nodes of a panel look alike.

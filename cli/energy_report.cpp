@@ -1,21 +1,13 @@
 #include "cli/energy_report.hpp"
 
 #include "cli/heat_flow_report.hpp"
+#include "cli/report_buffer.hpp"
 
 #include <fmt/format.h>
 
 #include <cmath>
-#include <iterator>
 
 namespace thermnet::cli {
-
-namespace {
-/// Appends formatted text to a report.
-template <class... A> void put(fmt::memory_buffer& out, fmt::format_string<A...> f, A&&... a) {
-  fmt::format_to(std::back_inserter(out), f, std::forward<A>(a)...);
-}
-
-} // namespace
 
 EnergyBalance energy_balance(const lang::NetworkSpec& spec, const EnergyTotals& totals) {
   EnergyBalance b;

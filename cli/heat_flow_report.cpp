@@ -1,6 +1,8 @@
 #include "cli/heat_flow_report.hpp"
 
 #include "cli/csv_writer.hpp"
+#include "cli/report_buffer.hpp"
+#include "lang/units.hpp"
 
 #include <fmt/format.h>
 
@@ -10,12 +12,8 @@
 namespace thermnet::cli {
 
 namespace {
-/// Appends formatted text to a report.
-template <class... A> void put(fmt::memory_buffer& out, fmt::format_string<A...> f, A&&... a) {
-  fmt::format_to(std::back_inserter(out), f, std::forward<A>(a)...);
-}
 
-constexpr double kZeroCelsius = 273.15;
+using lang::kZeroCelsius;
 
 const std::string& node_name(const lang::NetworkSpec& spec, int node) {
   return spec.nodes[static_cast<std::size_t>(node)].name;

@@ -1,6 +1,7 @@
 #include "cli/node_summary.hpp"
 
 #include "cli/csv_writer.hpp"
+#include "lang/units.hpp"
 
 #include <fmt/format.h>
 
@@ -12,7 +13,7 @@
 namespace thermnet::cli {
 
 namespace {
-constexpr double kZeroCelsius = 273.15;
+using lang::kZeroCelsius;
 
 /// Time within [t0, t1] that a linear segment from a to b spends outside [lo, hi].
 double outside_time(double t0, double t1, double a, double b, double lo, double hi) {

@@ -16,7 +16,7 @@
 namespace thermnet::cli {
 
 namespace {
-constexpr double kZeroCelsius = 273.15;
+using lang::kZeroCelsius;
 
 std::pair<std::string, std::string> split_assignment(const std::string& text,
                                                      const std::string& option) {

@@ -1,5 +1,7 @@
 #include "cli/prediction_calibration.hpp"
 
+#include "lang/units.hpp"
+
 #include <fmt/format.h>
 
 #include <chrono>
@@ -8,15 +10,14 @@
 namespace thermnet::cli {
 
 std::string predictions_csv(const std::vector<CaseInnovations>& innovations) {
-  constexpr double kZeroCelsius = 273.15;
   std::string s = "case,time,node,measured,predicted,sd\n";
   auto cell = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{:.10g}", v); };
   for (const auto& c : innovations)
     for (std::size_t k = 0; k < c.times.size(); ++k)
       for (std::size_t n = 0; n < c.nodes.size(); ++n)
         s += fmt::format("{},{:.10g},{},{},{},{}\n", c.case_name, c.times[k], c.nodes[n],
-                         cell(c.measured[n][k] - kZeroCelsius),
-                         cell(c.predicted[n][k] - kZeroCelsius), cell(c.sd[n][k]));
+                         cell(c.measured[n][k] - lang::kZeroCelsius),
+                         cell(c.predicted[n][k] - lang::kZeroCelsius), cell(c.sd[n][k]));
   return s;
 }
 

@@ -3,6 +3,7 @@
 #include "cli/csv_writer.hpp"
 #include "lang/diagnostics.hpp"
 #include "lang/name_list.hpp"
+#include "lang/units.hpp"
 #include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
@@ -16,7 +17,7 @@
 namespace thermnet::cli {
 
 namespace {
-constexpr double kZeroCelsius = 273.15;
+using lang::kZeroCelsius;
 } // namespace
 
 std::string result_csv_header(const std::vector<std::string>& names) {

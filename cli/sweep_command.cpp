@@ -12,6 +12,7 @@
 #include "cli/run_command.hpp"
 #include "kernel/core/process_group.hpp"
 #include "kernel/core/simulation.hpp"
+#include "lang/units.hpp"
 #include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
@@ -26,7 +27,7 @@
 namespace thermnet::cli {
 namespace {
 
-constexpr double kZeroCelsius = 273.15;
+using lang::kZeroCelsius;
 
 struct SweepOptions {
   std::string model;

@@ -12,6 +12,7 @@
 #include "kernel/core/network.hpp"
 #include "kernel/core/parallel.hpp"
 #include "kernel/core/process_group.hpp"
+#include "lang/units.hpp"
 #include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
@@ -25,7 +26,7 @@
 namespace thermnet::cli {
 namespace {
 
-constexpr double kZeroCelsius = 273.15;
+using lang::kZeroCelsius;
 
 } // namespace
 

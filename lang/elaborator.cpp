@@ -4,6 +4,7 @@
 #include "lang/csv.hpp"
 #include "lang/loop_iteration.hpp"
 #include "lang/time_program.hpp"
+#include "lang/units.hpp"
 
 #include <boost/container/small_vector.hpp>
 
@@ -393,7 +394,7 @@ std::optional<double> Elaborator::to_place(const Quantity& q, const Place& p, Sp
     return std::nullopt;
   }
   double v = q.value;
-  if (!q.dim && p.absolute_temperature) v += 273.15; // bare temperatures are degC
+  if (!q.dim && p.absolute_temperature) v += kZeroCelsius; // bare temperatures are degC
   if (!check_range(v, p, at, mark)) return std::nullopt;
   return v;
 }

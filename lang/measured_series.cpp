@@ -1,6 +1,7 @@
 #include "lang/measured_series.hpp"
 
 #include "lang/display_text.hpp"
+#include "lang/units.hpp"
 
 #include <fmt/format.h>
 
@@ -9,8 +10,6 @@
 
 namespace thermnet::lang {
 namespace {
-
-constexpr double kZeroCelsius = 273.15;
 
 /// Fails at the first value below absolute zero.
 void check_above_absolute_zero(const CsvTable& t, const SeriesValues& s,

@@ -5,6 +5,7 @@
 #include "lang/elaborator.hpp"
 #include "lang/elaborator_detail.hpp"
 #include "lang/time_program.hpp"
+#include "lang/units.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -114,10 +115,10 @@ std::optional<Signal> Elaborator::whole_signal(const ast::SignalExpr& se, FileId
       return std::nullopt;
     }
     if (!table->dim && p.absolute_temperature) { // bare temperatures are degC
-      s.constant += 273.15;                      // (`table(data, ...)` outside a case: 0 degC)
+      s.constant += kZeroCelsius;                // (`table(data, ...)` outside a case: 0 degC)
       if (!s.is_constant())
         for (double& x : s.shape().v)
-          x += 273.15;
+          x += kZeroCelsius;
     }
     if (s.is_constant()) return s;
     for (double x : s.values())
@@ -186,7 +187,7 @@ std::optional<Signal> Elaborator::expression_signal(const ast::Expr& e, FileId f
         m_.file(f), e.root, [&](const ast::Identifier& id) { return lookup(id, f, scope).value; },
         [&](ast::Index node) { return embedded_.at(node); });
     shape.t = shape.program->corners();
-    if (!q.dim && p.absolute_temperature) shape.offset = 273.15;
+    if (!q.dim && p.absolute_temperature) shape.offset = kZeroCelsius;
     if (!check_range(s.at(0.0), p, at, span_of(f, e))) return std::nullopt;
     return s;
   } catch (const EvalError& err) {

@@ -10,6 +10,9 @@
 
 namespace thermnet::lang {
 
+/// 0 degC in kelvin (temperatures are kelvin inside, degC in files and reports).
+inline constexpr double kZeroCelsius = 273.15;
+
 /// Exponents of the SI base dimensions, in the order m, kg, s, K, A, mol, cd.
 struct Dimension {
   std::array<std::int8_t, 7> exp{}; ///< exponent of each base dimension

@@ -4,6 +4,7 @@
 
 #include "cli/model_loading.hpp"
 #include "kernel/core/solver_types.hpp"
+#include "lang/units.hpp"
 #include "python/model_session.hpp"
 
 #include <pybind11/numpy.h>
@@ -19,8 +20,6 @@ using thermnet::python::ModelSession;
 using thermnet::python::SimulateRequest;
 
 namespace {
-
-constexpr double kZeroCelsius = 273.15;
 
 /// A simulation result with numpy views: times (s) and temperatures (degC, one row per time).
 struct PyResult {
@@ -42,7 +41,8 @@ PyResult to_py(const thermnet::SimulationResult& r) {
   auto t = out.temperatures.mutable_unchecked<2>();
   for (py::ssize_t k = 0; k < nt; ++k)
     for (py::ssize_t i = 0; i < nn; ++i)
-      t(k, i) = r.temps[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)] - kZeroCelsius;
+      t(k, i) = r.temps[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)] -
+                thermnet::lang::kZeroCelsius;
   return out;
 }
 

@@ -3,6 +3,7 @@
 #include "kernel/core/absolute_zero.hpp"
 
 #include "kernel/core/solver_types.hpp"
+#include "lang/units.hpp"
 
 #include <fmt/format.h>
 
@@ -13,7 +14,7 @@ namespace thermnet::detail {
 namespace {
 
 /// 0 degC in kelvin.
-constexpr double kZeroCelsius = 273.15;
+using lang::kZeroCelsius;
 
 } // namespace
 

@@ -12,8 +12,6 @@ namespace thermnet::rewrite {
 
 namespace {
 
-constexpr double kZeroCelsius = 273.15;
-
 /// How a value expression was written.
 struct Written {
   bool literal = false;            ///< a lone (signed) number, with or without a unit
@@ -89,7 +87,7 @@ std::string format_param_value(std::string_view written, const lang::ParamInfo& 
   if (w.literal && w.unit) {
     if (auto s = in_unit(*w.unit, param, si)) return *s;
   } else if (w.literal) {
-    return number(temperature ? si - kZeroCelsius : si);
+    return number(temperature ? si - lang::kZeroCelsius : si);
   } else {
     const auto units = units_in(written);
     if (units.size() == 1)

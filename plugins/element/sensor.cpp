@@ -3,12 +3,12 @@
 // reading.
 #include "kernel/core/element_registry.hpp"
 
+#include "lang/units.hpp"
+
 #include <numeric>
 
 namespace thermnet {
 namespace {
-
-constexpr double kZeroCelsius = 273.15;
 
 /// Reads the mean temperature of its nodes through a lag: R' = (mean T - R) / tau (R = mean T
 /// without a lag); its reading is offset + gain * R in degC, returned in K.
@@ -39,7 +39,7 @@ public:
   }
   std::optional<double> sensor_reading(const double* T) const override {
     const double r = tau_ > 0.0 ? T[state_] : mean(T);
-    return offset_ + gain_ * (r - kZeroCelsius) + kZeroCelsius;
+    return offset_ + gain_ * (r - lang::kZeroCelsius) + lang::kZeroCelsius;
   }
 
 private:

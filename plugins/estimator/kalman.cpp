@@ -22,6 +22,7 @@
 #include "kernel/core/network_state_space.hpp"
 #include "kernel/core/simulation.hpp"
 #include "kernel/estimation/estimator.hpp"
+#include "lang/units.hpp"
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -34,7 +35,6 @@
 namespace thermnet {
 namespace {
 
-constexpr double kelvin = 273.15;
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 struct Step {
@@ -218,7 +218,7 @@ private:
     Eigen::VectorXd y(p);
     for (Eigen::Index r = 0; r < p; ++r) {
       states.push_back(present[r].unknown);
-      y(r) = row[present[r].column] + kelvin;
+      y(r) = row[present[r].column] + lang::kZeroCelsius;
     }
     filter_->update(states, y, Eigen::VectorXd::Constant(p, sigma_meas_ * sigma_meas_));
   }
@@ -227,7 +227,7 @@ private:
     for (std::size_t j = 0; j < truth_.size(); ++j) {
       double truth = row[truth_[j].column];
       if (std::isnan(truth)) continue;
-      double e = x(truth_[j].unknown) - kelvin - truth;
+      double e = x(truth_[j].unknown) - lang::kZeroCelsius - truth;
       err_sq_[j] += e * e;
       ++err_n_[j];
     }
@@ -237,7 +237,7 @@ private:
     EstimateRow r;
     r.time = t;
     for (int i = 0; i < n_; ++i)
-      r.values.push_back(x(i) - kelvin);
+      r.values.push_back(x(i) - lang::kZeroCelsius);
     if (input_ >= 0) r.values.push_back(x(n_));
     for (int i = 0; i < m_; ++i)
       r.values.push_back(std::sqrt(std::max(0.0, P(i, i))));
