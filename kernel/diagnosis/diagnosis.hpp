@@ -132,6 +132,8 @@ struct RefitBatch {
   bool joint = false;     ///< refitted jointly with the ranged params
   std::size_t refits = 0; ///< candidates refitted (each on all data plus every validation fold)
   std::size_t simulations = 0; ///< case simulations the refits ran (in this process)
+  /// of those, the ones that integrated parameter sensitivities (a Jacobian with the residuals)
+  std::size_t sensitivity_runs = 0;
   double wall_s = 0.0;         ///< wall time, s
   double cpu_s = 0.0;          ///< CPU time of the process (every thread), s
 };
