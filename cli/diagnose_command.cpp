@@ -1,6 +1,7 @@
 // `thermnet diagnose MODEL [--case NAME ...] [--json REPORT.json] [--write EXTENDED.tnet]
 //  [--plot OUT.svg] [--threads N] [--top K] [--events EVENTS.csv] [--stats]
-//  [--criterion output-error|prediction] [--initial-sd K] [--whiteness-plot OUT.svg]`
+//  [--criterion output-error|prediction] [--initial-sd K] [--whiteness-plot OUT.svg]
+//  [--jacobian differences|sensitivities]`
 
 #include "cli/diagnose_command.hpp"
 
@@ -46,6 +47,7 @@ struct DiagnoseOptions {
   std::vector<std::string> sets;
   bool stats = false;
   std::string criterion = "output-error";
+  std::string jacobian = "differences";
   double initial_sd = 1.0;
   std::string whiteness_plot;
 };
@@ -84,6 +86,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   opt.threads = o.threads;
   opt.top = o.top;
   opt.criterion = o.criterion;
+  opt.sensitivities = o.jacobian == "sensitivities";
   opt.initial_sd = o.initial_sd;
   opt.min_gain = o.min_gain;
   const DiagnosisReport rep = diagnose(*model, opt);
@@ -249,6 +252,11 @@ void add_diagnose_command(CLI::App& app, int& status) {
                   "held-out validation) or prediction (maximum likelihood of a Kalman filter's "
                   "one-step-ahead predictions, likelihood-ratio tests; docs/diagnose.md)")
       ->check(CLI::IsMember({"output-error", "prediction"}));
+  sub->add_option("--jacobian", o->jacobian,
+                  "output-error: the refits' Jacobians by differences (default: forward "
+                  "differences of simulations) or sensitivities (CVODES forward sensitivities; "
+                  "fewer simulations, near-tied fits may end elsewhere; docs/diagnose.md)")
+      ->check(CLI::IsMember({"differences", "sensitivities"}));
   sub->add_option("--initial-sd", o->initial_sd,
                   "prediction: standard deviation of the initial states in K (default 1)")
       ->check(rule_validator(positive_number_rule, "NUMBER"));

@@ -84,9 +84,12 @@ Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vect
           return false;
         }
       },
-      [&](const std::vector<double>& x, std::vector<double>& r, Eigen::MatrixXd& J) {
-        return jacobian_residuals(h, c, x, part, base, r, J);
-      });
+      opt_.sensitivities
+          ? CandidateResiduals::WithJacobian(
+                [&](const std::vector<double>& x, std::vector<double>& r, Eigen::MatrixXd& J) {
+                  return jacobian_residuals(h, c, x, part, base, r, J);
+                })
+          : CandidateResiduals::WithJacobian{});
   const WorkingCoordinates coords(problem.params());
   const auto np = static_cast<long>(start.size());
   LeastSquaresStart from;
@@ -108,7 +111,7 @@ Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vect
   // xtol and hold_at_bounds move joint refits that end on a bound): the damping falls by 5 and
   // rises by 8 with at most 8 rejected steps per iteration and an iteration cap, which bound the
   // cost of hundreds of candidate and fold refits; only the SSE decrease stops a fit early; steps
-  // are projected into the box.
+  // are projected into the box; the reported errors use the last Jacobian (no final one).
   LeastSquaresOptions o;
   o.ftol = rtol;
   o.xtol = 0.0;
@@ -119,11 +122,11 @@ Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vect
   o.damping_max = std::numeric_limits<double>::infinity();
   o.max_rejections = 8;
   o.hold_at_bounds = false;
-  // Between exact Jacobians (the cases' sensitivities), Broyden updates along the accepted steps;
-  // an all-data fit ends with an exact Jacobian at its optimum (its standard errors, and the
-  // start of every fold's refit), a fold's without one.
-  o.secant_updates = true;
-  o.final_jacobian = part.what == Part::all;
+  // With sensitivities: Broyden updates along the accepted steps between exact Jacobians; an
+  // all-data fit ends with an exact Jacobian at its optimum (its standard errors, and the start
+  // of every fold's refit), a fold's without one.
+  o.secant_updates = opt_.sensitivities;
+  o.final_jacobian = opt_.sensitivities && part.what == Part::all;
   const LeastSquaresResult res = solve_least_squares(problem, std::move(from), o);
   Fit f;
   if (!res.ok) return f;

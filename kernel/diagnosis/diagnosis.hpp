@@ -33,6 +33,9 @@ struct DiagnosisOptions {
   /// The practical floor: no finding whose largest local gain (the RMS error over 10 consecutive
   /// samples of a series, lowered at most) is below this, K.
   double min_gain = 0.05;
+  /// output-error: the refits' Jacobians from the cases' forward sensitivities (CVODES) instead of
+  /// forward differences of simulations (fewer simulations; near-tied fits may end elsewhere)
+  bool sensitivities = false;
 };
 
 /// How far the simulation is off for one node (one case or all cases together).
@@ -134,8 +137,8 @@ struct RefitBatch {
   std::size_t simulations = 0; ///< case simulations the refits ran (in this process)
   /// of those, the ones that integrated parameter sensitivities (a Jacobian with the residuals)
   std::size_t sensitivity_runs = 0;
-  double wall_s = 0.0;         ///< wall time, s
-  double cpu_s = 0.0;          ///< CPU time of the process (every thread), s
+  double wall_s = 0.0; ///< wall time, s
+  double cpu_s = 0.0;  ///< CPU time of the process (every thread), s
 };
 
 /// The outcome of a diagnosis.
