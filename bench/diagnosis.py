@@ -9,8 +9,9 @@ summary counts, the findings' kinds and the final RMSE of the JSON report (kept 
 folder as report_NAME_tTHREADS_rREPEAT.json). CPU seconds are the
 number to compare on a shared machine (wall time depends on what else runs); repeat the runs.
 
-Usage: bench/diagnosis.py --binary NAME=THERMNET [--binary ...] --ids S19,B72 [--threads 1]
-                          [--repeat 2] [--keep DIR] [--out results.csv]
+Usage: bench/diagnosis.py --binary NAME=THERMNET[=OPTIONS] [--binary ...] --ids S19,B72
+                          [--threads 1] [--repeat 2] [--keep DIR] [--out results.csv]
+OPTIONS: extra diagnose options of that binary, e.g. sens=build/cli/thermnet=--jacobian sensitivities
 """
 from __future__ import annotations
 
@@ -52,8 +53,8 @@ def stats_counts(stderr: str) -> tuple[int, int]:
     return sims, refits
 
 
-def run_one(binary: str, folder: str, threads: int, report: str) -> dict:
-    args = [binary, "diagnose", "model.tnet", "--stats", "--json", report, "--threads", str(threads)]
+def run_one(binary: str, extra: list[str], folder: str, threads: int, report: str) -> dict:
+    args = [binary, "diagnose", "model.tnet", "--stats", "--json", report, "--threads", str(threads), *extra]
     if os.path.exists(os.path.join(folder, "events.csv")):
         args += ["--events", "events.csv"]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -76,14 +77,14 @@ def run_one(binary: str, folder: str, threads: int, report: str) -> dict:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--binary", action="append", required=True, metavar="NAME=THERMNET")
+    ap.add_argument("--binary", action="append", required=True, metavar="NAME=THERMNET[=OPTIONS]")
     ap.add_argument("--ids", required=True)
     ap.add_argument("--threads", default="1", help="comma-separated thread counts")
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--keep", help="generate the scenarios into this folder and keep them")
     ap.add_argument("--out", help="also write the rows to this CSV")
     a = ap.parse_args()
-    binaries = [b.split("=", 1) for b in a.binary]
+    binaries = [(b.split("=", 2) + [""])[:3] for b in a.binary]
     root = a.keep or tempfile.mkdtemp(prefix="thermnet_bench_")
     rows = []
     fields = ["binary", "id", "threads", "repeat", "rc", "wall_s", "cpu_s", "simulations", "refits",
@@ -96,9 +97,9 @@ def main() -> int:
             generate(sid, folder)
         for threads in (int(t) for t in a.threads.split(",")):
             for rep in range(a.repeat):
-                for name, binary in binaries:
+                for name, binary, extra in binaries:
                     r = {"binary": name, "id": sid, "threads": threads, "repeat": rep + 1,
-                         **run_one(binary, folder, threads, f"report_{name}_t{threads}_r{rep + 1}.json")}
+                         **run_one(binary, extra.split(), folder, threads, f"report_{name}_t{threads}_r{rep + 1}.json")}
                     rows.append(r)
                     w.writerow(r)
                     sys.stdout.flush()
