@@ -250,8 +250,7 @@ bool Engine::model_sensitivities(const Hypothesis& h, const Candidate& c,
 /// linear in the series), and along each parameter moved as for the elaboration.
 bool Engine::jacobian_residuals(const Hypothesis& h, const Candidate& c,
                                 const std::vector<double>& p, Part part, const Base& base,
-                                std::vector<double>& r, Eigen::MatrixXd& J,
-                                CaseSims* corrected) const {
+                                std::vector<double>& r, Eigen::MatrixXd& J) const {
   CaseSims raw;
   std::vector<CaseSims> draw;
   if (!model_sensitivities(h, c, p, part, base, raw, draw)) return false;
@@ -286,7 +285,6 @@ bool Engine::jacobian_residuals(const Hypothesis& h, const Candidate& c,
     J.col(static_cast<long>(j)) =
         Eigen::Map<const Eigen::VectorXd>(dj.data(), static_cast<long>(dj.size()));
   }
-  if (corrected) *corrected = std::move(sims);
   return true;
 }
 

@@ -166,8 +166,8 @@ private:
                            Part part, const Base& base, CaseSims& sims,
                            std::vector<CaseSims>& dsims) const;
   bool jacobian_residuals(const Hypothesis& h, const Candidate& c, const std::vector<double>& p,
-                          Part part, const Base& base, std::vector<double>& r, Eigen::MatrixXd& J,
-                          CaseSims* corrected = nullptr) const;
+                          Part part, const Base& base, std::vector<double>& r,
+                          Eigen::MatrixXd& J) const;
   std::vector<char> rows_in(Part part) const;
   double sst(Part part) const;
   // candidate_fit.cpp
