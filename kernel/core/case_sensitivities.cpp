@@ -37,12 +37,10 @@ private:
 
 } // namespace
 
-std::optional<NodeSensitivities> simulate_sensitivities(lang::NetworkSpec spec,
-                                                        std::vector<MovedSpec> moved,
-                                                        const std::vector<double>& times,
-                                                        const std::vector<int>& nodes,
-                                                        const SolverOptions& solver,
-                                                        std::string* why_not) {
+std::optional<NodeSensitivities>
+simulate_sensitivities(lang::NetworkSpec spec, std::vector<MovedSpec> moved,
+                       const std::vector<double>& times, const std::vector<int>& nodes,
+                       const SolverOptions& solver, std::string* why_not) {
   Network net(std::move(spec));
   NetworkDerivatives all(net, std::move(moved));
   if (!all.supported()) {

@@ -23,11 +23,9 @@ struct NodeSensitivities {
 /// allowed) at `times`. A parameter that moves nothing gets zero sensitivities without being
 /// integrated. Returns nullopt, with the reason in `why_not`, when the network cannot integrate
 /// sensitivities (NetworkDerivatives::why_not()); throws SolverError when the simulation fails.
-std::optional<NodeSensitivities> simulate_sensitivities(lang::NetworkSpec spec,
-                                                        std::vector<MovedSpec> moved,
-                                                        const std::vector<double>& times,
-                                                        const std::vector<int>& nodes,
-                                                        const SolverOptions& solver,
-                                                        std::string* why_not = nullptr);
+std::optional<NodeSensitivities>
+simulate_sensitivities(lang::NetworkSpec spec, std::vector<MovedSpec> moved,
+                       const std::vector<double>& times, const std::vector<int>& nodes,
+                       const SolverOptions& solver, std::string* why_not = nullptr);
 
 } // namespace thermnet

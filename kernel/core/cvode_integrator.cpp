@@ -19,9 +19,9 @@ namespace thermnet::detail {
 /// What the sensitivity right-hand side needs beside the evaluator: the parameters, and dF/dT at
 /// the last (t, y) it was evaluated at (the staggered corrector asks at the same point repeatedly).
 struct SensitivityContext {
-  ParameterDerivatives* d = nullptr;          // the parameters
-  const SparsityPattern* pattern = nullptr;   // of dF/dT
-  std::vector<double> J;                      // dF/dT at (tJ, yJ), pattern order
+  ParameterDerivatives* d = nullptr;        // the parameters
+  const SparsityPattern* pattern = nullptr; // of dF/dT
+  std::vector<double> J;                    // dF/dT at (tJ, yJ), pattern order
   double tJ = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> yJ;
   std::vector<std::vector<double>> dF; // dF/dp_j at (tJ, yJ)
@@ -226,8 +226,7 @@ public:
     accumulate();
     accumulate_sensitivities();
     // the sensitivities at t, continuous across the restart (t is not moved by the parameters)
-    if (yS_.v)
-      chk_.call(Api::cvode, "CVodeGetSensDky", CVodeGetSensDky, mem_.get(), t, 0, yS_.v);
+    if (yS_.v) chk_.call(Api::cvode, "CVodeGetSensDky", CVodeGetSensDky, mem_.get(), t, 0, yS_.v);
     t_restart_ = t;
     stepped_ = false;
     ev_.set_window(t, stop);
@@ -302,7 +301,8 @@ private:
     sens_.pattern = &ev_.system().jacobian_pattern();
     sens_.J.assign(static_cast<std::size_t>(sens_.pattern->nnz()), 0.0);
     sens_.yJ.assign(static_cast<std::size_t>(n_), 0.0);
-    sens_.dF.assign(static_cast<std::size_t>(ns), std::vector<double>(static_cast<std::size_t>(n_)));
+    sens_.dF.assign(static_cast<std::size_t>(ns),
+                    std::vector<double>(static_cast<std::size_t>(n_)));
     ev_.sensitivities = &sens_;
     yS_.v = chk_.created(N_VCloneVectorArray(ns, y_.get()), "N_VCloneVectorArray");
     yS_.count = ns;
@@ -338,8 +338,8 @@ private:
   double t_restart_ = 0.0;
   bool stepped_ = false; // a step was taken since the last (re)start
   SensitivityContext sens_;
-  VectorArray yS_;    // the sensitivities (initial values, then the restart values)
-  VectorArray out_S_; // views of the caller's buffers for dense output
+  VectorArray yS_;       // the sensitivities (initial values, then the restart values)
+  VectorArray out_S_;    // views of the caller's buffers for dense output
   SolverStats sens_acc_; // the sensitivities' counters of the finished segments
 };
 

@@ -66,8 +66,8 @@ public:
   /// time; keys not listed stay fixed), for forward sensitivities; false when its kind gives no
   /// such derivative or not for these keys (the kernel then differences the heat flows of the
   /// element built at two values of the parameter).
-  virtual bool key_derivative(double /*t*/, const double* /*T*/,
-                              const lang::KeySignals& /*rates*/, double* /*dF*/) const {
+  virtual bool key_derivative(double /*t*/, const double* /*T*/, const lang::KeySignals& /*rates*/,
+                              double* /*dF*/) const {
     return false;
   }
 };

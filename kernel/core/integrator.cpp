@@ -371,7 +371,6 @@ void make_consistent(detail::SystemEvaluator& ev, LinearSolverKind kind, const S
   stepper->collect(stats);
 }
 
-
 /// integrate() with or without sensitivities.
 SolverStats run_transient(ThermalSystem& sys, std::vector<double>& T, double t0, double t1,
                           const std::vector<double>& output_times, const OutputCallback& out,
@@ -402,10 +401,9 @@ SolverStats run_transient(ThermalSystem& sys, std::vector<double>& T, double t0,
   std::unique_ptr<detail::TransientStepper> stepper =
       ev.has_algebraic()
           ? detail::make_ida_stepper(ev, kind, opt, t0, T.data(), stops[seg])
-          : detail::make_cvode_stepper(
-                ev, kind, opt, t0, T.data(), stops[seg],
-                sens ? detail::SensitivityStart{sens->derivatives, sens->S}
-                     : detail::SensitivityStart{});
+          : detail::make_cvode_stepper(ev, kind, opt, t0, T.data(), stops[seg],
+                                       sens ? detail::SensitivityStart{sens->derivatives, sens->S}
+                                            : detail::SensitivityStart{});
   outputs.attach(stepper.get());
   const double* y = stepper->state();
   TransientRun run(sys, ev, *stepper, stops, seg, t0, opt, stats, outputs);
@@ -445,8 +443,8 @@ SolverStats integrate(ThermalSystem& sys, ParameterDerivatives& d, std::vector<d
       throw std::invalid_argument("integrate: an initial sensitivity has the wrong size");
   if (ns == 0)
     return integrate(
-        sys, T, t0, t1, output_times,
-        [&](double t, const std::vector<double>& x) { out(t, x, S); }, opt);
+        sys, T, t0, t1, output_times, [&](double t, const std::vector<double>& x) { out(t, x, S); },
+        opt);
   const SensitivityRun sens{&d, &S, &out};
   return run_transient(sys, T, t0, t1, output_times, nullptr, opt, &sens);
 }

@@ -120,9 +120,9 @@ struct NetworkDerivatives::Direction {
   std::vector<char> boundary_set; // per spec node: a moved boundary
   /// A piece that moved, with its keys' rates when its kind differentiates itself.
   struct Piece {
-    std::size_t index = 0;     // into the network's pieces
-    bool differenced = false;  // by the difference of its two builds
-    lang::KeySignals rates;    // d key / dp of the keys that moved (key_derivative)
+    std::size_t index = 0;    // into the network's pieces
+    bool differenced = false; // by the difference of its two builds
+    lang::KeySignals rates;   // d key / dp of the keys that moved (key_derivative)
   };
   std::vector<Piece> pieces;
 };
@@ -172,8 +172,8 @@ void NetworkDerivatives::prepare(Direction& d) {
   const auto changed_structure = [&] {
     if (!(d.step != 0.0) || !std::isfinite(d.step)) return true;
     if (sa.nodes.size() != sb.nodes.size() || sa.elements.size() != sb.elements.size() ||
-        a.size() != b.size() || a.pieces_.size() != b.pieces_.size() ||
-        b.event_count() != 0 || b.state_count_ != 0 || b.spec().settings.initial_steady)
+        a.size() != b.size() || a.pieces_.size() != b.pieces_.size() || b.event_count() != 0 ||
+        b.state_count_ != 0 || b.spec().settings.initial_steady)
       return true;
     for (std::size_t i = 0; i < sa.nodes.size(); ++i)
       if (sa.nodes[i].boundary != sb.nodes[i].boundary) return true;
@@ -306,7 +306,8 @@ void NetworkDerivatives::heat_balance(int j, double t, const double* T, double* 
       const auto kb = static_cast<std::size_t>(b.pieces_[p.index].batch);
       const auto [x, y] = net_.links_.nodes(k);
       const double G = net_.links_.conductance(k), Gb = b.links_.conductance(kb);
-      const double dq = (Gb - G) / h * (Ta[x] - Ta[y]) + Gb * ((Tb[x] - Ta[x]) - (Tb[y] - Ta[y])) / h;
+      const double dq =
+          (Gb - G) / h * (Ta[x] - Ta[y]) + Gb * ((Tb[x] - Ta[x]) - (Tb[y] - Ta[y])) / h;
       F_[static_cast<std::size_t>(x)] -= dq;
       F_[static_cast<std::size_t>(y)] += dq;
       continue;

@@ -34,21 +34,21 @@ struct SolverOptions {
 
 /// Counters of a solve (printed by --stats).
 struct SolverStats {
-  std::string integrator;    ///< "cvode-bdf", "ida", "kinsol" or "kinsol+pseudo-transient"
-  std::string linear_solver; ///< "dense", "klu" or "spgmr"
-  long steps = 0;            ///< internal steps (Newton iterations for KINSOL)
-  long rhs_evals = 0;        ///< right-hand side / residual evaluations
-  long jac_evals = 0;        ///< Jacobian evaluations
-  long linear_setups = 0;    ///< linear solver setups (factorisations)
-  long nonlinear_iters = 0;  ///< nonlinear (Newton) iterations
-  long nonlinear_fails = 0;  ///< nonlinear convergence failures
-  long linear_iters = 0;     ///< Krylov (GMRES) iterations (0 for direct solvers)
-  long prec_setups = 0;      ///< preconditioner setups: ILU(0) factorisations (Krylov only)
-  long error_test_fails = 0; ///< local error test failures
-  long events = 0;           ///< events applied (thermostat switches)
-  long restarts = 0;         ///< restarts at breakpoints and events
-  long sensitivities = 0;    ///< forward sensitivities integrated with the state (CVODES)
-  long sens_rhs_evals = 0;   ///< their right-hand side evaluations (all sensitivities at once)
+  std::string integrator;        ///< "cvode-bdf", "ida", "kinsol" or "kinsol+pseudo-transient"
+  std::string linear_solver;     ///< "dense", "klu" or "spgmr"
+  long steps = 0;                ///< internal steps (Newton iterations for KINSOL)
+  long rhs_evals = 0;            ///< right-hand side / residual evaluations
+  long jac_evals = 0;            ///< Jacobian evaluations
+  long linear_setups = 0;        ///< linear solver setups (factorisations)
+  long nonlinear_iters = 0;      ///< nonlinear (Newton) iterations
+  long nonlinear_fails = 0;      ///< nonlinear convergence failures
+  long linear_iters = 0;         ///< Krylov (GMRES) iterations (0 for direct solvers)
+  long prec_setups = 0;          ///< preconditioner setups: ILU(0) factorisations (Krylov only)
+  long error_test_fails = 0;     ///< local error test failures
+  long events = 0;               ///< events applied (thermostat switches)
+  long restarts = 0;             ///< restarts at breakpoints and events
+  long sensitivities = 0;        ///< forward sensitivities integrated with the state (CVODES)
+  long sens_rhs_evals = 0;       ///< their right-hand side evaluations (all sensitivities at once)
   long sens_nonlinear_iters = 0; ///< their corrector (Newton) iterations
   long sens_nonlinear_fails = 0; ///< their corrector convergence failures
 };

@@ -54,7 +54,7 @@ public:
 
 /// Forward sensitivities for a CVODE stepper: the parameters and dT(t0)/dp_j.
 struct SensitivityStart {
-  ParameterDerivatives* derivatives = nullptr;        ///< the parameters (null: none)
+  ParameterDerivatives* derivatives = nullptr;          ///< the parameters (null: none)
   const std::vector<std::vector<double>>* S0 = nullptr; ///< S0[j]: dT(t0)/dp_j per unknown
 };
 

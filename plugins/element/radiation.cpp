@@ -24,8 +24,8 @@ ExchangeFactor exchange_factor(const lang::KeyValues& v) {
   const double F = v.at("F"), A = v.at("A"), e1 = v.at("eps1"), e2 = v.at("eps2");
   const double D = 1.0 / e1 + 1.0 / e2 - 1.0;
   x.GR = F * A / D;
-  x.d_ln = {{"F", 1.0 / F}, {"A", 1.0 / A}, {"eps1", 1.0 / (e1 * e1 * D)},
-            {"eps2", 1.0 / (e2 * e2 * D)}};
+  x.d_ln = {
+      {"F", 1.0 / F}, {"A", 1.0 / A}, {"eps1", 1.0 / (e1 * e1 * D)}, {"eps2", 1.0 / (e2 * e2 * D)}};
   return x;
 }
 
