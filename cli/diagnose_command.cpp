@@ -1,6 +1,7 @@
 // `thermnet diagnose MODEL [--case NAME ...] [--json REPORT.json] [--write EXTENDED.tnet]
 //  [--plot OUT.svg] [--threads N] [--top K] [--events EVENTS.csv] [--stats]
-//  [--criterion output-error|prediction] [--initial-sd K] [--whiteness-plot OUT.svg]`
+//  [--criterion output-error|prediction] [--initial-sd K] [--whiteness-plot OUT.svg]
+//  [--jacobian differences|sensitivities]`
 
 #include "cli/diagnose_command.hpp"
 
@@ -48,6 +49,7 @@ struct DiagnoseOptions {
   std::vector<std::string> sets;
   bool stats = false;
   PredictionOptions prediction;
+  std::string jacobian = "differences";
 };
 
 int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
@@ -78,6 +80,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   opt.threads = o.threads;
   opt.top = o.top;
   opt.criterion = o.prediction.criterion;
+  opt.sensitivities = o.jacobian == "sensitivities";
   opt.initial_sd = o.prediction.initial_sd;
   opt.min_gain = o.min_gain;
   const DiagnosisReport rep = diagnose(*model, opt);
@@ -245,6 +248,11 @@ void add_diagnose_command(CLI::App& app, int& status) {
       "one-step-ahead predictions, likelihood-ratio tests; docs/diagnose.md)",
       "prediction: SVG of the innovations' autocorrelation and cumulated periodogram "
       "(with the findings applied) with their white-noise bounds");
+  sub->add_option("--jacobian", o->jacobian,
+                  "output-error: the refits' Jacobians by differences (default: forward "
+                  "differences of simulations) or sensitivities (CVODES forward sensitivities; "
+                  "fewer simulations, near-tied fits may end elsewhere; docs/diagnose.md)")
+      ->check(CLI::IsMember({"differences", "sensitivities"}));
   sub->add_flag("--stats", o->stats,
                 "print where the time went (setup, each batch of refits) to standard error");
   sub->callback([o, &status] {

@@ -20,6 +20,12 @@ double ResidualProblem::difference_step(std::size_t, const std::vector<double>&)
   return 1e-3;
 }
 
+ResidualProblem::Evaluated ResidualProblem::residuals_and_jacobian(const std::vector<double>& x,
+                                                                   std::vector<double>& r,
+                                                                   Eigen::MatrixXd&) const {
+  return residuals(x, r) ? Evaluated::residuals : Evaluated::nothing;
+}
+
 double sum_of_squares(const std::vector<double>& r) {
   double s = 0.0;
   for (double v : r)
@@ -68,29 +74,71 @@ double WorkingCoordinates::dx_du(std::size_t j, double x) const {
 
 namespace {
 
+/// Forward differences, one column per parameter (in parallel: each writes its own column),
+/// backward at the upper bound and the other side when one fails (its column then stays zero and
+/// `complete` false).
+MatrixXd forward_differences(const ResidualProblem& problem, const WorkingCoordinates& coords,
+                             const VectorXd& u, const std::vector<double>& r, int threads,
+                             const std::atomic<bool>* cancel, std::atomic<std::size_t>& evaluations,
+                             bool& complete) {
+  const auto n = static_cast<Index>(r.size());
+  const std::size_t p = problem.params().size();
+  MatrixXd J = MatrixXd::Zero(n, static_cast<Index>(p));
+  const std::vector<double> x = coords.to_x(u);
+  std::vector<char> ok(p, 0);
+  parallel_for(
+      p, threads,
+      [&](std::size_t j) {
+        const auto jj = static_cast<Index>(j);
+        const double step = problem.difference_step(j, x);
+        double h = u[jj] + step <= 1.0 ? step : -step;
+        for (int attempt = 0; attempt < 2 && !ok[j]; ++attempt, h = -h) {
+          VectorXd v = u;
+          v[jj] += h;
+          if (v[jj] < 0.0 || v[jj] > 1.0) continue;
+          std::vector<double> rv;
+          const bool good = problem.residuals(coords.to_x(v), rv);
+          ++evaluations;
+          if (!good || static_cast<Index>(rv.size()) != n || !std::isfinite(sum_of_squares(rv)))
+            continue;
+          for (Index i = 0; i < n; ++i)
+            J(i, jj) = (rv[static_cast<std::size_t>(i)] - r[static_cast<std::size_t>(i)]) / h;
+          ok[j] = 1;
+        }
+      },
+      cancel);
+  complete = std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
+  return J;
+}
+
 /// One solve: the problem in working coordinates, with its evaluation count.
 class Solver {
 public:
   Solver(const ResidualProblem& problem, const LeastSquaresOptions& options)
       : problem_(problem), options_(options), coords_(problem.params()),
-        p_(problem.params().size()) {}
+        p_(problem.params().size()), analytic_(problem.has_jacobian()) {}
 
   LeastSquaresResult run(LeastSquaresStart start);
 
 private:
-  /// What one damped step (with its retries) decided.
-  enum class Step { accepted, stop };
+  /// What one damped step (with its retries) decided: accepted, stop, or a rejected step of an
+  /// updated Jacobian (a new one is needed).
+  enum class Step { accepted, stop, refresh };
 
   bool cancelled() const { return options_.cancel && options_.cancel->load(); }
-  bool evaluate(const VectorXd& u, std::vector<double>& r, double& sse) const;
-  bool jacobian(const VectorXd& u, const std::vector<double>& r, MatrixXd& J) const;
-  Step step(const MatrixXd& J, double& lambda);
+  bool evaluate(const VectorXd& u, std::vector<double>& r, double& sse,
+                MatrixXd* J = nullptr) const;
+  bool jacobian(const VectorXd& u, const std::vector<double>& r, MatrixXd& J);
+  Step step(const MatrixXd& J, double& lambda, bool updated);
 
   const ResidualProblem& problem_;
   const LeastSquaresOptions& options_;
   WorkingCoordinates coords_;
   std::size_t p_;
+  bool analytic_; // the problem gives Jacobians
   mutable std::atomic<std::size_t> evaluations_{0};
+  std::size_t differenced_ = 0, secant_ = 0;
+  MatrixXd next_J_; // the problem's Jacobian at the last accepted trial (empty: none)
   // the current point
   VectorXd u_;
   std::vector<double> r_;
@@ -99,45 +147,50 @@ private:
   LeastSquaresStop stop_ = LeastSquaresStop::budget;
 };
 
-bool Solver::evaluate(const VectorXd& u, std::vector<double>& r, double& sse) const {
-  const bool ok = problem_.residuals(coords_.to_x(u), r);
+/// The residuals at u and, with J and a problem that gives Jacobians, dr/du there (J is left
+/// empty when the problem could not give it).
+bool Solver::evaluate(const VectorXd& u, std::vector<double>& r, double& sse, MatrixXd* J) const {
+  const std::vector<double> x = coords_.to_x(u);
+  bool ok = false;
+  if (J && analytic_) {
+    MatrixXd Jx;
+    const auto what = problem_.residuals_and_jacobian(x, r, Jx);
+    ok = what != ResidualProblem::Evaluated::nothing;
+    J->resize(0, 0);
+    if (what == ResidualProblem::Evaluated::both && Jx.rows() == static_cast<Index>(r.size()) &&
+        Jx.cols() == static_cast<Index>(p_) && Jx.allFinite()) {
+      for (std::size_t j = 0; j < p_; ++j)
+        Jx.col(static_cast<Index>(j)) *= coords_.dx_du(j, x[j]);
+      *J = std::move(Jx);
+    }
+  } else {
+    ok = problem_.residuals(x, r);
+  }
   ++evaluations_;
   sse = ok ? sum_of_squares(r) : 0.0;
   return ok && std::isfinite(sse);
 }
 
-/// Forward differences, one column per parameter (in parallel: each writes its own column),
-/// backward at the upper bound and the other side when one fails.
-bool Solver::jacobian(const VectorXd& u, const std::vector<double>& r, MatrixXd& J) const {
-  const auto n = static_cast<Index>(r.size());
-  J.setZero(n, static_cast<Index>(p_));
-  const std::vector<double> x = coords_.to_x(u);
-  std::vector<char> ok(p_, 0);
-  parallel_for(
-      p_, options_.threads,
-      [&](std::size_t j) {
-        const auto jj = static_cast<Index>(j);
-        const double step = problem_.difference_step(j, x);
-        double h = u[jj] + step <= 1.0 ? step : -step;
-        for (int attempt = 0; attempt < 2 && !ok[j]; ++attempt, h = -h) {
-          VectorXd v = u;
-          v[jj] += h;
-          if (v[jj] < 0.0 || v[jj] > 1.0) continue;
-          std::vector<double> rv;
-          double sse = 0.0;
-          if (!evaluate(v, rv, sse) || static_cast<Index>(rv.size()) != n) continue;
-          for (Index i = 0; i < n; ++i)
-            J(i, jj) = (rv[static_cast<std::size_t>(i)] - r[static_cast<std::size_t>(i)]) / h;
-          ok[j] = 1;
-        }
-      },
-      options_.cancel);
-  return std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
+/// The problem's Jacobian at u when it gives one; otherwise forward differences, one column per
+/// parameter (in parallel: each writes its own column), backward at the upper bound and the
+/// other side when one fails.
+bool Solver::jacobian(const VectorXd& u, const std::vector<double>& r, MatrixXd& J) {
+  if (analytic_) {
+    std::vector<double> again;
+    double sse = 0.0;
+    if (evaluate(u, again, sse, &J) && J.size() > 0) return true;
+  }
+  ++differenced_;
+  bool complete = false;
+  J = forward_differences(problem_, coords_, u, r, options_.threads, options_.cancel, evaluations_,
+                          complete);
+  return complete;
 }
 
 /// The damped Gauss-Newton step on the free parameters (a parameter on a bound whose gradient
-/// points outward is held), raising the damping until a step lowers the SSE.
-Solver::Step Solver::step(const MatrixXd& J, double& lambda) {
+/// points outward is held), raising the damping until a step lowers the SSE; with an `updated`
+/// (secant) Jacobian, the first rejection asks for a new Jacobian instead.
+Solver::Step Solver::step(const MatrixXd& J, double& lambda, bool updated) {
   const VectorXd rv = Eigen::Map<const VectorXd>(r_.data(), static_cast<Index>(r_.size()));
   const VectorXd g = J.transpose() * rv;
   const MatrixXd A = J.transpose() * J;
@@ -183,11 +236,14 @@ Solver::Step Solver::step(const MatrixXd& J, double& lambda) {
     }
     std::vector<double> r;
     double sse = 0.0;
-    if (evaluate(trial, r, sse) && sse < sse_) {
+    MatrixXd J_trial;
+    const bool with_jacobian = analytic_ && !options_.secant_updates;
+    if (evaluate(trial, r, sse, with_jacobian ? &J_trial : nullptr) && sse < sse_) {
       const double rel = (sse_ - sse) / std::max(sse_, 1e-300);
       u_ = trial;
       r_ = std::move(r);
       sse_ = sse;
+      next_J_ = std::move(J_trial);
       ++accepted_;
       lambda = std::max(lambda / options_.damping_down, options_.damping_min);
       if (rel < options_.ftol) {
@@ -196,6 +252,7 @@ Solver::Step Solver::step(const MatrixXd& J, double& lambda) {
       }
       return Step::accepted;
     }
+    if (updated) return Step::refresh;
     lambda *= options_.damping_up;
     if (lambda > options_.damping_max || ++rejected >= options_.max_rejections) {
       stop_ = LeastSquaresStop::no_descent;
@@ -207,8 +264,10 @@ Solver::Step Solver::step(const MatrixXd& J, double& lambda) {
 LeastSquaresResult Solver::run(LeastSquaresStart start) {
   LeastSquaresResult out;
   u_ = std::move(start.u);
+  MatrixXd J = std::move(start.jacobian);
+  const bool start_jacobian = J.size() > 0;
   if (start.r.empty()) {
-    if (!evaluate(u_, r_, sse_)) {
+    if (!evaluate(u_, r_, sse_, analytic_ && !start_jacobian ? &J : nullptr)) {
       out.evaluations = evaluations_.load();
       return out; // stop: start_failed
     }
@@ -216,10 +275,12 @@ LeastSquaresResult Solver::run(LeastSquaresStart start) {
     r_ = std::move(start.r);
     sse_ = sum_of_squares(r_);
   }
-  MatrixXd J = std::move(start.jacobian);
   bool given = J.rows() == static_cast<Index>(r_.size()) && J.cols() == static_cast<Index>(p_);
   bool current = false; // J was taken at u_
+  bool updated = false; // J was updated along steps since it was taken
   double lambda = options_.damping_start;
+  VectorXd u_before;
+  std::vector<double> r_before;
   for (;;) {
     if (cancelled()) {
       stop_ = LeastSquaresStop::cancelled;
@@ -230,7 +291,7 @@ LeastSquaresResult Solver::run(LeastSquaresStart start) {
       break;
     }
     if (!given) {
-      if (evaluations_.load() + p_ + 1 > options_.max_evaluations) {
+      if (evaluations_.load() + (analytic_ ? 1 : p_) + 1 > options_.max_evaluations) {
         stop_ = LeastSquaresStop::budget;
         break;
       }
@@ -239,16 +300,44 @@ LeastSquaresResult Solver::run(LeastSquaresStart start) {
         stop_ = LeastSquaresStop::jacobian_failed;
         break;
       }
+      updated = false;
     }
     given = false;
-    current = true;
+    current = !updated;
     ++out.iterations;
     const std::size_t before = accepted_;
-    if (step(J, lambda) == Step::stop) {
-      current = current && accepted_ == before;
-      break;
+    next_J_.resize(0, 0);
+    if (options_.secant_updates) {
+      u_before = u_;
+      r_before = r_;
     }
-    current = false;
+    const Step s = step(J, lambda, updated);
+    const bool moved = accepted_ != before;
+    if (s == Step::refresh) { // a new Jacobian here, and the step again
+      --out.iterations;
+      continue;
+    }
+    if (moved && next_J_.size() > 0) { // the trial's own Jacobian: the next linearisation
+      J = std::move(next_J_);
+      given = current = true;
+      updated = false;
+    } else if (moved && options_.secant_updates) { // Broyden: J du = dr along the step
+      const VectorXd du = u_ - u_before;
+      const double norm2 = du.squaredNorm();
+      if (norm2 > 0.0) {
+        VectorXd dr(static_cast<Index>(r_.size()));
+        for (std::size_t i = 0; i < r_.size(); ++i)
+          dr[static_cast<Index>(i)] = r_[i] - r_before[i];
+        J += (dr - J * du) * (du.transpose() / norm2);
+        ++secant_;
+      }
+      given = true;
+      current = false;
+      updated = true;
+    } else {
+      current = current && !moved;
+    }
+    if (s == Step::stop) break;
   }
   if (options_.final_jacobian && !current && !cancelled()) current = jacobian(u_, r_, J);
   out.ok = true;
@@ -259,6 +348,8 @@ LeastSquaresResult Solver::run(LeastSquaresStart start) {
   out.jacobian = std::move(J);
   out.jacobian_at_x = current;
   out.evaluations = evaluations_.load();
+  out.differenced = differenced_;
+  out.secant = secant_;
   out.accepted = accepted_;
   out.stop = stop_;
   return out;

@@ -39,6 +39,20 @@ public:
   virtual bool residuals(const std::vector<double>& x, std::vector<double>& r) const = 0;
   /// Forward-difference step of parameter j at x, as a fraction of its box (default 1e-3).
   virtual double difference_step(std::size_t j, const std::vector<double>& x) const;
+  /// What residuals_and_jacobian() evaluated.
+  enum class Evaluated {
+    nothing,   ///< x cannot be evaluated
+    residuals, ///< the residuals only (the solver differences them for the Jacobian)
+    both       ///< the residuals and their Jacobian
+  };
+  /// True when residuals_and_jacobian() gives Jacobians (e.g. by sensitivities integrated with
+  /// the simulation): the solver then asks for one with every point it evaluates instead of
+  /// differencing (default: false).
+  virtual bool has_jacobian() const { return false; }
+  /// The residuals at x and, in the same evaluation, their Jacobian dr/dx (a row per residual, a
+  /// column per parameter); the default evaluates residuals() only.
+  virtual Evaluated residuals_and_jacobian(const std::vector<double>& x, std::vector<double>& r,
+                                           Eigen::MatrixXd& J) const;
 };
 
 /// The map between a problem's parameters and the working coordinates u in [0, 1].
@@ -85,6 +99,10 @@ struct LeastSquaresOptions {
   /// Recompute the Jacobian at the final point when the last one was taken before the last step
   /// (what the covariance needs), even beyond max_evaluations.
   bool final_jacobian = true;
+  /// Between Jacobians of the problem (or finite differences), update the Jacobian along each
+  /// accepted step by Broyden's rank-one secant formula instead of computing a new one; a step of
+  /// an updated Jacobian that is rejected makes a new one (and final_jacobian one at the end).
+  bool secant_updates = false;
   int threads = 1;                           ///< Jacobian columns in parallel (0: all cores)
   const std::atomic<bool>* cancel = nullptr; ///< set to stop early with the best point so far
 };
@@ -110,17 +128,21 @@ struct LeastSquaresResult {
   std::vector<double> r;       ///< its residuals
   double sse = 0.0;            ///< their sum of squares
   Eigen::MatrixXd jacobian;    ///< the last Jacobian dr/du (empty if none was computed)
-  bool jacobian_at_x = false;  ///< that Jacobian was taken at x
+  bool jacobian_at_x = false;  ///< that Jacobian was taken at x (not updated along a step)
   int iterations = 0;          ///< linearisations
   std::size_t evaluations = 0; ///< residual evaluations
+  std::size_t differenced = 0; ///< Jacobians made by finite differences (not the problem's own)
+  std::size_t secant = 0;      ///< Jacobians updated along a step (secant_updates)
   std::size_t accepted = 0;    ///< accepted steps
   LeastSquaresStop stop = LeastSquaresStop::start_failed; ///< why it stopped
 };
 
 /// Minimises the sum of squared residuals within the box by Levenberg-Marquardt: Marquardt-scaled
-/// damping, a forward-difference Jacobian (a backward one at the upper bound, the other side when
-/// one fails), bounds kept by projection with a parameter on a bound whose gradient points
-/// outward held for the step (hold_at_bounds). Deterministic whatever `threads`.
+/// damping, the problem's own Jacobian where it gives one (has_jacobian(): evaluated with every
+/// trial point, so an accepted step brings the next iteration's Jacobian) and otherwise a
+/// forward-difference Jacobian (a backward one at the upper bound, the other side when one
+/// fails), bounds kept by projection with a parameter on a bound whose gradient points outward
+/// held for the step (hold_at_bounds). Deterministic whatever `threads`.
 LeastSquaresResult solve_least_squares(const ResidualProblem& problem, LeastSquaresStart start,
                                        const LeastSquaresOptions& options = {});
 

@@ -61,6 +61,15 @@ public:
   virtual double flow(double /*t*/, const double* /*T*/) const { return 0.0; }
   /// What it reads, K, for a sensor (an element whose schema `observes`); nothing otherwise.
   virtual std::optional<double> sensor_reading(const double* /*T*/) const { return std::nullopt; }
+  /// Adds into dF how its heat flows change per unit of a parameter at (t, T) when its keys
+  /// change at `rates` (d value / d parameter of each key that changes, by name, as signals of the
+  /// time; keys not listed stay fixed), for forward sensitivities; false when its kind gives no
+  /// such derivative or not for these keys (the kernel then differences the heat flows of the
+  /// element built at two values of the parameter).
+  virtual bool key_derivative(double /*t*/, const double* /*T*/, const lang::KeySignals& /*rates*/,
+                              double* /*dF*/) const {
+    return false;
+  }
 };
 
 /// A two-terminal link with a constant conductance G: Q = G (T_a - T_b).
@@ -122,6 +131,14 @@ public:
   }
 
 protected:
+  /// Adds into dF the change of a flow proportional to a strength k whose logarithm changes at
+  /// rate d_ln_k (d ln k / d parameter): dQ = Q d_ln_k (for key_derivative()).
+  void add_proportional_rate(const double* T, double d_ln_k, double* dF) const {
+    double dq_da = 0.0, dq_db = 0.0;
+    const double dq = evaluate(T[a_], T[b_], dq_da, dq_db) * d_ln_k;
+    dF[a_] -= dq;
+    dF[b_] += dq;
+  }
   /// Heat flow from a to b in W at temperatures ta, tb (K), with dQ/dTa and dQ/dTb in W/K.
   virtual double evaluate(double ta, double tb, double& dq_da, double& dq_db) const = 0;
 

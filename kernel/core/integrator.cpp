@@ -75,16 +75,29 @@ std::size_t first_segment(const std::vector<double>& stops, double t0) {
   return seg;
 }
 
-/// Delivers the state at each requested output time, in order, through the caller's callback.
+/// The forward sensitivities of a run: the parameters, their values at the start (and at the end
+/// afterwards) and the caller's callback.
+struct SensitivityRun {
+  ParameterDerivatives* derivatives = nullptr;
+  std::vector<std::vector<double>>* S = nullptr;
+  const SensitivityCallback* out = nullptr;
+};
+
+/// Delivers the state (and its sensitivities) at each requested output time, in order, through
+/// the caller's callback.
 class OutputSchedule {
 public:
   /// The times of `times` from t0 on are still to come; states have n unknowns.
-  OutputSchedule(const std::vector<double>& times, double t0, int n, const OutputCallback& out)
+  OutputSchedule(const std::vector<double>& times, double t0, int n, const OutputCallback& out,
+                 const SensitivityRun* sens = nullptr)
       : times_(times), next_(static_cast<std::size_t>(
                            std::lower_bound(times.begin(), times.end(), t0) - times.begin())),
-        buf_(static_cast<std::size_t>(n)), out_(out) {}
+        buf_(static_cast<std::size_t>(n)), out_(out), sens_(sens) {}
 
-  /// Emits state y for every time up to t still to come.
+  /// The stepper whose dense output gives the sensitivities (none before it exists).
+  void attach(detail::TransientStepper* stepper) { stepper_ = stepper; }
+
+  /// Emits state y, the stepper's current state at time t, for every time up to t still to come.
   void emit_up_to(double t, const double* y) {
     for (; next_ < times_.size() && times_[next_] <= t; ++next_)
       emit_state(times_[next_], y);
@@ -99,21 +112,37 @@ public:
         emit_state(to, y);
       } else {
         stepper.interpolate(to, buf_.data());
-        if (out_) out_(to, buf_);
+        deliver(to, to);
       }
     }
   }
 
 private:
+  /// Emits y at the output time t; the sensitivities are taken at `at` (the state's time).
   void emit_state(double t, const double* y) {
     std::copy(y, y + buf_.size(), buf_.begin());
-    if (out_) out_(t, buf_);
+    deliver(t, stepper_ ? stepper_->current_time() : t);
+  }
+
+  void deliver(double t, double at) {
+    if (!sens_) {
+      if (out_) out_(t, buf_);
+      return;
+    }
+    if (stepper_)
+      stepper_->interpolate_sensitivities(at, S_);
+    else
+      S_ = *sens_->S;
+    if (*sens_->out) (*sens_->out)(t, buf_, S_);
   }
 
   const std::vector<double>& times_;
   std::size_t next_;
   std::vector<double> buf_;
   const OutputCallback& out_;
+  const SensitivityRun* sens_;
+  detail::TransientStepper* stepper_ = nullptr;
+  std::vector<std::vector<double>> S_;
 };
 
 /// One transient run over its segments: steps, events and restarts, and the guards against
@@ -342,14 +371,16 @@ void make_consistent(detail::SystemEvaluator& ev, LinearSolverKind kind, const S
   stepper->collect(stats);
 }
 
-} // namespace
-
-SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, double t1,
-                      const std::vector<double>& output_times, const OutputCallback& out,
-                      const SolverOptions& opt) {
+/// integrate() with or without sensitivities.
+SolverStats run_transient(ThermalSystem& sys, std::vector<double>& T, double t0, double t1,
+                          const std::vector<double>& output_times, const OutputCallback& out,
+                          const SolverOptions& opt, const SensitivityRun* sens) {
   validate(sys, T, t0, t1, output_times, opt);
   detail::SystemEvaluator ev(sys);
   const int n = ev.size();
+  if (sens && (sys.event_count() > 0 || ev.has_algebraic()))
+    throw std::invalid_argument("integrate: forward sensitivities need a system without events "
+                                "and arithmetic nodes");
   const LinearSolverKind kind = detail::resolve_linear_solver(
       opt.linear_solver, n, opt.dense_threshold, opt.krylov_threshold);
   SolverStats stats;
@@ -359,7 +390,7 @@ SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, dou
 
   const std::vector<double> stops = segment_ends(sys, t0, t1);
   const std::size_t seg = first_segment(stops, t0);
-  OutputSchedule outputs(output_times, t0, n, out);
+  OutputSchedule outputs(output_times, t0, n, out, sens);
   // Nothing to integrate: an empty system, or an interval within the time resolution.
   if (n == 0 || stops[seg] - t0 <= time_resolution(t0, stops[seg])) {
     make_consistent(ev, kind, opt, t0, T, stats);
@@ -368,8 +399,12 @@ SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, dou
   }
 
   std::unique_ptr<detail::TransientStepper> stepper =
-      ev.has_algebraic() ? detail::make_ida_stepper(ev, kind, opt, t0, T.data(), stops[seg])
-                         : detail::make_cvode_stepper(ev, kind, opt, t0, T.data(), stops[seg]);
+      ev.has_algebraic()
+          ? detail::make_ida_stepper(ev, kind, opt, t0, T.data(), stops[seg])
+          : detail::make_cvode_stepper(ev, kind, opt, t0, T.data(), stops[seg],
+                                       sens ? detail::SensitivityStart{sens->derivatives, sens->S}
+                                            : detail::SensitivityStart{});
+  outputs.attach(stepper.get());
   const double* y = stepper->state();
   TransientRun run(sys, ev, *stepper, stops, seg, t0, opt, stats, outputs);
   try {
@@ -382,8 +417,36 @@ SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, dou
     throw;
   }
   std::copy(y, y + n, T.begin());
+  if (sens) stepper->interpolate_sensitivities(stepper->current_time(), *sens->S);
   stepper->collect(stats);
   return stats;
+}
+
+} // namespace
+
+SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, double t1,
+                      const std::vector<double>& output_times, const OutputCallback& out,
+                      const SolverOptions& opt) {
+  return run_transient(sys, T, t0, t1, output_times, out, opt, nullptr);
+}
+
+SolverStats integrate(ThermalSystem& sys, ParameterDerivatives& d, std::vector<double>& T,
+                      std::vector<std::vector<double>>& S, double t0, double t1,
+                      const std::vector<double>& output_times, const SensitivityCallback& out,
+                      const SolverOptions& opt) {
+  const auto ns = static_cast<std::size_t>(std::max(0, d.count()));
+  if (S.size() != ns)
+    throw std::invalid_argument(
+        fmt::format("integrate: {} initial sensitivities for {} parameters", S.size(), ns));
+  for (const auto& s : S)
+    if (s.size() != T.size())
+      throw std::invalid_argument("integrate: an initial sensitivity has the wrong size");
+  if (ns == 0)
+    return integrate(
+        sys, T, t0, t1, output_times, [&](double t, const std::vector<double>& x) { out(t, x, S); },
+        opt);
+  const SensitivityRun sens{&d, &S, &out};
+  return run_transient(sys, T, t0, t1, output_times, nullptr, opt, &sens);
 }
 
 } // namespace thermnet

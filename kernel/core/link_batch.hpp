@@ -22,6 +22,8 @@ public:
   double flow(std::size_t k, const double* T) const {
     return G_[k] * (T[ends_[k].a] - T[ends_[k].b]);
   }
+  /// Conductance of link k, W/K.
+  double conductance(std::size_t k) const { return G_[k]; }
   /// First and second node of link k.
   std::pair<int, int> nodes(std::size_t k) const { return {ends_[k].a, ends_[k].b}; }
   /// Adds every link's heat flow into F (all nodes, W).

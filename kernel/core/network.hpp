@@ -73,6 +73,8 @@ public:
   std::vector<int> sensor_elements() const;
 
 private:
+  friend class NetworkDerivatives; // differentiates the pieces along parameters
+
   /// Loads T_all_: every node as expand() does, then the internal states.
   void load(double t, const double* T);
   void stamp_all(double t, const double* T, bool with_jacobian);

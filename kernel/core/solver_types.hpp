@@ -26,23 +26,31 @@ struct SolverOptions {
   int krylov_threshold = 2000;
   double max_step = 0.0;    ///< largest step in s (0: unlimited)
   long max_steps = 1000000; ///< most internal steps over the whole run
+  /// Forward sensitivities: their corrector stops at this relative (and, times each parameter's
+  /// typical size, absolute) accuracy when it is looser than rtol/atol; their error does not
+  /// control the steps, which are the state's.
+  double sensitivity_tolerance = 1e-4;
 };
 
 /// Counters of a solve (printed by --stats).
 struct SolverStats {
-  std::string integrator;    ///< "cvode-bdf", "ida", "kinsol" or "kinsol+pseudo-transient"
-  std::string linear_solver; ///< "dense", "klu" or "spgmr"
-  long steps = 0;            ///< internal steps (Newton iterations for KINSOL)
-  long rhs_evals = 0;        ///< right-hand side / residual evaluations
-  long jac_evals = 0;        ///< Jacobian evaluations
-  long linear_setups = 0;    ///< linear solver setups (factorisations)
-  long nonlinear_iters = 0;  ///< nonlinear (Newton) iterations
-  long nonlinear_fails = 0;  ///< nonlinear convergence failures
-  long linear_iters = 0;     ///< Krylov (GMRES) iterations (0 for direct solvers)
-  long prec_setups = 0;      ///< preconditioner setups: ILU(0) factorisations (Krylov only)
-  long error_test_fails = 0; ///< local error test failures
-  long events = 0;           ///< events applied (thermostat switches)
-  long restarts = 0;         ///< restarts at breakpoints and events
+  std::string integrator;        ///< "cvode-bdf", "ida", "kinsol" or "kinsol+pseudo-transient"
+  std::string linear_solver;     ///< "dense", "klu" or "spgmr"
+  long steps = 0;                ///< internal steps (Newton iterations for KINSOL)
+  long rhs_evals = 0;            ///< right-hand side / residual evaluations
+  long jac_evals = 0;            ///< Jacobian evaluations
+  long linear_setups = 0;        ///< linear solver setups (factorisations)
+  long nonlinear_iters = 0;      ///< nonlinear (Newton) iterations
+  long nonlinear_fails = 0;      ///< nonlinear convergence failures
+  long linear_iters = 0;         ///< Krylov (GMRES) iterations (0 for direct solvers)
+  long prec_setups = 0;          ///< preconditioner setups: ILU(0) factorisations (Krylov only)
+  long error_test_fails = 0;     ///< local error test failures
+  long events = 0;               ///< events applied (thermostat switches)
+  long restarts = 0;             ///< restarts at breakpoints and events
+  long sensitivities = 0;        ///< forward sensitivities integrated with the state (CVODES)
+  long sens_rhs_evals = 0;       ///< their right-hand side evaluations (all sensitivities at once)
+  long sens_nonlinear_iters = 0; ///< their corrector (Newton) iterations
+  long sens_nonlinear_fails = 0; ///< their corrector convergence failures
 };
 
 /// A solver failure: the SUNDIALS call, its flag, the simulation time and the worst unknowns.

@@ -1,7 +1,7 @@
 #include "kernel/core/sundials_check.hpp"
 
-#include <cvode/cvode.h>
-#include <cvode/cvode_ls.h>
+#include <cvodes/cvodes.h>
+#include <cvodes/cvodes_ls.h>
 #include <ida/ida.h>
 #include <ida/ida_ls.h>
 #include <kinsol/kinsol.h>

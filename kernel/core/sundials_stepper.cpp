@@ -30,6 +30,12 @@ void SundialsStepper::interpolate(double t, double* out) {
   chk_.call(api_.api, api_.dky_name, api_.dky, memory(), t, 0, out_.get());
 }
 
+double SundialsStepper::current_time() {
+  sunrealtype t = 0.0;
+  chk_.call(api_.api, "GetCurrentTime", api_.current_time, memory(), &t);
+  return t;
+}
+
 long SundialsStepper::steps() {
   long nst = 0;
   api_.num_steps(memory(), &nst);

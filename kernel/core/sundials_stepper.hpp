@@ -43,6 +43,7 @@ public:
   void interpolate(double t, double* out) override;
   double* state() override { return NV_DATA_S(y_.get()); }
   const int* roots() override { return roots_.data(); }
+  double current_time() override;
   long steps() override;
   void collect(SolverStats& stats) override;
   sundials::Checker& checker() override { return chk_; }

@@ -12,6 +12,8 @@
 
 namespace thermnet::detail {
 
+struct SensitivityContext;
+
 /// The most recent non-finite value seen in the heat balance or the Jacobian.
 struct NonFinite {
   bool seen = false;     ///< whether anything non-finite was seen since the last clear()
@@ -74,6 +76,8 @@ public:
   long rhs_evals = 0;
   /// Jacobian evaluations made by the solvers.
   long jac_evals = 0;
+  /// What the sensitivity right-hand side needs (CVODES forward sensitivities), or null.
+  SensitivityContext* sensitivities = nullptr;
 
 private:
   void record(bool jacobian, double t, int index, double value);

@@ -6,6 +6,7 @@
 #include "kernel/calibration/least_squares.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -15,18 +16,40 @@ namespace thermnet::detail {
 namespace {
 
 /// A candidate's parameters against the data of a part, as a residual problem: log scale where the
-/// lower bound is positive, finite differences of 1e-3 in ln x (log) or of 1e-5 max(1, |x|) of the
-/// range (linear).
+/// lower bound is positive; the Jacobian from the cases' sensitivities (Engine::jacobian_residuals)
+/// where the networks allow, otherwise finite differences of 1e-3 in ln x (log) or of
+/// 1e-5 max(1, |x|) of the range (linear).
 class CandidateResiduals final : public ResidualProblem {
 public:
   using Residuals = std::function<bool(const std::vector<double>&, std::vector<double>&)>;
-  CandidateResiduals(const Candidate& c, Residuals f) : f_(std::move(f)) {
+  using WithJacobian =
+      std::function<bool(const std::vector<double>&, std::vector<double>&, Eigen::MatrixXd&)>;
+  CandidateResiduals(const Candidate& c, Residuals f, WithJacobian g = {})
+      : f_(std::move(f)), g_(std::move(g)) {
     for (std::size_t j = 0; j < c.start.size(); ++j)
       params_.push_back({c.lo[j], c.hi[j], c.lo[j] > 0 ? ParamScale::log : ParamScale::linear});
   }
   const std::vector<BoundedParam>& params() const override { return params_; }
   bool residuals(const std::vector<double>& x, std::vector<double>& r) const override {
     return f_(x, r);
+  }
+  bool has_jacobian() const override { return static_cast<bool>(g_); }
+  /// The sensitivities' Jacobian; once a network cannot give it (events, arithmetic nodes), the
+  /// residuals alone from then on (the core differences them).
+  Evaluated residuals_and_jacobian(const std::vector<double>& x, std::vector<double>& r,
+                                   Eigen::MatrixXd& J) const override {
+    if (!no_sensitivities_.load()) {
+      try {
+        if (g_(x, r, J))
+          return std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); })
+                     ? Evaluated::both
+                     : Evaluated::nothing;
+        no_sensitivities_.store(true);
+      } catch (const std::exception&) {
+        return Evaluated::nothing;
+      }
+    }
+    return f_(x, r) ? Evaluated::residuals : Evaluated::nothing;
   }
   double difference_step(std::size_t j, const std::vector<double>& x) const override {
     const BoundedParam& b = params_[j];
@@ -38,6 +61,8 @@ public:
 private:
   std::vector<BoundedParam> params_;
   Residuals f_;
+  WithJacobian g_;
+  mutable std::atomic<bool> no_sensitivities_{false};
 };
 
 } // namespace
@@ -49,14 +74,22 @@ private:
 Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vector<double>& start,
                         Part part, const Base& base, int max_iter, double rtol, const Fit* warm,
                         bool std_errors) const {
-  const CandidateResiduals problem(c, [&](const std::vector<double>& x, std::vector<double>& r) {
-    try {
-      residuals(simulate(&h, &c, x, part, base), part, r);
-      return std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); });
-    } catch (const std::exception&) {
-      return false;
-    }
-  });
+  const CandidateResiduals problem(
+      c,
+      [&](const std::vector<double>& x, std::vector<double>& r) {
+        try {
+          residuals(simulate(&h, &c, x, part, base), part, r);
+          return std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); });
+        } catch (const std::exception&) {
+          return false;
+        }
+      },
+      opt_.sensitivities
+          ? CandidateResiduals::WithJacobian(
+                [&](const std::vector<double>& x, std::vector<double>& r, Eigen::MatrixXd& J) {
+                  return jacobian_residuals(h, c, x, part, base, r, J);
+                })
+          : CandidateResiduals::WithJacobian{});
   const WorkingCoordinates coords(problem.params());
   const auto np = static_cast<long>(start.size());
   LeastSquaresStart from;
@@ -89,7 +122,11 @@ Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vect
   o.damping_max = std::numeric_limits<double>::infinity();
   o.max_rejections = 8;
   o.hold_at_bounds = false;
-  o.final_jacobian = false;
+  // With sensitivities: Broyden updates along the accepted steps between exact Jacobians; an
+  // all-data fit ends with an exact Jacobian at its optimum (its standard errors, and the start
+  // of every fold's refit), a fold's without one.
+  o.secant_updates = opt_.sensitivities;
+  o.final_jacobian = opt_.sensitivities && part.what == Part::all;
   const LeastSquaresResult res = solve_least_squares(problem, std::move(from), o);
   Fit f;
   if (!res.ok) return f;
@@ -104,6 +141,40 @@ Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vect
     if (cov.determined()) f.se = cov.std_errors;
   }
   return f;
+}
+
+Eigen::MatrixXd Engine::residual_jacobian(const Entry& e, const Base& base,
+                                          const std::vector<double>& p, bool differences) const {
+  const Stack stack(&base.applied, e.h, &e.c);
+  const Hypothesis& h = base.applied.empty() ? *e.h : stack;
+  std::vector<double> r;
+  Eigen::MatrixXd J;
+  if (!differences) {
+    try {
+      if (!jacobian_residuals(h, e.c, p, Part{}, base, r, J)) J.resize(0, 0);
+    } catch (const std::exception&) {
+      J.resize(0, 0);
+    }
+    return J;
+  }
+  // Central differences of simulations, each parameter moved by 1e-3 of its size (or of its box
+  // near 0) both ways, one-sided where a side leaves the box.
+  const auto at = [&](const std::vector<double>& x, std::vector<double>& out) {
+    residuals(simulate(&h, &e.c, x, Part{}, base), Part{}, out);
+  };
+  for (std::size_t j = 0; j < p.size(); ++j) {
+    const double size = std::max(std::abs(p[j]), 1e-3 * std::abs(e.c.hi[j] - e.c.lo[j]));
+    const double step = 1e-3 * (size > 0.0 && std::isfinite(size) ? size : 1.0);
+    std::vector<double> up = p, down = p, ru, rd;
+    up[j] = std::min(p[j] + step, e.c.hi[j]);
+    down[j] = std::max(p[j] - step, e.c.lo[j]);
+    at(up, ru);
+    at(down, rd);
+    if (J.size() == 0) J.resize(static_cast<long>(ru.size()), static_cast<long>(p.size()));
+    for (std::size_t i = 0; i < ru.size(); ++i)
+      J(static_cast<long>(i), static_cast<long>(j)) = (ru[i] - rd[i]) / (up[j] - down[j]);
+  }
+  return J;
 }
 
 } // namespace thermnet::detail

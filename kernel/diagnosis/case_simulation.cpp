@@ -3,6 +3,7 @@
 
 #include "kernel/diagnosis/engine.hpp"
 
+#include "kernel/core/case_sensitivities.hpp"
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/simulation.hpp"
@@ -29,6 +30,31 @@ SolverOptions diagnosis_solver() {
   // factors and solves faster than dense LU, which took 65 % of a 150-node diagnosis's CPU time.
   s.dense_threshold = kDiagnosisDenseThreshold;
   return s;
+}
+
+/// How far parameter j is moved to elaborate the network at a moved value (a derivative taken
+/// from the elaboration, no simulation): 1e-7 of its size, or of its box near 0, backwards where
+/// that would pass the upper bound.
+double moved_step(const Candidate& c, const std::vector<double>& p, std::size_t j) {
+  const double size = std::max(std::abs(p[j]), 1e-3 * std::abs(c.hi[j] - c.lo[j]));
+  const double h = 1e-7 * (size > 0.0 && std::isfinite(size) ? size : 1.0);
+  return p[j] + h > c.hi[j] ? -h : h;
+}
+
+/// A typical size of parameter j (its sensitivities times it are compared with the tolerances).
+double typical_size(const Candidate& c, const std::vector<double>& p, std::size_t j) {
+  const double size = std::max(std::abs(p[j]), 1e-3 * std::abs(c.hi[j] - c.lo[j]));
+  return size > 0.0 && std::isfinite(size) ? size : 1.0;
+}
+
+/// Largest |value| of simulated series.
+double peak(const CaseSims& sims) {
+  double m = 0.0;
+  for (const auto& c : sims)
+    for (const auto& s : c)
+      for (double v : s)
+        m = std::max(m, std::abs(v));
+  return m;
 }
 
 } // namespace
@@ -145,6 +171,121 @@ CaseSims Engine::model_sims(const Hypothesis* h, const Candidate* c, const std::
     }
   }
   return sims;
+}
+
+/// model_sims() with dsims[j], the derivative of every simulated series by parameter j (zeros where
+/// a case does not depend on it), by the cases' forward sensitivities: each parameter moved alone
+/// through the hypothesis (overrides, extend) and the model's elaboration gives what it moves in
+/// the network. False when a case's network cannot integrate sensitivities.
+bool Engine::model_sensitivities(const Hypothesis& h, const Candidate& c,
+                                 const std::vector<double>& p, Part part, const Base& base,
+                                 CaseSims& sims, std::vector<CaseSims>& dsims) const {
+  const std::size_t np = p.size();
+  // A series read through a sensor element (its lag, offset and gain) is not a node's
+  // temperature: such data take the forward differences of simulations.
+  for (const CaseEvidence& ce : ev_.cases)
+    for (const auto& s : ce.measured.series)
+      if (s.sensor >= 0) return false;
+  sims.clear();
+  dsims.assign(np, CaseSims{});
+  for (std::size_t ci = 0; ci < ev_.cases.size(); ++ci) {
+    const CaseEvidence& ce = ev_.cases[ci];
+    const std::size_t nseries = ce.measured.series.size();
+    if (!case_used(ci, part)) {
+      sims.emplace_back();
+      for (auto& d : dsims)
+        d.emplace_back();
+      continue;
+    }
+    if (c.measurement_side && !h.recalibrates()) { // corrections only: no new simulation
+      sims.push_back(base.raw[ci]);
+      for (auto& d : dsims)
+        d.emplace_back(nseries, Series(ce.times().size(), 0.0));
+      continue;
+    }
+    const lang::ParamValues ov = h.overrides(c, p);
+    const lang::NetworkSpec inst = ov.empty() ? ce.spec : model_.instantiate(ce.name, ov);
+    lang::NetworkSpec spec = inst;
+    h.extend(c, p, spec);
+    std::vector<MovedSpec> moved(np);
+    for (std::size_t j = 0; j < np; ++j) {
+      std::vector<double> q = p;
+      moved[j].step = moved_step(c, p, j);
+      moved[j].scale = typical_size(c, p, j);
+      q[j] += moved[j].step;
+      const lang::ParamValues ovj = h.overrides(c, q);
+      moved[j].spec = ovj == ov ? inst : model_.instantiate(ce.name, ovj);
+      h.extend(c, q, moved[j].spec);
+    }
+    std::vector<int> nodes;
+    for (const auto& s : ce.measured.series)
+      nodes.push_back(s.node_index);
+    std::string why;
+    auto run = simulate_sensitivities(std::move(spec), std::move(moved), ce.times(), nodes,
+                                      diagnosis_solver(), &why);
+    if (!run) return false;
+    simulations_.fetch_add(1, std::memory_order_relaxed);
+    sensitivity_runs_.fetch_add(1, std::memory_order_relaxed);
+    const std::size_t nt = ce.times().size();
+    std::vector<Series> cs(nseries, Series(nt));
+    for (std::size_t k = 0; k < nt; ++k)
+      for (std::size_t s = 0; s < nseries; ++s)
+        cs[s][k] = run->T[k][s];
+    sims.push_back(std::move(cs));
+    for (std::size_t j = 0; j < np; ++j) {
+      std::vector<Series> ds(nseries, Series(nt));
+      for (std::size_t k = 0; k < nt; ++k)
+        for (std::size_t s = 0; s < nseries; ++s)
+          ds[s][k] = run->dT[j][k][s];
+      dsims[j].push_back(std::move(ds));
+    }
+  }
+  return true;
+}
+
+/// The residuals at p and their Jacobian dr/dp: the simulated series' derivatives (forward
+/// sensitivities) carried through the measurement-side corrections, plus the corrections' own
+/// derivatives. Both are differences of corrections of series, no simulation: along a series'
+/// derivative scaled to move it by at most 1 mK (exact for the corrections in use, which are
+/// linear in the series), and along each parameter moved as for the elaboration.
+bool Engine::jacobian_residuals(const Hypothesis& h, const Candidate& c,
+                                const std::vector<double>& p, Part part, const Base& base,
+                                std::vector<double>& r, Eigen::MatrixXd& J) const {
+  CaseSims raw;
+  std::vector<CaseSims> draw;
+  if (!model_sensitivities(h, c, p, part, base, raw, draw)) return false;
+  CaseSims sims = raw;
+  correct(h, c, p, sims);
+  residuals(sims, part, r);
+  J.resize(static_cast<long>(r.size()), static_cast<long>(p.size()));
+  std::vector<double> col;
+  const auto add_difference = [&](const CaseSims& moved, double by, std::vector<double>& into) {
+    residuals(moved, part, col);
+    for (std::size_t i = 0; i < col.size(); ++i)
+      into[i] += (col[i] - r[i]) / by;
+  };
+  for (std::size_t j = 0; j < p.size(); ++j) {
+    std::vector<double> dj(r.size(), 0.0);
+    if (const double m = peak(draw[j]); m > 0.0) {
+      const double eps = 1e-3 / m;
+      CaseSims moved = raw;
+      for (std::size_t ci = 0; ci < moved.size(); ++ci)
+        for (std::size_t s = 0; s < moved[ci].size(); ++s)
+          for (std::size_t k = 0; k < moved[ci][s].size(); ++k)
+            moved[ci][s][k] += eps * draw[j][ci][s][k];
+      correct(h, c, p, moved);
+      add_difference(moved, eps, dj);
+    }
+    std::vector<double> q = p;
+    const double step = moved_step(c, p, j);
+    q[j] += step;
+    CaseSims own = raw;
+    correct(h, c, q, own);
+    add_difference(own, step, dj);
+    J.col(static_cast<long>(j)) =
+        Eigen::Map<const Eigen::VectorXd>(dj.data(), static_cast<long>(dj.size()));
+  }
+  return true;
 }
 
 void Engine::correct(const Hypothesis& h, const Candidate& c, const std::vector<double>& p,

@@ -36,6 +36,9 @@ struct DiagnosisOptions {
   /// The practical floor: no finding whose largest local gain (the RMS error over 10 consecutive
   /// samples of a series, lowered at most) is below this, K.
   double min_gain = 0.05;
+  /// output-error: the refits' Jacobians from the cases' forward sensitivities (CVODES) instead of
+  /// forward differences of simulations (fewer simulations; near-tied fits may end elsewhere)
+  bool sensitivities = false;
 };
 
 /// How far the simulation is off for one node (one case or all cases together).
@@ -135,8 +138,10 @@ struct RefitBatch {
   bool joint = false;     ///< refitted jointly with the ranged params
   std::size_t refits = 0; ///< candidates refitted (each on all data plus every validation fold)
   std::size_t simulations = 0; ///< case simulations the refits ran (in this process)
-  double wall_s = 0.0;         ///< wall time, s
-  double cpu_s = 0.0;          ///< CPU time of the process (every thread), s
+  /// of those, the ones that integrated parameter sensitivities (a Jacobian with the residuals)
+  std::size_t sensitivity_runs = 0;
+  double wall_s = 0.0; ///< wall time, s
+  double cpu_s = 0.0;  ///< CPU time of the process (every thread), s
 };
 
 /// The outcome of a diagnosis.

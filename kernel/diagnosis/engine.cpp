@@ -111,13 +111,14 @@ template <class Work>
 void Engine::timed(const Base& base, bool joint, std::size_t refits, Work&& work) const {
   const auto wall0 = std::chrono::steady_clock::now();
   const std::clock_t cpu0 = std::clock();
-  const std::size_t sims0 = simulations_.load();
+  const std::size_t sims0 = simulations_.load(), sens0 = sensitivity_runs_.load();
   work();
   RefitBatch b;
   b.base_findings = base.applied.size();
   b.joint = joint;
   b.refits = refits;
   b.simulations = simulations_.load() - sims0;
+  b.sensitivity_runs = sensitivity_runs_.load() - sens0;
   b.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   b.cpu_s = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   if (!batches_.empty() && batches_.back().base_findings == b.base_findings &&
@@ -125,6 +126,7 @@ void Engine::timed(const Base& base, bool joint, std::size_t refits, Work&& work
     RefitBatch& last = batches_.back();
     last.refits += b.refits;
     last.simulations += b.simulations;
+    last.sensitivity_runs += b.sensitivity_runs;
     last.wall_s += b.wall_s;
     last.cpu_s += b.cpu_s;
   } else {

@@ -126,6 +126,12 @@ public:
   std::string trend_words(const FitMetrics& m, const std::vector<std::string>& nodes) const;
   /// Per case: measured, baseline and `after` (if it applies findings) series of every node.
   std::vector<DiagnosisReport::Curves> curves(const Base& after) const;
+  /// The Jacobian d(residual)/d(parameter) on all data of an entry's candidate on top of a base
+  /// at p: from the cases' forward sensitivities and the corrections' derivatives (empty when the
+  /// networks cannot integrate them), or (with `differences`) from central differences of
+  /// simulations; for tests of the one against the other.
+  Eigen::MatrixXd residual_jacobian(const Entry& e, const Base& base, const std::vector<double>& p,
+                                    bool differences) const;
   /// The refit batches so far (consecutive ones on the same base kind merged), for the report.
   const std::vector<RefitBatch>& batches() const { return batches_; }
 
@@ -157,6 +163,12 @@ private:
   CaseSims simulate(const Hypothesis* h, const Candidate* c, const std::vector<double>& p,
                     Part part, const Base& base) const;
   void residuals(const CaseSims& sims, Part part, std::vector<double>& r) const;
+  bool model_sensitivities(const Hypothesis& h, const Candidate& c, const std::vector<double>& p,
+                           Part part, const Base& base, CaseSims& sims,
+                           std::vector<CaseSims>& dsims) const;
+  bool jacobian_residuals(const Hypothesis& h, const Candidate& c, const std::vector<double>& p,
+                          Part part, const Base& base, std::vector<double>& r,
+                          Eigen::MatrixXd& J) const;
   std::vector<char> rows_in(Part part) const;
   double sst(Part part) const;
   // candidate_fit.cpp
@@ -187,10 +199,11 @@ private:
   };
   std::vector<Fold> folds_;
   std::size_t n_all_ = 0, n_test_ = 0;
-  std::vector<std::size_t> segments_;               // held-out runs, per fold and series
-  Base base0_;                                      // the declared model
-  mutable std::atomic<std::size_t> simulations_{0}; // case simulations run (every thread)
-  mutable std::vector<RefitBatch> batches_;         // timing of the refits (main thread only)
+  std::vector<std::size_t> segments_;                    // held-out runs, per fold and series
+  Base base0_;                                           // the declared model
+  mutable std::atomic<std::size_t> simulations_{0};      // case simulations run (every thread)
+  mutable std::atomic<std::size_t> sensitivity_runs_{0}; // of those, with sensitivities
+  mutable std::vector<RefitBatch> batches_;              // timing of the refits (main thread only)
 };
 
 /// Simulates a case at the measured times: temperatures of every node (spec order), K; with

@@ -194,11 +194,13 @@ std::string diagnosis_timing_text(const DiagnosisReport& r) {
                               r.wall_s, r.cpu_s, r.setup_wall_s, r.screened, r.refitted);
   for (std::size_t i = 0; i < r.batches.size(); ++i) {
     const RefitBatch& b = r.batches[i];
-    s += fmt::format("  refits {}: {} {}on {} finding{}: {} simulations, {:.1f} s wall, {:.1f} s "
+    const std::string sens =
+        b.sensitivity_runs ? fmt::format(" ({} with sensitivities)", b.sensitivity_runs) : "";
+    s += fmt::format("  refits {}: {} {}on {} finding{}: {} simulations{}, {:.1f} s wall, {:.1f} s "
                      "CPU\n",
                      i + 1, b.refits, b.joint ? "jointly with the ranged params " : "",
-                     b.base_findings, b.base_findings == 1 ? "" : "s", b.simulations, b.wall_s,
-                     b.cpu_s);
+                     b.base_findings, b.base_findings == 1 ? "" : "s", b.simulations, sens,
+                     b.wall_s, b.cpu_s);
   }
   return s;
 }

@@ -34,6 +34,24 @@ public:
     const double K0 = 0.386 * std::pow(f_geo * gravity * delta * delta * delta, ra_exponent);
     K0_n_ = std::pow(K0, blend_n);
     S_ = scale * 2.0 * std::numbers::pi * L / log_ratio;
+    L_ = L;
+    scale_ = scale;
+  }
+
+  /// Q is proportional to L and scale; the diameters are differenced by the kernel.
+  bool key_derivative(double t, const double* T, const lang::KeySignals& rates,
+                      double* dF) const override {
+    double d_ln = 0.0;
+    for (const auto& [key, rate] : rates) {
+      if (key == "L")
+        d_ln += rate.at(t) / L_;
+      else if (key == "scale")
+        d_ln += rate.at(t) / scale_;
+      else
+        return false;
+    }
+    add_proportional_rate(T, d_ln, dF);
+    return true;
   }
 
 private:
@@ -58,6 +76,8 @@ private:
 
   double K0_n_ = 0.0; // (constant part of c)^n
   double S_ = 0.0;    // scale * 2 pi L / ln(Do/Di), m
+  double L_ = 1.0;    // length, m
+  double scale_ = 1.0;
 };
 
 ElementPlugin make_annulus_convection() {

@@ -38,8 +38,17 @@ CavityLaw cavity_law(double gap, double H) {
 /// Q = S k(Tm) Nu(Tm, dT) dT with Nu = (1 + X^n)^(1/n), X = Nu_c of the chosen law, S = A/gap.
 class CavityConvection final : public NonlinearLink {
 public:
-  CavityConvection(int a, int b, double S, CavityLaw law)
-      : NonlinearLink(a, b), S_(S), law_(law), ln_K0_(std::log(law.K0)) {}
+  CavityConvection(int a, int b, double scale, double S, CavityLaw law)
+      : NonlinearLink(a, b), scale_(scale), S_(S), law_(law), ln_K0_(std::log(law.K0)) {}
+
+  /// Q is proportional to scale; the geometry (which also sets the law) is differenced by the
+  /// kernel.
+  bool key_derivative(double t, const double* T, const lang::KeySignals& rates,
+                      double* dF) const override {
+    if (rates.size() != 1 || rates.begin()->first != "scale") return false;
+    add_proportional_rate(T, rates.begin()->second.at(t) / scale_, dF);
+    return true;
+  }
 
 private:
   /// Heat flow a -> b in W, with its partial derivatives in W/K.
@@ -66,7 +75,8 @@ private:
     return S_ * p.k * Nu * dt;
   }
 
-  double S_; // scale * A / gap, m
+  double scale_; // calibration multiplier
+  double S_;     // scale * A / gap, m
   CavityLaw law_;
   double ln_K0_; // log(law_.K0)
 };
@@ -90,7 +100,7 @@ ElementPlugin make_cavity_convection() {
         const double A = v.at("A"), gap = v.at("gap");
         auto h = v.find("H");
         const double H = h != v.end() ? h->second : std::sqrt(4.0 * A / std::numbers::pi);
-        return std::make_unique<CavityConvection>(e.nodes()[0], e.nodes()[1],
+        return std::make_unique<CavityConvection>(e.nodes()[0], e.nodes()[1], v.at("scale"),
                                                   v.at("scale") * A / gap, cavity_law(gap, H));
       }};
 }

@@ -14,6 +14,13 @@ public:
     out.insert(out.end(), P_.corners().begin(), P_.corners().end());
   }
   double power_in(double t, const double*) const override { return P_.at(t); }
+  /// dF = dP/dp at t.
+  bool key_derivative(double t, const double*, const lang::KeySignals& rates,
+                      double* dF) const override {
+    if (rates.size() != 1 || rates.begin()->first != "P") return false;
+    dF[node_] += rates.begin()->second.at(t);
+    return true;
+  }
 
 private:
   int node_;

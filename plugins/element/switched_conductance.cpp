@@ -18,6 +18,23 @@ public:
     out.insert(out.end(), on_.corners().begin(), on_.corners().end());
   }
   double flow(double t, const double* T) const override { return G_ * on_.at(t) * (T[a_] - T[b_]); }
+  /// dQ = (dG on + G d on) (T_a - T_b).
+  bool key_derivative(double t, const double* T, const lang::KeySignals& rates,
+                      double* dF) const override {
+    double dg = 0.0;
+    for (const auto& [key, rate] : rates) {
+      if (key == "G")
+        dg += rate.at(t) * on_.at(t);
+      else if (key == "on")
+        dg += G_ * rate.at(t);
+      else
+        return false;
+    }
+    const double dq = dg * (T[a_] - T[b_]);
+    dF[a_] -= dq;
+    dF[b_] += dq;
+    return true;
+  }
 
 private:
   int a_, b_;

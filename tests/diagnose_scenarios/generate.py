@@ -50,6 +50,9 @@ def load_table(path: str = TABLE) -> list[dict]:
     for r in rows:
         r["nodes"], r["seed"], r["cases"] = int(r["nodes"]), int(r["seed"]), int(r["cases"])
         r["measured"], r["noise"], r["impact"] = float(r["measured"]), float(r["noise"]), float(r["impact"])
+        # optional columns (bench/diagnosis.csv): hours per case and seconds between samples
+        r["timing"] = (float(r.get("hours") or shapes.DURATION / 3600.0) * 3600.0,
+                       float(r.get("output") or shapes.OUTPUT))
     return rows
 
 
@@ -204,7 +207,7 @@ def build(row: dict) -> Scenario:
     """Builds the scenario of a table row (everything drawn from its seed, in a fixed order)."""
     rng = np.random.default_rng(row["seed"])
     events = row["events"] == "yes" or "event_loss" in row["effects"]
-    net = shapes.build(row["shape"], row["nodes"], rng, row["cases"], events)
+    net = shapes.build(row["shape"], row["nodes"], rng, row["cases"], events, row.get("timing", shapes.TIMING))
     params = true_params(net, rng, row["params"] == "off")
     eff = parse_effects(row["effects"])
     base_sims = [tr.simulate(net, params, c) for c in net.cases]

@@ -15,8 +15,9 @@ from network import (
     conductance, nominal_params, sig4,
 )
 
-DURATION = 10800.0  # s, every case: 3 h
+DURATION = 10800.0  # s, every case: 3 h (unless the table's row says otherwise)
 OUTPUT = 60.0  # s between samples
+TIMING = (DURATION, OUTPUT)
 
 
 def _param(rng, name, nominal, unit, desc, hi_cap=None) -> Param:
@@ -95,8 +96,11 @@ def _scale_heaters(net: Network, target_rise: float) -> None:
             c.heater_P[h.name] = c.heater_P[h.name].scaled(target_rise / rise)
 
 
-def _cases(rng, ncases, heaters: dict[str, str], boundaries: dict[str, tuple], initial: float, events: bool):
-    """heaters: name -> 'schedule' | 'constant'; boundaries: name -> ('ambient'|'stepped'|'const', start, size)."""
+def _cases(rng, ncases, heaters: dict[str, str], boundaries: dict[str, tuple], initial: float, events: bool,
+           timing: tuple[float, float] = TIMING):
+    """heaters: name -> 'schedule' | 'constant'; boundaries: name -> ('ambient'|'stepped'|'const', start, size);
+    timing: (duration, output interval) of every case, s."""
+    duration, output = timing
     cases = []
     for k in range(ncases):
         bT = {}
@@ -109,14 +113,14 @@ def _cases(rng, ncases, heaters: dict[str, str], boundaries: dict[str, tuple], i
                 bT[b] = Signal.const(start)
         hP = {}
         for h, how in heaters.items():
-            sig = _heater_schedule(rng, DURATION) if how == "schedule" else _constant_heater(rng)
+            sig = _heater_schedule(rng, duration) if how == "schedule" else _constant_heater(rng)
             hP[h] = sig.scaled(float(rng.uniform(0.6, 1.0)))
-        ev = _events(rng, DURATION) if events else []
-        cases.append(Case(f"run{k + 1}", DURATION, OUTPUT, initial, bT, hP, ev))
+        ev = _events(rng, duration) if events else []
+        cases.append(Case(f"run{k + 1}", duration, output, initial, bT, hP, ev))
     return cases
 
 
-def chain(rng, n: int, ncases: int, events: bool) -> Network:
+def chain(rng, n: int, ncases: int, events: bool, timing=TIMING) -> Network:
     """An aluminium bar in air: a film heater at one end, bolted to a cold sink at the other
     (capacities known, conductances uncertain)."""
     params = [
@@ -138,7 +142,7 @@ def chain(rng, n: int, ncases: int, events: bool) -> Network:
         heaters.append(Heater("h_mid", f"s{n // 2}", "clamp-on heater"))
     bounds = [Boundary("air", "room air"), Boundary("sink", "cold sink")]
     cases = _cases(rng, ncases, {h.name: "schedule" for h in heaters},
-                   {"air": ("ambient", 20.0, 6.0), "sink": ("stepped", 15.0, 8.0)}, 20.0, events)
+                   {"air": ("ambient", 20.0, 6.0), "sink": ("stepped", 15.0, 8.0)}, 20.0, events, timing)
     net = Network(f"bar{n}", "chain", f"{n}-segment aluminium bar", params, nodes, bounds, links, heaters, cases)
     _scale_heaters(net, rng.uniform(18, 30))
     return net
@@ -149,7 +153,7 @@ def _grid(n: int) -> tuple[int, int]:
     return rows, n // rows
 
 
-def plate(rng, n: int, ncases: int, events: bool) -> Network:
+def plate(rng, n: int, ncases: int, events: bool, timing=TIMING) -> Network:
     """A plate of rows x cols cells with components on it, bolted to a cold rail along one edge,
     in air (convection) or in a vacuum chamber (radiation to the shroud)."""
     rows, cols = _grid(n)
@@ -192,14 +196,14 @@ def plate(rng, n: int, ncases: int, events: bool) -> Network:
     bounds = [Boundary(env, "vacuum chamber shroud" if vacuum else "room air"), Boundary("rail", "cold rail")]
     env_sig = ("stepped", -20.0, 15.0) if vacuum else ("ambient", 22.0, 6.0)
     cases = _cases(rng, ncases, {h.name: ("schedule" if k % 2 == 0 else "constant") for k, h in enumerate(heaters)},
-                   {env: env_sig, "rail": ("stepped", 20.0, 10.0)}, 20.0, events)
+                   {env: env_sig, "rail": ("stepped", 20.0, 10.0)}, 20.0, events, timing)
     net = Network(f"plate{n}", "plate", f"{rows} x {cols} plate {'in vacuum' if vacuum else 'in air'}",
                   params, nodes, bounds, links, heaters, cases)
     _scale_heaters(net, rng.uniform(15, 25))
     return net
 
 
-def tree(rng, n: int, ncases: int, events: bool) -> Network:
+def tree(rng, n: int, ncases: int, events: bool, timing=TIMING) -> Network:
     """An instrument: a base on a temperature-controlled mount, parts bolted or strutted on it and
     on each other, some radiating to space through radiators, the rest under blankets."""
     params = [
@@ -248,13 +252,13 @@ def tree(rng, n: int, ncases: int, events: bool) -> Network:
     heaters = [Heater(f"q_{names[i]}", names[i], "electronics" if k % 2 else "heater") for k, i in enumerate(where)]
     bounds = [Boundary("mount", "temperature-controlled mount"), Boundary("space", "cold shroud (space)")]
     cases = _cases(rng, ncases, {h.name: ("constant" if k % 2 else "schedule") for k, h in enumerate(heaters)},
-                   {"mount": ("ambient", 20.0, 8.0), "space": ("const", -40.0, 0.0)}, 20.0, events)
+                   {"mount": ("ambient", 20.0, 8.0), "space": ("const", -40.0, 0.0)}, 20.0, events, timing)
     net = Network(f"instrument{n}", "tree", f"{n}-part instrument", params, nodes, bounds, links, heaters, cases)
     _scale_heaters(net, rng.uniform(15, 25))
     return net
 
 
-def box(rng, n: int, ncases: int, events: bool) -> Network:
+def box(rng, n: int, ncases: int, events: bool, timing=TIMING) -> Network:
     """An electronics box on a cold plate: six walls (split in patches), the air inside, boards
     held by wedge locks in the side walls, components on the boards; the top wall is a lid."""
     params = [
@@ -312,16 +316,55 @@ def box(rng, n: int, ncases: int, events: bool) -> Network:
             heaters.append(Heater(f"q_{c}", c, f"dissipation of {c}"))
     bounds = [Boundary("room", "laboratory air"), Boundary("coldplate", "cold plate")]
     cases = _cases(rng, ncases, {h.name: ("schedule" if k % 2 == 0 else "constant") for k, h in enumerate(heaters)},
-                   {"room": ("ambient", 22.0, 4.0), "coldplate": ("stepped", 20.0, 10.0)}, 20.0, events)
+                   {"room": ("ambient", 22.0, 4.0), "coldplate": ("stepped", 20.0, 10.0)}, 20.0, events, timing)
     net = Network(f"box{n}", "box", f"electronics box, {len(nodes)} nodes", params, nodes, bounds, links, heaters, cases)
     _scale_heaters(net, rng.uniform(20, 30))
     return net
 
 
-BUILDERS = {"chain": chain, "plate": plate, "tree": tree, "box": box}
+def panel(rng, n: int, ncases: int, events: bool, timing=TIMING) -> Network:
+    """A radiator panel of rows x cols cells in a vacuum chamber: every cell radiates to the
+    shroud, the panel is bolted to a cold rail along one edge and carries components; only the
+    conductivity and the emissivity are uncertain (its capacities and the bolted joints are known)."""
+    rows, cols = _grid(n)
+    params = [
+        _param(rng, "k_plate", rng.uniform(120, 200), "W/(m*K)", "conductivity of the panel"),
+        _param(rng, "eps_plate", rng.uniform(0.7, 0.85), "", "emissivity of the panel", 0.98),
+    ]
+    h_rail, rc = sig4(rng.uniform(400, 1500)), rng.uniform(2.2e6, 2.6e6)
+    cell, thick = sig4(rng.uniform(0.04, 0.06)), sig4(rng.uniform(0.002, 0.004))
+    name = lambda r, c: f"p{r + 1}_{c + 1}"  # noqa: E731
+    nodes, links = [], []
+    for r in range(rows):
+        for c in range(cols):
+            nodes.append(Node(name(r, c), sig4(rc * cell * cell * thick * rng.uniform(0.9, 1.1)), ""))
+            links.append(Link(f"r_{name(r, c)}", "radiation", name(r, c), "shroud",
+                              {"A": sig4(cell * cell), "eps1": "eps_plate", "eps2": 1.0}))
+            for dr, dc in ((0, 1), (1, 0)):
+                if r + dr < rows and c + dc < cols:
+                    links.append(Link(f"k_{name(r, c)}_{name(r + dr, c + dc)}", "conduction", name(r, c),
+                                      name(r + dr, c + dc), {"k": "k_plate", "L": cell, "A": sig4(cell * thick)}))
+    for r in range(rows):
+        links.append(Link(f"ct_rail_{r + 1}", "contact", name(r, 0), "rail", {"h": h_rail, "A": sig4(cell * 0.02)}))
+    ncomp = int(np.clip(round(n / 12), 2, 6))
+    cells = rng.choice(np.arange(rows * cols), size=ncomp, replace=False)
+    heaters = []
+    for k, idx in enumerate(sorted(cells)):
+        r, c = divmod(int(idx), cols)
+        heaters.append(Heater(f"q_u{k + 1}", name(r, max(c, 1)), f"component u{k + 1}"))
+    bounds = [Boundary("shroud", "vacuum chamber shroud"), Boundary("rail", "cold rail")]
+    cases = _cases(rng, ncases, {h.name: ("schedule" if k % 2 == 0 else "constant") for k, h in enumerate(heaters)},
+                   {"shroud": ("stepped", -20.0, 15.0), "rail": ("stepped", 20.0, 10.0)}, 20.0, events, timing)
+    net = Network(f"panel{n}", "panel", f"{rows} x {cols} radiator panel in vacuum", params, nodes, bounds, links,
+                  heaters, cases)
+    _scale_heaters(net, rng.uniform(15, 25))
+    return net
 
 
-def build(shape: str, n: int, rng, ncases: int, events: bool) -> Network:
-    net = BUILDERS[shape](rng, n, ncases, events)
+BUILDERS = {"chain": chain, "plate": plate, "tree": tree, "box": box, "panel": panel}
+
+
+def build(shape: str, n: int, rng, ncases: int, events: bool, timing=TIMING) -> Network:
+    net = BUILDERS[shape](rng, n, ncases, events, timing)
     assert len(net.nodes) == n or shape == "box", (shape, n, len(net.nodes))
     return net
