@@ -184,6 +184,7 @@ bool Elaborator::column_map(NetworkSpec& net, const ast::CaseData& data) {
       d.weights.push_back(w);
       total += w;
     }
+    if (d.columns.empty()) continue; // every column refused (reported above): no series
     for (double& w : d.weights)
       w /= total;
     d.scale = s.data_scale;
