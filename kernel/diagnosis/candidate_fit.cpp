@@ -163,8 +163,7 @@ Eigen::MatrixXd Engine::residual_jacobian(const Entry& e, const Base& base,
     residuals(simulate(&h, &e.c, x, Part{}, base), Part{}, out);
   };
   for (std::size_t j = 0; j < p.size(); ++j) {
-    const double size = std::max(std::abs(p[j]), 1e-3 * std::abs(e.c.hi[j] - e.c.lo[j]));
-    const double step = 1e-3 * (size > 0.0 && std::isfinite(size) ? size : 1.0);
+    const double step = 1e-3 * parameter_size(e.c, p, j);
     std::vector<double> up = p, down = p, ru, rd;
     up[j] = std::min(p[j] + step, e.c.hi[j]);
     down[j] = std::max(p[j] - step, e.c.lo[j]);

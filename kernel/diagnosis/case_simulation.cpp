@@ -33,18 +33,11 @@ SolverOptions diagnosis_solver() {
 }
 
 /// How far parameter j is moved to elaborate the network at a moved value (a derivative taken
-/// from the elaboration, no simulation): 1e-7 of its size, or of its box near 0, backwards where
-/// that would pass the upper bound.
+/// from the elaboration, no simulation): 1e-7 of its size, backwards where that would pass the
+/// upper bound.
 double moved_step(const Candidate& c, const std::vector<double>& p, std::size_t j) {
-  const double size = std::max(std::abs(p[j]), 1e-3 * std::abs(c.hi[j] - c.lo[j]));
-  const double h = 1e-7 * (size > 0.0 && std::isfinite(size) ? size : 1.0);
+  const double h = 1e-7 * parameter_size(c, p, j);
   return p[j] + h > c.hi[j] ? -h : h;
-}
-
-/// A typical size of parameter j (its sensitivities times it are compared with the tolerances).
-double typical_size(const Candidate& c, const std::vector<double>& p, std::size_t j) {
-  const double size = std::max(std::abs(p[j]), 1e-3 * std::abs(c.hi[j] - c.lo[j]));
-  return size > 0.0 && std::isfinite(size) ? size : 1.0;
 }
 
 /// Largest |value| of simulated series.
@@ -58,6 +51,11 @@ double peak(const CaseSims& sims) {
 }
 
 } // namespace
+
+double parameter_size(const Candidate& c, const std::vector<double>& p, std::size_t j) {
+  const double size = std::max(std::abs(p[j]), 1e-3 * std::abs(c.hi[j] - c.lo[j]));
+  return size > 0.0 && std::isfinite(size) ? size : 1.0;
+}
 
 /// Simulates a case at the measured times: temperatures of every node (spec order), K.
 std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
@@ -211,7 +209,7 @@ bool Engine::model_sensitivities(const Hypothesis& h, const Candidate& c,
     for (std::size_t j = 0; j < np; ++j) {
       std::vector<double> q = p;
       moved[j].step = moved_step(c, p, j);
-      moved[j].scale = typical_size(c, p, j);
+      moved[j].scale = parameter_size(c, p, j);
       q[j] += moved[j].step;
       const lang::ParamValues ovj = h.overrides(c, q);
       moved[j].spec = ovj == ov ? inst : model_.instantiate(ce.name, ovj);

@@ -220,6 +220,9 @@ StructuralError residual_signature(const Evidence& ev, const CaseSims& sims, dou
 
 /// Two candidates at the same site with the same mechanism.
 bool same_candidate(const Candidate& a, const Candidate& b);
+/// A typical size of parameter j at p: |p[j]|, or 1e-3 of its box near 0 (1 where neither is a
+/// positive finite number); the steps that difference or move it are fractions of it.
+double parameter_size(const Candidate& c, const std::vector<double>& p, std::size_t j);
 
 /// Sets what a finding writes (statements, case lines, rewritten params): its hypothesis's text
 /// for the candidate at p.
