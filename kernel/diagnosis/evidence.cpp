@@ -16,6 +16,7 @@ namespace thermnet::detail {
 
 void Engine::load_cases() {
   ev_.model = &model_;
+  ev_.threads = opt_.threads;
   // What the findings' netlist text is written against: the declarations, and every case block.
   const lang::Reporter fail = [](lang::Diagnostic d) {
     if (d.severity == lang::Severity::error) throw lang::ModelError(std::move(d));

@@ -56,6 +56,7 @@ struct Evidence {
   DeclaredSpec declared;                    ///< the declarations without any case
   std::vector<DeclaredSpec> declared_cases; ///< every declared case block, with data or not
   std::vector<EventWindow> events;          ///< known events (`--events`), for event_loss
+  int threads = 1; ///< worker threads a hypothesis may screen its candidates on (0: all cores)
 
   /// Fits q ~ c * basis(case, node, k) over every screen row (rows weighted by 1/C, i.e. in K/s);
   /// basis returning 0 contributes nothing.
@@ -104,7 +105,8 @@ void merge_case_lines(CaseLines& lines, const CaseLines& more);
 class Hypothesis {
 public:
   virtual ~Hypothesis() = default;
-  /// Candidates from the evidence (scored by the screen where the kind allows).
+  /// Candidates from the evidence (scored by the screen where the kind allows); runs beside the
+  /// other kinds' propose, on its own thread.
   virtual std::vector<Candidate> propose(const Evidence& ev) const = 0;
   /// The alternative mechanisms its candidates name (e.g. linear, radiation), in the order the
   /// report lists them; candidates of one site with different mechanisms are compared, and one is

@@ -5,6 +5,8 @@
 
 #include "kernel/diagnosis/selection.hpp"
 
+#include "kernel/core/parallel.hpp"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -247,10 +249,14 @@ bool model_side(const Entry& e) {
 }
 
 std::vector<Entry> Selection::propose(const Evidence& ev) const {
+  // The hypotheses screen at the same time, each into its own list (read in their order).
+  std::vector<std::vector<Candidate>> proposed(hyps_.size());
+  parallel_for(hyps_.size(), opt_.threads,
+               [&](std::size_t i) { proposed[i] = hyps_[i]->propose(ev); });
   std::vector<Entry> out;
   const auto& declared = engine_.evidence().cases.front().spec;
-  for (const auto& h : hyps_)
-    for (auto& c : h->propose(ev)) {
+  for (std::size_t i = 0; i < hyps_.size(); ++i)
+    for (auto& c : proposed[i]) {
       // An element or node added by an applied finding (a heater's own mass) is not a site of
       // the model's own.
       if (!c.element.empty() &&
@@ -261,7 +267,7 @@ std::vector<Entry> Selection::propose(const Evidence& ev) const {
                       [&](const std::string& n) { return declared.node_index(n) < 0; }))
         continue;
       Entry e;
-      e.h = e.own_h = h.get();
+      e.h = e.own_h = hyps_[i].get();
       e.own = c;
       e.c = std::move(c);
       out.push_back(std::move(e));
