@@ -4,7 +4,10 @@
 
 #include "kernel/diagnosis/selection.hpp"
 
+#include "kernel/core/parallel.hpp"
+
 #include <algorithm>
+#include <optional>
 
 namespace thermnet::detail {
 
@@ -70,33 +73,43 @@ void Selection::rank_first(std::size_t recal) {
   // When recalibrating the ranged params alone is significant (`recal`), every other candidate
   // must beat that recalibration on held-out data by more than chance, not only the baseline.
   judge(res_, engine_.declared());
-  if (recal < res_.size())
+  if (recal < res_.size()) {
+    const double z_min = threshold(res_);
+    std::vector<std::size_t> passed;
     for (std::size_t i = 0; i < res_.size(); ++i) {
       Finding& f = res_[i].f;
       if (i == recal || f.values.empty()) continue;
-      judge_against(res_[i], res_[recal].holdout_r, res_[recal].r, threshold(res_));
-      if (f.significant) against_own_params(i, recal);
+      judge_against(res_[i], res_[recal].holdout_r, res_[recal].r, z_min);
+      if (f.significant) passed.push_back(i);
     }
+    against_own_params(passed, recal, z_min);
+  }
   merge_mechanisms(chosen_, res_);
   first_ = ranked(res_);
 }
 
-void Selection::against_own_params(std::size_t i, std::size_t recal) {
+void Selection::against_own_params(const std::vector<std::size_t>& passed, std::size_t recal,
+                                   double z_min) {
   // A joint refit moves the params too: its gain over the recalibration may come from params the
   // recalibration's own refit did not reach (on a clean control, a radiative link with GR at its
   // lower bound passed), not from the candidate. So the candidate must also beat the params it was
   // fitted with, alone (held-out residuals at those all-data values: that favours the reference,
-  // never the candidate).
-  Finding& f = res_[i].f;
-  const std::size_t own = chosen_[i].own.names.size();
-  if (f.values.size() != own + res_[recal].f.values.size()) return; // not refitted jointly
-  const std::vector<double> params(f.values.begin() + static_cast<long>(own), f.values.end());
-  try {
-    const Base alone = engine_.make_base({Applied{chosen_[recal].h, chosen_[recal].c, params}});
-    judge_against(res_[i], alone.holdout_r, alone.r, threshold(res_));
-  } catch (const std::exception&) {
-    // the params alone cannot be simulated: the comparison with the recalibration stands
-  }
+  // never the candidate). Those models are simulated in parallel (a 150-node plate's hundreds of
+  // candidates took 5 s one after the other), each into its own slot.
+  std::vector<std::optional<Base>> alone(passed.size());
+  parallel_for(passed.size(), opt_.threads, [&](std::size_t k) {
+    const Finding& f = res_[passed[k]].f;
+    const std::size_t own = chosen_[passed[k]].own.names.size();
+    if (f.values.size() != own + res_[recal].f.values.size()) return; // not refitted jointly
+    const std::vector<double> params(f.values.begin() + static_cast<long>(own), f.values.end());
+    try {
+      alone[k] = engine_.make_base({Applied{chosen_[recal].h, chosen_[recal].c, params}});
+    } catch (const std::exception&) {
+      // the params alone cannot be simulated: the comparison with the recalibration stands
+    }
+  });
+  for (std::size_t k = 0; k < passed.size(); ++k)
+    if (alone[k]) judge_against(res_[passed[k]], alone[k]->holdout_r, alone[k]->r, z_min);
 }
 
 void Selection::finish(DiagnosisReport& rep) {

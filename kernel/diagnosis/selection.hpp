@@ -78,9 +78,10 @@ private:
   void redecide_mechanisms(std::vector<Applied>& applied, const Compose& all, Evaluated& joint,
                            DiagnosisReport& rep) const;
   void finish(DiagnosisReport& rep);
-  /// Marks jointly refitted candidate i not significant unless it beats, on held-out data, its
-  /// own fitted params without it (`recal`: the recalibrating candidate).
-  void against_own_params(std::size_t i, std::size_t recal);
+  /// Marks each jointly refitted candidate of `passed` not significant unless it beats, on held-out
+  /// data, its own fitted params without it (`recal`: the recalibrating candidate; z_min: the
+  /// step's threshold); the params' models are simulated in parallel.
+  void against_own_params(const std::vector<std::size_t>& passed, std::size_t recal, double z_min);
 
   // shortlist.cpp
   std::vector<Entry> propose(const Evidence& ev) const;
