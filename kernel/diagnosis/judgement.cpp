@@ -44,7 +44,7 @@ void Selection::judge(std::vector<Evaluated>& res, const Base& reference) const 
     f.significant = !e.degenerate && f.delta_bic < -10.0 &&
                     f.validation_rmse_after <= f.validation_rmse_before + 0.1 * nf &&
                     f.rmse_after < 0.97 * f.rmse_before;
-    judge_against(e, reference.holdout_r, reference.r, z_min);
+    judge_against(e, compare_to(e, reference.holdout_r, reference.r), z_min);
   }
 }
 
@@ -54,20 +54,25 @@ double Selection::threshold(const std::vector<Evaluated>& res) {
       res.begin(), res.end(), [](const Evaluated& e) { return !e.f.values.empty(); })));
 }
 
-void Selection::judge_against(Evaluated& e, const std::vector<double>& holdout_r,
-                              const std::vector<std::vector<double>>& r, double z_min) const {
+Comparison Selection::compare_to(const Evaluated& e, const std::vector<double>& holdout_r,
+                                 const std::vector<std::vector<double>>& r) const {
   // The output-error criterion's test of a candidate against one reference fit (its held-out and
   // all-data residuals): the held-out gain beyond the variation neither explains, and the largest
-  // local gain beyond the practical floor. A finding must pass it against every reference; z and
-  // the gain kept are the smallest. z_min: the threshold for the candidates compared in the step.
+  // local gain beyond the practical floor.
+  return {holdout_gain_z(holdout_r, e.holdout_r, engine_.evidence().noise_floor,
+                         engine_.holdout_segments()),
+          largest_window_gain(r, e.r)};
+}
+
+void Selection::judge_against(Evaluated& e, const Comparison& cmp, double z_min) const {
+  // A finding must pass the test against every reference; z and the gain kept are the smallest.
+  // z_min: the threshold for the candidates compared in the step.
   Finding& f = e.f;
-  const double z = holdout_gain_z(holdout_r, e.holdout_r, engine_.evidence().noise_floor,
-                                  engine_.holdout_segments());
-  const double gain = largest_window_gain(r, e.r);
-  f.holdout_z =
-      f.window_gain == std::numeric_limits<double>::infinity() ? z : std::min(f.holdout_z, z);
-  f.window_gain = std::min(f.window_gain, gain);
-  f.significant = f.significant && z >= z_min && gain >= opt_.min_gain;
+  f.holdout_z = f.window_gain == std::numeric_limits<double>::infinity()
+                    ? cmp.z
+                    : std::min(f.holdout_z, cmp.z);
+  f.window_gain = std::min(f.window_gain, cmp.gain);
+  f.significant = f.significant && cmp.z >= z_min && cmp.gain >= opt_.min_gain;
 }
 
 void Selection::add_rivals(Finding& f, std::size_t best, const std::vector<Entry>& entries,

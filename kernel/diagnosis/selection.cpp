@@ -79,7 +79,7 @@ void Selection::rank_first(std::size_t recal) {
     for (std::size_t i = 0; i < res_.size(); ++i) {
       Finding& f = res_[i].f;
       if (i == recal || f.values.empty()) continue;
-      judge_against(res_[i], res_[recal].holdout_r, res_[recal].r, z_min);
+      judge_against(res_[i], compare_to(res_[i], res_[recal].holdout_r, res_[recal].r), z_min);
       if (f.significant) passed.push_back(i);
     }
     against_own_params(passed, recal, z_min);
@@ -95,21 +95,34 @@ void Selection::against_own_params(const std::vector<std::size_t>& passed, std::
   // lower bound passed), not from the candidate. So the candidate must also beat the params it was
   // fitted with, alone (held-out residuals at those all-data values: that favours the reference,
   // never the candidate). Those models are simulated in parallel (a 150-node plate's hundreds of
-  // candidates took 5 s one after the other), each into its own slot.
-  std::vector<std::optional<Base>> alone(passed.size());
-  parallel_for(passed.size(), opt_.threads, [&](std::size_t k) {
-    const Finding& f = res_[passed[k]].f;
-    const std::size_t own = chosen_[passed[k]].own.names.size();
-    if (f.values.size() != own + res_[recal].f.values.size()) return; // not refitted jointly
-    const std::vector<double> params(f.values.begin() + static_cast<long>(own), f.values.end());
+  // candidates took 5 s one after the other), each test into its own slot, and kept: the ranking
+  // after the tied variants meets most of the same refits again.
+  std::vector<std::size_t> todo;
+  for (std::size_t i : passed) {
+    const auto it = own_params_tests_.find(i);
+    if (it == own_params_tests_.end() || it->second.values != res_[i].f.values ||
+        it->second.holdout_sse != res_[i].holdout_sse)
+      todo.push_back(i);
+  }
+  std::vector<OwnParamsTest> tests(todo.size());
+  parallel_for(todo.size(), opt_.threads, [&](std::size_t k) {
+    const Evaluated& e = res_[todo[k]];
+    tests[k].values = e.f.values;
+    tests[k].holdout_sse = e.holdout_sse;
+    const std::size_t own = chosen_[todo[k]].own.names.size();
+    if (e.f.values.size() != own + res_[recal].f.values.size()) return; // not refitted jointly
+    const std::vector<double> params(e.f.values.begin() + static_cast<long>(own), e.f.values.end());
     try {
-      alone[k] = engine_.make_base({Applied{chosen_[recal].h, chosen_[recal].c, params}});
+      const Base alone = engine_.make_base({Applied{chosen_[recal].h, chosen_[recal].c, params}});
+      tests[k].cmp = compare_to(e, alone.holdout_r, alone.r);
     } catch (const std::exception&) {
       // the params alone cannot be simulated: the comparison with the recalibration stands
     }
   });
-  for (std::size_t k = 0; k < passed.size(); ++k)
-    if (alone[k]) judge_against(res_[passed[k]], alone[k]->holdout_r, alone[k]->r, z_min);
+  for (std::size_t k = 0; k < todo.size(); ++k)
+    own_params_tests_[todo[k]] = std::move(tests[k]);
+  for (std::size_t i : passed)
+    if (const auto& cmp = own_params_tests_.at(i).cmp) judge_against(res_[i], *cmp, z_min);
 }
 
 void Selection::finish(DiagnosisReport& rep) {

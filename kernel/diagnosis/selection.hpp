@@ -7,7 +7,9 @@
 #include "kernel/diagnosis/engine.hpp"
 #include "kernel/diagnosis/statistics.hpp"
 
+#include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -37,6 +39,12 @@ std::vector<std::size_t> tied_node_exchanges(const std::vector<Entry>& entries, 
 /// kind's, in order.
 void note_mechanism(Finding& keep, const Finding& drop, const FitComparison& cmp,
                     const std::vector<std::string>& mechanisms);
+
+/// A candidate's test against one reference fit: the held-out gain's z and the largest local gain.
+struct Comparison {
+  double z = 0.0;    ///< held-out gain over its spread (holdout_gain_z)
+  double gain = 0.0; ///< largest gain over a window (largest_window_gain), K
+};
 
 /// The screen's candidates: model-side ones by falling screen score, and the others (always
 /// refitted), in proposal order.
@@ -82,6 +90,14 @@ private:
   /// data, its own fitted params without it (`recal`: the recalibrating candidate; z_min: the
   /// step's threshold); the params' models are simulated in parallel.
   void against_own_params(const std::vector<std::size_t>& passed, std::size_t recal, double z_min);
+  /// A refit's test against its own params alone, kept for the next ranking (the same refit is
+  /// ranked again after the tied variants): its values and held-out SSE, and the test (none when
+  /// those params alone could not be simulated).
+  struct OwnParamsTest {
+    std::vector<double> values;
+    double holdout_sse = 0.0;
+    std::optional<Comparison> cmp;
+  };
 
   // shortlist.cpp
   std::vector<Entry> propose(const Evidence& ev) const;
@@ -92,8 +108,9 @@ private:
                                  std::size_t sites, std::set<std::size_t>* taken) const;
   // judgement.cpp
   void judge(std::vector<Evaluated>& res, const Base& reference) const;
-  void judge_against(Evaluated& e, const std::vector<double>& holdout_r,
-                     const std::vector<std::vector<double>>& r, double z_min) const;
+  Comparison compare_to(const Evaluated& e, const std::vector<double>& holdout_r,
+                        const std::vector<std::vector<double>>& r) const;
+  void judge_against(Evaluated& e, const Comparison& cmp, double z_min) const;
   static double threshold(const std::vector<Evaluated>& res);
   void add_rivals(Finding& f, std::size_t best, const std::vector<Entry>& entries,
                   const std::vector<Evaluated>& res) const;
@@ -107,11 +124,12 @@ private:
   const Engine& engine_;
   const DiagnosisOptions& opt_;
   std::vector<std::unique_ptr<Hypothesis>> hyps_;
-  std::vector<Entry> side_;                    // the declared model's screen, model-side
-  std::vector<Entry> chosen_;                  // refitted on the declared model
-  std::vector<Evaluated> res_;                 // their refits
-  std::vector<std::unique_ptr<Joint>> joints_; // the joint refits' hypotheses
-  std::vector<std::size_t> first_;             // significant refits, best first
+  std::vector<Entry> side_;                               // the declared model's screen, model-side
+  std::vector<Entry> chosen_;                             // refitted on the declared model
+  std::vector<Evaluated> res_;                            // their refits
+  std::vector<std::unique_ptr<Joint>> joints_;            // the joint refits' hypotheses
+  std::vector<std::size_t> first_;                        // significant refits, best first
+  std::map<std::size_t, OwnParamsTest> own_params_tests_; // by index into res_
 };
 
 } // namespace thermnet::detail
