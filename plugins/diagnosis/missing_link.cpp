@@ -85,16 +85,9 @@ private:
         return 0.0;
       });
       if (f.coefficient <= 0.0) continue; // heat would flow against the difference
-      Candidate c;
-      c.kind = "missing_link";
-      c.nodes = {nodes[static_cast<std::size_t>(a)].name, nodes[static_cast<std::size_t>(b)].name};
-      c.mechanism = rad ? "radiation" : "linear";
-      c.names = {rad ? "GR" : "G"};
-      c.lo = {rad ? 1e-8 : 1e-6};
-      c.hi = {rad ? 100.0 : 1e4};
+      Candidate c = link(nodes, a, b, rad);
       c.start = {std::clamp(f.coefficient, c.lo[0] * 10, c.hi[0] / 10)};
       c.screen = f.reduction;
-      c.index = {a, b};
       c.evidence = fmt::format(
           "the unexplained heat flow of {} and {} follows {} (correlation {:.2f})", c.nodes[0],
           c.nodes[1], rad ? "the difference of T^4" : "their temperature difference",
@@ -102,9 +95,8 @@ private:
       out.push_back(std::move(c));
     }
   }
-  /// A link between two unmeasured nodes: refitted only beside a shortlisted link of a measured
-  /// neighbour.
-  static Candidate unobserved(const std::vector<lang::NodeSpec>& nodes, int a, int b, bool rad) {
+  /// A link between nodes a and b by one mechanism, its parameter and bounds (no start yet).
+  static Candidate link(const std::vector<lang::NodeSpec>& nodes, int a, int b, bool rad) {
     Candidate c;
     c.kind = "missing_link";
     c.nodes = {nodes[static_cast<std::size_t>(a)].name, nodes[static_cast<std::size_t>(b)].name};
@@ -112,8 +104,14 @@ private:
     c.names = {rad ? "GR" : "G"};
     c.lo = {rad ? 1e-8 : 1e-6};
     c.hi = {rad ? 100.0 : 1e4};
-    c.start = {rad ? 1e-3 : 0.1};
     c.index = {a, b};
+    return c;
+  }
+  /// A link between two unmeasured nodes: refitted only beside a shortlisted link of a measured
+  /// neighbour.
+  static Candidate unobserved(const std::vector<lang::NodeSpec>& nodes, int a, int b, bool rad) {
+    Candidate c = link(nodes, a, b, rad);
+    c.start = {rad ? 1e-3 : 0.1};
     c.unobserved = true;
     c.evidence = fmt::format("{} and {} are not measured; a path between them shows at their "
                              "measured neighbours",
