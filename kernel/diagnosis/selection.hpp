@@ -108,8 +108,11 @@ private:
                                  std::size_t sites, std::set<std::size_t>* taken) const;
   // judgement.cpp
   void judge(std::vector<Evaluated>& res, const Base& reference) const;
+  /// The test of e against one reference fit (its held-out and all-data residuals).
   Comparison compare_to(const Evaluated& e, const std::vector<double>& holdout_r,
                         const std::vector<std::vector<double>>& r) const;
+  /// Applies a test to e: the smallest z and gain are kept; below z_min or the least gain, e is
+  /// not significant.
   void judge_against(Evaluated& e, const Comparison& cmp, double z_min) const;
   static double threshold(const std::vector<Evaluated>& res);
   void add_rivals(Finding& f, std::size_t best, const std::vector<Entry>& entries,
