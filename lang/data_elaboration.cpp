@@ -6,6 +6,7 @@
 #include "lang/elaborator.hpp"
 #include "lang/elaborator_detail.hpp"
 #include "lang/measured_series.hpp"
+#include "lang/units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -40,7 +41,7 @@ std::pair<double, double> prescribed_band(const NetworkSpec& net) {
       if (!n.T.is_constant()) take(n.T.values().empty() ? n.T.constant : n.T.values().front());
     }
   }
-  return {lo - 273.15, hi - 273.15};
+  return {lo - kZeroCelsius, hi - kZeroCelsius};
 }
 
 /// True when `name` is a node, a boundary or a sensor of the model: what a series is compared with.
@@ -83,7 +84,7 @@ void Elaborator::apply_data(NetworkSpec& net, const ast::CaseData& data, const S
     unit = temperature_unit(*data.unit, f, at, "the unit of a data file");
     if (unit) {
       s.data_scale = unit->scale;
-      s.data_offset = unit->offset - 273.15; // to degC, the unit of data files
+      s.data_offset = unit->offset - kZeroCelsius; // to degC, the unit of data files
     }
   }
   // The layout is read (and its problems reported) once, where tables of the file need it too.
@@ -196,7 +197,7 @@ bool Elaborator::column_map(NetworkSpec& net, const ast::CaseData& data) {
         continue;
       }
       d.scale = u->scale;
-      d.offset = u->offset - 273.15;
+      d.offset = u->offset - kZeroCelsius;
     }
     s.data_series.push_back(std::move(d));
   }
@@ -275,7 +276,7 @@ void Elaborator::check_data(const NetworkSpec& net, Span at, Span mark,
     for (const auto& v : series) {
       std::vector<double> x;
       for (double k : v.kelvin)
-        if (!std::isnan(k)) x.push_back(k - 273.15);
+        if (!std::isnan(k)) x.push_back(k - kZeroCelsius);
       if (x.empty()) continue;
       const double m = median(std::move(x));
       if (m > lo - far && m < hi + far) return; // a column in the model's range: the unit fits
@@ -287,11 +288,11 @@ void Elaborator::check_data(const NetworkSpec& net, Span at, Span mark,
     const double m = median(medians);
     const char* read_as = unit ? "in the declared unit" : "as degC";
     std::string guess;
-    if (m - 273.15 > lo - far / 3 && m - 273.15 < hi + far / 3)
+    if (m - kZeroCelsius > lo - far / 3 && m - kZeroCelsius < hi + far / 3)
       guess = " They look like kelvin: write data \"FILE\" [K].";
     else if ((m - 32) / 1.8 > lo - far / 3 && (m - 32) / 1.8 < hi + far / 3)
       guess = " They look like degF: write data \"FILE\" [degF].";
-    else if (unit && m + 273.15 > lo - far / 3 && m + 273.15 < hi + far / 3)
+    else if (unit && m + kZeroCelsius > lo - far / 3 && m + kZeroCelsius < hi + far / 3)
       guess = " They look like degC: drop the unit.";
     report(DiagnosticEngine::make(
         DiagId::data_unit_suspect, at, mark,
@@ -334,9 +335,9 @@ void Elaborator::initial_from_data(NetworkSpec& net) {
         for (const auto& e : net.elements)
           if (e.name == v.target && e.schema && e.schema->observes && e.nodes().size() == 1) {
             node = e.nodes()[0];
-            kelvin =
-                (kelvin - 273.15 - e.values.at("offset").constant) / e.values.at("gain").constant +
-                273.15;
+            kelvin = (kelvin - kZeroCelsius - e.values.at("offset").constant) /
+                         e.values.at("gain").constant +
+                     kZeroCelsius;
           }
       }
       if (node < 0) continue;

@@ -1,4 +1,5 @@
 #include "lang/evaluator.hpp"
+#include "lang/units.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -30,7 +31,8 @@ bool is_dimensionless(const std::optional<Dimension>& d) {
 } // namespace
 
 std::string format_value(double si, const Dimension& d, bool absolute_temperature) {
-  if (absolute_temperature && d == dim::temperature) return fmt::format("{:g} degC", si - 273.15);
+  if (absolute_temperature && d == dim::temperature)
+    return fmt::format("{:g} degC", si - kZeroCelsius);
   if (d.dimensionless()) return fmt::format("{:g}", si);
   return fmt::format("{:g} {}", si, describe(d));
 }

@@ -3,6 +3,7 @@
 
 #include "lang/model.hpp"
 #include "lang/elaborator.hpp"
+#include "lang/units.hpp"
 
 #include <algorithm>
 #include <numeric>
@@ -290,7 +291,7 @@ std::vector<ParamInfo> Model::params() const {
         p.name = case_param_name(node, c.name);
         auto kelvin = [&](const ast::Expr& e) {
           const Quantity q = ec.evaluate(e, c.file, nullptr);
-          return q.dim ? q.value : q.value + 273.15; // bare temperatures are degC
+          return q.dim ? q.value : q.value + kZeroCelsius; // bare temperatures are degC
         };
         p.value = kelvin(*a->value.as_expr());
         p.lo = kelvin(a->range->lo);

@@ -3,6 +3,7 @@
 // reports.
 
 #include "lang/elaborator.hpp"
+#include "lang/units.hpp"
 
 #include <fmt/format.h>
 
@@ -46,7 +47,7 @@ std::optional<RequirementKind> kind_of(std::string_view word) {
 DisplayUnit default_unit(RequirementKind k) {
   switch (k) {
   case RequirementKind::band:
-    return {"degC", 1.0, 273.15};
+    return {"degC", 1.0, kZeroCelsius};
   case RequirementKind::gradient:
     return {"K", 1.0, 0.0};
   case RequirementKind::power:
@@ -249,7 +250,7 @@ void Elaborator::add_requirements(NetworkSpec& net) {
           return written->scale * n.value; // a difference: `5 [degC]` is 5 K
         if (!q.dim && lone_unit_applies && written)
           return written->scale * q.value + (absolute ? written->offset : 0.0);
-        if (!q.dim && absolute) return q.value + 273.15; // bare temperatures are degC
+        if (!q.dim && absolute) return q.value + kZeroCelsius; // bare temperatures are degC
         return q.value;
       } catch (const EvalError& err) {
         report_at(err, at);

@@ -64,12 +64,12 @@ constexpr auto kTable = std::to_array<Entry>({
     {"min", 60.0, 0.0, dim::time, false},
     {"h", 3600.0, 0.0, dim::time, false},
     {"day", 86400.0, 0.0, dim::time, false},
-    {"degC", 1.0, 273.15, dim::temperature, false},
+    {"degC", 1.0, kZeroCelsius, dim::temperature, false},
     // "\xC2\xB0" is the UTF-8 degree sign; the literal is split because "\xB0C" would be read
     // as a single hex escape.
     {"\xC2\xB0"
      "C",
-     1.0, 273.15, dim::temperature, false},
+     1.0, kZeroCelsius, dim::temperature, false},
     {"degF", kRankine, 459.67 * kRankine, dim::temperature, false},
     {"\xC2\xB0"
      "F",

@@ -4,6 +4,7 @@
 #include "kernel/diagnosis/hypothesis.hpp"
 
 #include "kernel/core/element_registry.hpp"
+#include "lang/units.hpp"
 
 #include <fmt/format.h>
 
@@ -157,7 +158,7 @@ std::optional<double> first_start(const Candidate& c) {
 
 std::string start_text(const Candidate& c) {
   const auto t = first_start(c);
-  return t ? " T0 = " + netlist_number(*t - 273.15) : "";
+  return t ? " T0 = " + netlist_number(*t - lang::kZeroCelsius) : "";
 }
 
 CaseLines start_case_lines(const Candidate& c, const std::string& node, const Evidence& ev) {
@@ -166,7 +167,8 @@ CaseLines start_case_lines(const Candidate& c, const std::string& node, const Ev
   for (const auto& d : ev.declared_cases) {
     auto it = c.start_T.find(d.case_name);
     if (it == c.start_T.end() || !first ||
-        netlist_number(it->second - 273.15) == netlist_number(*first - 273.15))
+        netlist_number(it->second - lang::kZeroCelsius) ==
+            netlist_number(*first - lang::kZeroCelsius))
       continue;
     out[d.case_name] = fmt::format("{}.T0 = {}", node, netlist_number(it->second - 273.15));
   }
