@@ -17,6 +17,7 @@
 #include "cli/run_command.hpp"
 #include "lang/evaluator.hpp"
 #include "lang/rewrite/model_files.hpp"
+#include "lang/units.hpp"
 #include "plot/svg_plot.hpp"
 
 #include <fmt/format.h>
@@ -124,8 +125,8 @@ std::string design_plot(const std::vector<CheckedRun>& runs, const std::string& 
       plot::Band b;
       b.label = fmt::format("band {}", fmt::join(o.req->groups, ", "));
       b.x = {o.req->from, t_end};
-      b.lo = {o.req->lo - 273.15, o.req->lo - 273.15};
-      b.hi = {o.req->hi - 273.15, o.req->hi - 273.15};
+      b.lo = {o.req->lo - lang::kZeroCelsius, o.req->lo - lang::kZeroCelsius};
+      b.hi = {o.req->hi - lang::kZeroCelsius, o.req->hi - lang::kZeroCelsius};
       panel.bands.push_back(std::move(b));
     }
     for (std::size_t c = 0; c < r.kept.names.size(); ++c) {
@@ -133,7 +134,7 @@ std::string design_plot(const std::vector<CheckedRun>& runs, const std::string& 
       s.label = r.kept.names[c];
       s.x = r.kept.times;
       for (const auto& row : r.kept.temps)
-        s.y.push_back(row[c] - 273.15);
+        s.y.push_back(row[c] - lang::kZeroCelsius);
       panel.series.push_back(std::move(s));
     }
     fig.panels.push_back(std::move(panel));

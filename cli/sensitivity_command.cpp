@@ -8,6 +8,7 @@
 #include "cli/run_command.hpp"
 #include "kernel/calibration/sensitivity.hpp"
 #include "kernel/core/simulation.hpp"
+#include "lang/units.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -32,7 +33,7 @@ struct SensitivityCommandOptions {
 std::string format_value(const SensitivityFactor& f) {
   if (f.lo && f.hi) return fmt::format("{:.4g} .. {:.4g}", *f.lo, *f.hi);
   if (std::isnan(f.value)) return "signal";
-  if (f.temperature) return fmt::format("{:.4g} degC", f.value - 273.15);
+  if (f.temperature) return fmt::format("{:.4g} degC", f.value - lang::kZeroCelsius);
   return fmt::format("{:.4g}", f.value);
 }
 
@@ -99,7 +100,7 @@ nlohmann::json sensitivity_json(const lang::Model& model, const SensitivityRepor
                         {"total", r.total[j]},
                         {"sensitivities", s}};
     e["value"] = std::isnan(f.value) ? nlohmann::json(nullptr)
-                 : f.temperature     ? nlohmann::json(f.value - 273.15)
+                 : f.temperature     ? nlohmann::json(f.value - lang::kZeroCelsius)
                                      : nlohmann::json(f.value);
     if (f.temperature) e["unit"] = "degC";
     if (f.lo) e["lo"] = *f.lo;

@@ -13,6 +13,7 @@
 #include "cli/run_command.hpp"
 #include "cli/uncertainty.hpp"
 #include "kernel/core/simulation.hpp"
+#include "lang/units.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -213,7 +214,7 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
       (*json)["times"].push_back(t);
       nlohmann::json row = nlohmann::json::array();
       for (double T : row_temps)
-        row.push_back(kelvin ? T : T - 273.15);
+        row.push_back(kelvin ? T : T - lang::kZeroCelsius);
       (*json)["temperatures"].push_back(std::move(row));
       (*json)["flows"].push_back(flow_values(spec, flow_elements, heat));
     }

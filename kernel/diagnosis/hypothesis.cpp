@@ -164,13 +164,13 @@ std::string start_text(const Candidate& c) {
 CaseLines start_case_lines(const Candidate& c, const std::string& node, const Evidence& ev) {
   CaseLines out;
   const auto first = first_start(c);
+  if (!first) return out;
+  const std::string declared = netlist_number(*first - lang::kZeroCelsius);
   for (const auto& d : ev.declared_cases) {
     auto it = c.start_T.find(d.case_name);
-    if (it == c.start_T.end() || !first ||
-        netlist_number(it->second - lang::kZeroCelsius) ==
-            netlist_number(*first - lang::kZeroCelsius))
-      continue;
-    out[d.case_name] = fmt::format("{}.T0 = {}", node, netlist_number(it->second - 273.15));
+    if (it == c.start_T.end()) continue;
+    const std::string t0 = netlist_number(it->second - lang::kZeroCelsius);
+    if (t0 != declared) out[d.case_name] = fmt::format("{}.T0 = {}", node, t0);
   }
   return out;
 }

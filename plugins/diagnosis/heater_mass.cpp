@@ -6,6 +6,8 @@
 // lag is a capacity error of the node (the capacity_error kind), not a heater's mass.
 #include "kernel/diagnosis/hypothesis.hpp"
 
+#include "lang/units.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -121,8 +123,9 @@ public:
                        "heater {} {} P = {}.P\n"
                        "heater {} {} P = -{}.P",
                        m, netlist_number(p[0]),
-                       c.start_T.empty() && node.T0 ? " T0 = " + netlist_number(*node.T0 - 273.15)
-                                                    : start_text(c),
+                       c.start_T.empty() && node.T0
+                           ? " T0 = " + netlist_number(*node.T0 - lang::kZeroCelsius)
+                           : start_text(c),
                        name(ev, mass_name(c) + "_g"), m, c.nodes[0], netlist_number(p[0] / p[1]),
                        name(ev, mass_name(c) + "_in"), m, c.element,
                        name(ev, mass_name(c) + "_out"), c.nodes[0], c.element);
