@@ -54,7 +54,9 @@ void Engine::load_cases() {
 }
 
 void Engine::place_known_events() {
-  // A log's UNIX times are placed in each case by the first time of its data file.
+  // A log's UNIX times are placed in each case by the first time of its data file (a model
+  // without cases elaborates its default case for that: not without a log).
+  if (opt_.events.empty()) return;
   std::vector<CaseClock> clocks;
   for (const auto& name : model_.run_case_names()) {
     const auto declared = std::find_if(ev_.declared_cases.begin(), ev_.declared_cases.end(),
