@@ -4,7 +4,7 @@
 # prints the total and the heaviest units. CPU seconds hardly depend on what else the machine runs
 # (the wall time does); a 2-core machine's build takes about CPU / 2 when both cores are busy.
 #   bench/compile_times.sh BUILD_DIR [TARGET...] [-- CMAKE_OPTION...]   (default target: thermnet)
-#   e.g. bench/compile_times.sh /tmp/ct thermnet -- -DTHERMNET_FAST_BUILD=OFF
+#   e.g. bench/compile_times.sh /tmp/ct thermnet -- -DTHERMNET_UNITY_BUILD=ON
 set -euo pipefail
 SRC=$(cd "$(dirname "$0")/.." && pwd)
 DIR=$1; shift
