@@ -3,6 +3,7 @@
 // threads for many candidates), and the curves.
 
 #include "kernel/diagnosis/engine.hpp"
+#include "kernel/diagnosis/statistics.hpp"
 
 #include "kernel/calibration/least_squares.hpp"
 #include "kernel/core/process_group.hpp"
@@ -158,6 +159,8 @@ Refit Engine::refit(const Entry& e, const Base& base, bool joint) const {
   out.se = std::move(b.se);
   out.sse = b.sse;
   out.r = std::move(b.r);
+  // (every test of the candidate needs it: measured once, here, in parallel with the refits)
+  out.holdout_rho = positive_autocorrelation(out.holdout_r, segments_);
   return out;
 }
 
@@ -168,6 +171,7 @@ Evaluated Engine::evaluated(const Entry& e, const Base& base, Refit refit) const
   f.evidence = e.c.evidence;
   f.given = static_cast<int>(base.applied.size());
   out.holdout_r = std::move(refit.holdout_r);
+  out.holdout_rho = std::move(refit.holdout_rho);
   if (!refit.ok) return out;
   out.holdout_sse = sum_of_squares(out.holdout_r);
   // Residuals per series (the all-data rows, in order) for the mechanism comparison.
@@ -266,6 +270,7 @@ std::string pack_refit(const Refit& refit) {
   append_bytes(out, refit.sse);
   append_values(out, refit.r);
   append_values(out, refit.holdout_r);
+  append_values(out, refit.holdout_rho);
   return out;
 }
 
@@ -277,6 +282,7 @@ Refit unpack_refit(std::string_view bytes) {
   refit.sse = take_bytes<double>(bytes);
   refit.r = take_values<double>(bytes);
   refit.holdout_r = take_values<double>(bytes);
+  refit.holdout_rho = take_values<double>(bytes);
   return refit;
 }
 

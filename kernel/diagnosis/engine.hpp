@@ -57,18 +57,20 @@ struct Evaluated {
   std::vector<std::vector<double>> r; ///< residuals on all data, per measured series
   double holdout_sse = 0.0;           ///< SSE on the held-out points of every fold
   std::vector<double> holdout_r;      ///< residuals on them (fold by fold, series order), K
+  std::vector<double> holdout_rho;    ///< their correlation (Refit::holdout_rho)
   bool degenerate = false;            ///< the fit is another kind's candidate (not reported)
 };
 
 /// What a candidate's refit computes (the costly part of Engine::evaluate()): all that processes
 /// exchange when the refits are spread over them, the finding being made from it everywhere.
 struct Refit {
-  bool ok = false;               ///< the fit and every validation fold succeeded
-  std::vector<double> p;         ///< fitted parameters (all data)
-  std::vector<double> se;        ///< their standard errors (NaN when unknown)
-  double sse = 0.0;              ///< SSE on all data, K^2
-  std::vector<double> r;         ///< residuals on all data (measured rows, series by series), K
-  std::vector<double> holdout_r; ///< residuals on the held-out points of every fold, K
+  bool ok = false;                 ///< the fit and every validation fold succeeded
+  std::vector<double> p;           ///< fitted parameters (all data)
+  std::vector<double> se;          ///< their standard errors (NaN when unknown)
+  double sse = 0.0;                ///< SSE on all data, K^2
+  std::vector<double> r;           ///< residuals on all data (measured rows, series by series), K
+  std::vector<double> holdout_r;   ///< residuals on the held-out points of every fold, K
+  std::vector<double> holdout_rho; ///< their positive_autocorrelation within the held-out segments
 };
 
 /// A refit as bytes, for the processes that did not compute it.

@@ -114,6 +114,7 @@ std::size_t Selection::rerank_jointly(const std::vector<Applied>& applied, const
                                       static_cast<double>(e.f.candidate.start.size()));
     e.r = std::move(jres[k].r);
     e.holdout_r = std::move(jres[k].holdout_r);
+    e.holdout_rho = std::move(jres[k].holdout_rho);
     e.holdout_sse = jres[k].holdout_sse;
   }
   judge(nres, base);

@@ -75,13 +75,13 @@ void Selection::rank_first(std::size_t recal) {
   judge(res_, engine_.declared());
   if (recal < res_.size()) {
     const double z_min = threshold(res_);
-    std::vector<std::size_t> passed;
-    for (std::size_t i = 0; i < res_.size(); ++i) {
-      Finding& f = res_[i].f;
-      if (i == recal || f.values.empty()) continue;
+    parallel_for(res_.size(), opt_.threads, [&](std::size_t i) {
+      if (i == recal || res_[i].f.values.empty()) return;
       judge_against(res_[i], compare_to(res_[i], res_[recal].holdout_r, res_[recal].r), z_min);
-      if (f.significant) passed.push_back(i);
-    }
+    });
+    std::vector<std::size_t> passed;
+    for (std::size_t i = 0; i < res_.size(); ++i)
+      if (i != recal && !res_[i].f.values.empty() && res_[i].f.significant) passed.push_back(i);
     against_own_params(passed, recal, z_min);
   }
   merge_mechanisms(chosen_, res_);

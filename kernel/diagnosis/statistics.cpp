@@ -101,8 +101,16 @@ std::vector<double> positive_autocorrelation(const std::vector<double>& values,
 double holdout_gain_z(const std::vector<double>& reference, const std::vector<double>& candidate,
                       double noise, const std::vector<std::size_t>& segments) {
   if (reference.empty() || reference.size() != candidate.size() || !(noise > 0.0)) return 0.0;
+  return holdout_gain_z(reference, candidate,
+                        positive_autocorrelation(candidate, runs_of(candidate, segments)), noise,
+                        segments);
+}
+
+double holdout_gain_z(const std::vector<double>& reference, const std::vector<double>& candidate,
+                      const std::vector<double>& rho, double noise,
+                      const std::vector<std::size_t>& segments) {
+  if (reference.empty() || reference.size() != candidate.size() || !(noise > 0.0)) return 0.0;
   const std::vector<std::size_t> runs = runs_of(reference, segments);
-  const std::vector<double> rho = positive_autocorrelation(candidate, runs);
   double gain = 0.0, cand2 = 0.0, dd = 0.0, cross = 0.0;
   std::size_t from = 0;
   for (std::size_t len : runs) {

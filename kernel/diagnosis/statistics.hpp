@@ -57,6 +57,12 @@ std::vector<double> positive_autocorrelation(const std::vector<double>& values,
 double holdout_gain_z(const std::vector<double>& reference, const std::vector<double>& candidate,
                       double noise, const std::vector<std::size_t>& segments = {});
 
+/// holdout_gain_z() with the candidate's positive_autocorrelation(candidate, segments) given
+/// (measured once for a candidate tested against several references).
+double holdout_gain_z(const std::vector<double>& reference, const std::vector<double>& candidate,
+                      const std::vector<double>& candidate_rho, double noise,
+                      const std::vector<std::size_t>& segments);
+
 /// The largest drop of the RMS error over any `window` consecutive samples of one series:
 /// max over windows of rms(reference) - rms(candidate) (series of the same lengths), K; what a
 /// finding changes where it matters most (the practical floor of the significance rule).

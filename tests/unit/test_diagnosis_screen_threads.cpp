@@ -1,14 +1,18 @@
-// The diagnosis's screen on several threads: the kinds propose at the same time and missing_link
-// spreads its pairs over Evidence::threads; the candidates, their scores and their order must be
-// those of one thread.
+// The diagnosis on several threads: the kinds propose at the same time, missing_link spreads its
+// pairs and wall_mass its links over Evidence::threads, and the candidates are judged in
+// parallel; the candidates, their scores and their order, and the whole report, must be those of
+// one thread.
 
 #include "kernel/core/network.hpp"
 #include "kernel/core/simulation.hpp"
+#include "kernel/diagnosis/diagnosis.hpp"
 #include "kernel/diagnosis/engine.hpp"
+#include "kernel/diagnosis/report.hpp"
 
 #include <doctest/doctest.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
 
 #include <memory>
 #include <string>
@@ -71,22 +75,43 @@ std::vector<std::string> described(const std::vector<Candidate>& cs) {
 
 } // namespace
 
-TEST_CASE("diagnosis screen: missing_link's candidates are the same on 1 and 4 threads") {
+TEST_CASE("diagnosis screen: the kinds that spread over threads propose the same on 1 and 4") {
   test::TempDir dir;
   write_data(dir);
   test::LoadedModel m(dir.write("model.tnet", chain("", "; data \"run.csv\"")), test::Lint::clean);
-  const std::unique_ptr<Hypothesis> link =
-      HypothesisRegistry::global().find("missing_link")->create();
-  std::vector<std::vector<std::string>> lists;
-  for (int threads : {1, 4}) {
+  // missing_link: 12 nodes and the air, 66 node pairs and 12 to the air, each linear and radiative
+  // where the screen finds heat flowing the right way, or unscored between two unmeasured ends;
+  // wall_mass: 11 conductances and 12 convections, those the screen finds a mass in
+  for (const auto& [kind, least] : {std::pair{"missing_link", 40}, std::pair{"wall_mass", 3}}) {
+    CAPTURE(kind);
+    const std::unique_ptr<Hypothesis> h = HypothesisRegistry::global().find(kind)->create();
+    std::vector<std::vector<std::string>> lists;
+    for (int threads : {1, 4}) {
+      DiagnosisOptions opt;
+      opt.threads = threads;
+      const Engine engine(*m.model, opt);
+      CHECK(engine.evidence().threads == threads);
+      lists.push_back(described(h->propose(engine.evidence())));
+    }
+    REQUIRE(lists[0].size() > static_cast<std::size_t>(least));
+    CHECK(lists[1] == lists[0]);
+  }
+}
+
+TEST_CASE("diagnosis: the report is the same on 1 and 3 threads") {
+  test::TempDir dir;
+  write_data(dir);
+  test::LoadedModel m(dir.write("model.tnet", chain("", "; data \"run.csv\"")), test::Lint::clean);
+  std::vector<nlohmann::json> reports;
+  for (int threads : {1, 3}) {
     DiagnosisOptions opt;
     opt.threads = threads;
-    const Engine engine(*m.model, opt);
-    CHECK(engine.evidence().threads == threads);
-    lists.push_back(described(link->propose(engine.evidence())));
+    nlohmann::json j = diagnosis_json(diagnose(*m.model, opt));
+    for (const char* timing : {"wall_s", "cpu_s", "setup_wall_s", "batches"})
+      j.erase(timing);
+    reports.push_back(std::move(j));
   }
-  // 12 nodes and the air: 66 node pairs and 12 to the air, each linear and radiative where the
-  // screen finds heat flowing the right way, or unscored between two unmeasured ends
-  REQUIRE(lists[0].size() > 40);
-  CHECK(lists[1] == lists[0]);
+  REQUIRE(!reports[0]["findings"].empty());
+  CHECK(reports[0]["findings"][0]["kind"] == "missing_link");
+  CHECK(reports[1].dump() == reports[0].dump());
 }

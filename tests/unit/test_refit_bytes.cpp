@@ -28,7 +28,8 @@ TEST_CASE("a refit comes back from its bytes bit for bit") {
   r.se = {std::numeric_limits<double>::quiet_NaN(), 0.25};
   r.sse = 12.000000000000002;
   r.r = {-0.5, 0.0, 3.0 / 7.0};
-  r.holdout_r = {2.0 / 3.0};
+  r.holdout_r = {2.0 / 3.0, -1.0 / 3.0};
+  r.holdout_rho = {0.1 / 3.0};
   const Refit back = unpack_refit(pack_refit(r));
   CHECK(back.ok);
   CHECK(same_bits(back.p, r.p));
@@ -36,6 +37,7 @@ TEST_CASE("a refit comes back from its bytes bit for bit") {
   CHECK(std::memcmp(&back.sse, &r.sse, sizeof(double)) == 0);
   CHECK(same_bits(back.r, r.r));
   CHECK(same_bits(back.holdout_r, r.holdout_r));
+  CHECK(same_bits(back.holdout_rho, r.holdout_rho));
 }
 
 TEST_CASE("a failed refit stays failed, and truncated bytes are an error") {
