@@ -7,11 +7,14 @@
 // tau = C f (1 - f) / G, divided by f at a and by 1 - f at b, for a few tau and f.
 #include "kernel/diagnosis/hypothesis.hpp"
 
+#include "kernel/core/parallel.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 namespace thermnet {
 namespace {
@@ -51,73 +54,16 @@ public:
   bool reroutes() const override { return true; }
 
   std::vector<Candidate> propose(const Evidence& ev) const override {
+    // Each link is screened on its own (every time constant and share, a regression over every
+    // case each: seconds for a 72-node panel's links), so the links are spread over the threads,
+    // each into its own slot, read in the links' order.
+    if (ev.cases.empty()) return {};
+    const Screen screen{sampling_interval(ev), longest_span(ev), screen_taus(ev)};
+    std::vector<std::optional<Candidate>> of(ev.cases.front().spec.elements.size());
+    parallel_for(of.size(), ev.threads, [&](std::size_t ei) { of[ei] = screened(ev, ei, screen); });
     std::vector<Candidate> out;
-    if (ev.cases.empty()) return out;
-    const auto& spec = ev.cases.front().spec;
-    const double dt = sampling_interval(ev), span = longest_span(ev);
-    const std::vector<double> taus = screen_taus(ev);
-    for (std::size_t ei = 0; ei < spec.elements.size(); ++ei) {
-      const auto& el = spec.elements[ei];
-      const double G = link_conductance(el);
-      if (!(G > 0.0) || el.name.empty() || overridden(ev, el.name)) continue;
-      int a = el.nodes()[0], b = el.nodes()[1];
-      const auto boundary = [&](int i) { return spec.nodes[static_cast<std::size_t>(i)].boundary; };
-      if (boundary(a) && boundary(b)) continue;
-      // The first end is a node, a measured one where possible.
-      if (boundary(a) || (!ev.measured(a) && ev.measured(b) && !boundary(b))) std::swap(a, b);
-      Candidate c;
-      c.kind = "wall_mass";
-      c.element = el.name;
-      c.nodes = {spec.nodes[static_cast<std::size_t>(a)].name,
-                 spec.nodes[static_cast<std::size_t>(b)].name};
-      c.names = {"C", "f"};
-      c.lo = {std::max(1e-9, 0.1 * dt * G), 0.005};
-      c.hi = {std::max(1.0, 1e4 * span * G), 0.995};
-      c.index = {static_cast<int>(ei), a, b};
-      c.start_T = start_temperatures(ev, a);
-      if (!ev.measured(a) && !ev.measured(b)) {
-        c.start = {std::clamp(0.1 * span * 4.0 * G, c.lo[0], c.hi[0]), 0.5};
-        c.unobserved = true;
-        c.evidence = fmt::format("{}; a mass inside {} shows at its measured neighbours",
-                                 unscreened_words(ev, a), el.name);
-        out.push_back(std::move(c));
-        continue;
-      }
-      ScreenFit best;
-      double best_tau = 0.0, best_f = 0.5;
-      for (double tau : taus)
-        for (double f : kShares) {
-          std::vector<std::vector<double>> term;
-          for (const auto& ce : ev.cases) {
-            std::vector<double> eq(ce.T.size());
-            for (std::size_t k = 0; k < eq.size(); ++k)
-              eq[k] = (1.0 - f) * ce.T[k][static_cast<std::size_t>(a)] +
-                      f * ce.T[k][static_cast<std::size_t>(b)];
-            const double y0 = ce.T.empty() ? 0.0 : ce.T.front()[static_cast<std::size_t>(a)];
-            std::vector<double> y = lowpass(ce.times(), eq, tau, y0);
-            for (std::size_t k = 0; k < y.size(); ++k)
-              y[k] -= eq[k];
-            term.push_back(std::move(y));
-          }
-          const ScreenFit s = ev.regress([&](std::size_t ci, int row, std::size_t k) {
-            if (row == a) return term[ci][k] / f;
-            if (row == b) return term[ci][k] / (1.0 - f);
-            return 0.0;
-          });
-          if (s.coefficient > 0.0 && s.reduction > best.reduction)
-            best = s, best_tau = tau, best_f = f;
-        }
-      if (!(best.reduction > 0.0)) continue;
-      c.start = {std::clamp(best_tau * G / (best_f * (1.0 - best_f)), c.lo[0], c.hi[0]), best_f};
-      c.screen = best.reduction;
-      c.evidence = fmt::format(
-          "the unexplained heat flow of {} follows the response of a mass inside {} (time "
-          "constant about {:g} s, {:.0f} % of its resistance on the side of {}; correlation "
-          "{:.2f})",
-          ev.measured(a) ? c.nodes[0] : c.nodes[1], el.name, best_tau, 100.0 * best_f, c.nodes[0],
-          best.correlation);
-      out.push_back(std::move(c));
-    }
+    for (auto& c : of)
+      if (c) out.push_back(std::move(*c));
     return out;
   }
 
@@ -182,6 +128,80 @@ public:
   }
 
 private:
+  /// What every link's screen shares: the sampling interval and longest span, s, and the time
+  /// constants tried.
+  struct Screen {
+    double dt, span;
+    std::vector<double> taus;
+  };
+
+  /// The candidate of element `ei` when it is a link whose mass the data show (or cannot see).
+  std::optional<Candidate> screened(const Evidence& ev, std::size_t ei,
+                                    const Screen& screen) const {
+    const auto& spec = ev.cases.front().spec;
+    const double dt = screen.dt, span = screen.span;
+    const std::vector<double>& taus = screen.taus;
+    const auto& el = spec.elements[ei];
+    const double G = link_conductance(el);
+    if (!(G > 0.0) || el.name.empty() || overridden(ev, el.name)) return std::nullopt;
+    int a = el.nodes()[0], b = el.nodes()[1];
+    const auto boundary = [&](int i) { return spec.nodes[static_cast<std::size_t>(i)].boundary; };
+    if (boundary(a) && boundary(b)) return std::nullopt;
+    // The first end is a node, a measured one where possible.
+    if (boundary(a) || (!ev.measured(a) && ev.measured(b) && !boundary(b))) std::swap(a, b);
+    Candidate c;
+    c.kind = "wall_mass";
+    c.element = el.name;
+    c.nodes = {spec.nodes[static_cast<std::size_t>(a)].name,
+               spec.nodes[static_cast<std::size_t>(b)].name};
+    c.names = {"C", "f"};
+    c.lo = {std::max(1e-9, 0.1 * dt * G), 0.005};
+    c.hi = {std::max(1.0, 1e4 * span * G), 0.995};
+    c.index = {static_cast<int>(ei), a, b};
+    c.start_T = start_temperatures(ev, a);
+    if (!ev.measured(a) && !ev.measured(b)) {
+      c.start = {std::clamp(0.1 * span * 4.0 * G, c.lo[0], c.hi[0]), 0.5};
+      c.unobserved = true;
+      c.evidence = fmt::format("{}; a mass inside {} shows at its measured neighbours",
+                               unscreened_words(ev, a), el.name);
+      return c;
+    }
+    ScreenFit best;
+    double best_tau = 0.0, best_f = 0.5;
+    for (double tau : taus)
+      for (double f : kShares) {
+        std::vector<std::vector<double>> term;
+        for (const auto& ce : ev.cases) {
+          std::vector<double> eq(ce.T.size());
+          for (std::size_t k = 0; k < eq.size(); ++k)
+            eq[k] = (1.0 - f) * ce.T[k][static_cast<std::size_t>(a)] +
+                    f * ce.T[k][static_cast<std::size_t>(b)];
+          const double y0 = ce.T.empty() ? 0.0 : ce.T.front()[static_cast<std::size_t>(a)];
+          std::vector<double> y = lowpass(ce.times(), eq, tau, y0);
+          for (std::size_t k = 0; k < y.size(); ++k)
+            y[k] -= eq[k];
+          term.push_back(std::move(y));
+        }
+        const ScreenFit s = ev.regress([&](std::size_t ci, int row, std::size_t k) {
+          if (row == a) return term[ci][k] / f;
+          if (row == b) return term[ci][k] / (1.0 - f);
+          return 0.0;
+        });
+        if (s.coefficient > 0.0 && s.reduction > best.reduction)
+          best = s, best_tau = tau, best_f = f;
+      }
+    if (!(best.reduction > 0.0)) return std::nullopt;
+    c.start = {std::clamp(best_tau * G / (best_f * (1.0 - best_f)), c.lo[0], c.hi[0]), best_f};
+    c.screen = best.reduction;
+    c.evidence = fmt::format(
+        "the unexplained heat flow of {} follows the response of a mass inside {} (time "
+        "constant about {:g} s, {:.0f} % of its resistance on the side of {}; correlation "
+        "{:.2f})",
+        ev.measured(a) ? c.nodes[0] : c.nodes[1], el.name, best_tau, 100.0 * best_f, c.nodes[0],
+        best.correlation);
+    return c;
+  }
+
   static std::string mass_name(const Candidate& c) { return "diag_wall_" + c.element; }
 
   /// True when a declared case changes the element's keys (its retired name would be unknown).
