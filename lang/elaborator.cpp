@@ -393,8 +393,7 @@ std::optional<double> Elaborator::to_place(const Quantity& q, const Place& p, Sp
                                   describe(*q.dim)));
     return std::nullopt;
   }
-  double v = q.value;
-  if (!q.dim && p.absolute_temperature) v += kZeroCelsius; // bare temperatures are degC
+  const double v = q.value + bare_temperature_offset(q, p.absolute_temperature);
   if (!check_range(v, p, at, mark)) return std::nullopt;
   return v;
 }

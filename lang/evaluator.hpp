@@ -18,6 +18,12 @@ struct Quantity {
   std::optional<Dimension> dim; ///< dimension, or none for a bare number
 };
 
+/// What a quantity adds where an absolute temperature is expected: kZeroCelsius for a bare number
+/// (bare temperatures are degC), 0 for a value with a unit (already in K) and anywhere else.
+inline double bare_temperature_offset(const Quantity& q, bool absolute_temperature) {
+  return !q.dim && absolute_temperature ? kZeroCelsius : 0.0;
+}
+
 /// A problem found while evaluating: a complete diagnostic ready to report.
 struct EvalError : std::exception {
   /// Wraps a diagnostic.

@@ -291,7 +291,7 @@ std::vector<ParamInfo> Model::params() const {
         p.name = case_param_name(node, c.name);
         auto kelvin = [&](const ast::Expr& e) {
           const Quantity q = ec.evaluate(e, c.file, nullptr);
-          return q.dim ? q.value : q.value + kZeroCelsius; // bare temperatures are degC
+          return q.value + bare_temperature_offset(q, true);
         };
         p.value = kelvin(*a->value.as_expr());
         p.lo = kelvin(a->range->lo);

@@ -250,8 +250,7 @@ void Elaborator::add_requirements(NetworkSpec& net) {
           return written->scale * n.value; // a difference: `5 [degC]` is 5 K
         if (!q.dim && lone_unit_applies && written)
           return written->scale * q.value + (absolute ? written->offset : 0.0);
-        if (!q.dim && absolute) return q.value + kZeroCelsius; // bare temperatures are degC
-        return q.value;
+        return q.value + bare_temperature_offset(q, absolute);
       } catch (const EvalError& err) {
         report_at(err, at);
         return std::nullopt;

@@ -187,7 +187,7 @@ std::optional<Signal> Elaborator::expression_signal(const ast::Expr& e, FileId f
         m_.file(f), e.root, [&](const ast::Identifier& id) { return lookup(id, f, scope).value; },
         [&](ast::Index node) { return embedded_.at(node); });
     shape.t = shape.program->corners();
-    if (!q.dim && p.absolute_temperature) shape.offset = kZeroCelsius;
+    shape.offset = bare_temperature_offset(q, p.absolute_temperature);
     if (!check_range(s.at(0.0), p, at, span_of(f, e))) return std::nullopt;
     return s;
   } catch (const EvalError& err) {
