@@ -1,10 +1,11 @@
 // The joint refit. When recalibrating the ranged params alone is significant (the recalibrating
 // candidate beats the baseline by the information criterion), the model's params are wrong too, so
-// a candidate's own parameter fitted at the declared values says little. Every refitted candidate
-// (model-side ones, and the best measurement-side ones) is then refitted again with its parameter
-// and every ranged param together (bounded, started at the recalibrated values) and compared on
-// that footing: the joint result replaces its own-parameter refit, and it must also beat the
-// recalibration alone on held-out data (rank_first; otherwise the recalibration explains it).
+// a candidate's own parameter fitted at the declared values says little. Every model-side candidate
+// (not refitted at the declared params then: refit_shortlist) and the best measurement-side ones
+// are refitted with their parameter and every ranged param together (bounded, started at the
+// recalibrated values) and compared on that footing: the joint result replaces any own-parameter
+// refit, and it must also beat the recalibration alone on held-out data (rank_first; otherwise the
+// recalibration explains it).
 
 #include "kernel/diagnosis/selection.hpp"
 
@@ -18,13 +19,8 @@
 namespace thermnet::detail {
 
 std::size_t Selection::joint_refit(DiagnosisReport& rep) {
-  std::size_t recal = chosen_.size();
-  for (std::size_t i = 0; i < chosen_.size(); ++i)
-    if (chosen_[i].own_h->recalibrates()) recal = i;
-  // (the recalibration's own held-out gain may be poor, e.g. many params fitted to one case: it
-  // is enough that it improves the fit on all data)
-  if (recal == chosen_.size() || res_[recal].f.values.empty() || !(res_[recal].f.delta_bic < -10.0))
-    return chosen_.size();
+  const std::size_t recal = significant_recalibration();
+  if (recal == chosen_.size()) return recal;
   const std::vector<double> ranged = res_[recal].f.values;
   std::optional<Base> recalibrated;
   try {
@@ -97,7 +93,7 @@ void Selection::refit_jointly(std::size_t recal, const std::vector<double>& rang
   std::vector<Evaluated> jres = engine_.evaluate_all(entries, engine_.declared(), true);
   rep.refitted += todo.size();
   for (std::size_t j = 0; j < todo.size(); ++j) {
-    if (jres[j].f.values.empty()) continue; // the joint fit failed: keep the own refit
+    if (jres[j].f.values.empty()) continue; // the joint fit failed: keep the own refit, if any
     const std::size_t i = todo[j];
     note_joint(jres[j].f, recal);
     res_[i] = std::move(jres[j]);

@@ -68,6 +68,9 @@ private:
   // forward_selection.cpp).
   void refit_shortlist(DiagnosisReport& rep);
   void widen(std::size_t sites, std::set<std::size_t>& taken);
+  /// The index in chosen_ of the ranged params' recalibration when refitting them alone is
+  /// significant (better on all data by the information criterion), else chosen_.size().
+  std::size_t significant_recalibration() const;
   std::size_t joint_refit(DiagnosisReport& rep);
   void add_recalibrated_shortlist(const Base& recalibrated);
   void refit_jointly(std::size_t recal, const std::vector<double>& ranged, const Base* recalibrated,

@@ -10,6 +10,7 @@
 #include "kernel/core/network.hpp"
 #include "kernel/core/simulation.hpp"
 #include "kernel/diagnosis/diagnosis.hpp"
+#include "kernel/diagnosis/engine.hpp"
 #include "kernel/diagnosis/report.hpp"
 #include "kernel/diagnosis/statistics.hpp"
 
@@ -539,6 +540,21 @@ TEST_CASE("diagnose chain: hidden link n1-n4 while a ranged param is also wrong 
   // The recalibration alone is not the best explanation.
   for (const auto& g : r.findings)
     if (g.candidate.kind == "parameter") CHECK(g.rank > f.rank);
+  // The recalibration is significant, so the model-side shortlist is refitted jointly only: the
+  // refits at the declared params are the measurement-side candidates' and the recalibration's.
+  Loaded m(path);
+  const detail::Engine engine(*m.model, DiagnosisOptions{});
+  std::size_t not_model_side = 0, model_side = 0;
+  for (const auto& name : HypothesisRegistry::global().names()) {
+    const auto h = HypothesisRegistry::global().find(name)->create();
+    for (const auto& c : h->propose(engine.evidence()))
+      ++(c.measurement_side || h->recalibrates() ? not_model_side : model_side);
+  }
+  REQUIRE(model_side > 0);
+  REQUIRE(!r.batches.empty());
+  CHECK(r.batches.front().base_findings == 0);
+  CHECK_FALSE(r.batches.front().joint);
+  CHECK(r.batches.front().refits == not_model_side);
 }
 
 namespace {
