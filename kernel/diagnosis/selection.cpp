@@ -1,6 +1,7 @@
 // The selection's stages in order: the screen's shortlist refitted on the declared model (widened
-// when the screen is a poor guide), the joint refit with the ranged params, the first ranking, the
-// greedy forward selection, and the report's ranks, alternatives and rejected candidates.
+// when the screen is a poor guide; refitted jointly only when recalibrating the ranged params is
+// significant), the joint refit with the ranged params, the first ranking, the greedy forward
+// selection, and the report's ranks, alternatives and rejected candidates.
 
 #include "kernel/diagnosis/selection.hpp"
 
@@ -28,8 +29,8 @@ Base Selection::run(DiagnosisReport& rep, Base& last) {
 }
 
 void Selection::refit_shortlist(DiagnosisReport& rep) {
-  // Every plugin proposes; the shortlist of model-side candidates is refitted together with every
-  // measurement-side and recalibrating candidate.
+  // Every plugin proposes; the measurement-side and recalibrating candidates are refitted, and
+  // the shortlist of model-side ones.
   Screened s = screen(engine_.evidence());
   rep.screened = s.side.size() + s.others.size();
   side_ = std::move(s.side);
