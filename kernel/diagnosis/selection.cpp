@@ -29,8 +29,7 @@ Base Selection::run(DiagnosisReport& rep, Base& last) {
 }
 
 void Selection::refit_shortlist(DiagnosisReport& rep) {
-  // Every plugin proposes; the measurement-side and recalibrating candidates are refitted, and
-  // the shortlist of model-side ones.
+  // Every plugin proposes.
   Screened s = screen(engine_.evidence());
   rep.screened = s.side.size() + s.others.size();
   side_ = std::move(s.side);
