@@ -315,6 +315,13 @@ void Engine::residuals(const CaseSims& sims, Part part, std::vector<double>& r) 
   }
 }
 
+bool Engine::covers(const CaseSims& sims, Part part) const {
+  if (sims.size() != ev_.cases.size()) return false;
+  for (std::size_t c = 0; c < ev_.cases.size(); ++c)
+    if (case_used(c, part) && sims[c].size() != ev_.cases[c].measured.series.size()) return false;
+  return true;
+}
+
 std::vector<char> Engine::rows_in(Part part) const {
   std::vector<char> in;
   for (std::size_t c = 0; c < ev_.cases.size(); ++c) {

@@ -203,7 +203,15 @@ bool Engine::validate(const Hypothesis& h, const Candidate& c, const Fit& all, c
       } else {
         const Fit a = fit(h, c, all.p, Part{Part::train, k}, base, max_iter, rtol, &all, false);
         if (!a.ok) return false;
-        residuals(simulate(&h, &c, a.p, Part{Part::test, k}, base), Part{Part::test, k}, r);
+        // The held-out points from the fit's own simulation at its optimum where it holds them
+        // (a split case's other stretches), or the all-data fit's when the fold did not move.
+        const Part test{Part::test, k};
+        if (covers(a.sims, test))
+          residuals(a.sims, test, r);
+        else if (a.p == all.p && covers(all.sims, test))
+          residuals(all.sims, test, r);
+        else
+          residuals(simulate(&h, &c, a.p, test, base), test, r);
       }
     } catch (const std::exception&) {
       return false;

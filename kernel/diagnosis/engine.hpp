@@ -145,6 +145,7 @@ private:
     double sse = 0.0;
     Eigen::MatrixXd J;     // residual Jacobian (working coordinates) at the last linearisation
     std::vector<double> r; // residuals at p
+    CaseSims sims;         // the corrected simulation at p of the part's cases (empty: not kept)
   };
 
   // evidence.cpp
@@ -165,6 +166,8 @@ private:
   CaseSims simulate(const Hypothesis* h, const Candidate* c, const std::vector<double>& p,
                     Part part, const Base& base) const;
   void residuals(const CaseSims& sims, Part part, std::vector<double>& r) const;
+  /// Whether sims holds every case the part uses (a simulation made for another part).
+  bool covers(const CaseSims& sims, Part part) const;
   bool model_sensitivities(const Hypothesis& h, const Candidate& c, const std::vector<double>& p,
                            Part part, const Base& base, CaseSims& sims,
                            std::vector<CaseSims>& dsims) const;
