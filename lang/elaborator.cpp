@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <utility>
 
 namespace thermnet::lang {
 using namespace detail;
@@ -87,6 +88,9 @@ Elaborator Elaborator::structural(const Model& model, Reporter report) {
 }
 
 void Elaborator::report(Diagnostic d) {
+  // A problem inside a loop arises in every iteration (a million in a case's nested loops), and
+  // the receivers keep the first per place: the repetitions are dropped before their notes.
+  if ((context_ || d.generated) && !generated_.first(d)) return;
   add_scope_notes(d, context_);
   report_(std::move(d));
 }
@@ -843,6 +847,7 @@ void Elaborator::apply_case(NetworkSpec& net) {
   std::set<std::string> seen;
   set_keys_.clear();
   case_iterations_ = 0;
+  case_loops_cut_ = false;
   apply_case_items(net, case_->stmt->items, nullptr, seen);
   if (!seen.count("duration"))
     report(DiagnosticEngine::make(DiagId::missing_duration,
@@ -899,7 +904,7 @@ void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseI
           loop->ranges.size(), partial.values, bounds, [] { return true; },
           [&] {
             apply_case_items(net, loop->items, &partial, seen);
-            return true;
+            return !case_loops_cut_; // past the limit, the loops around stop too
           });
       continue;
     }
@@ -946,9 +951,10 @@ bool Elaborator::afford_case_iterations(std::size_t n, Span at, Span mark) {
     return true;
   }
   case_iterations_ = max_case_iterations;
-  report(DiagnosticEngine::make(
-      DiagId::bad_loop, at, mark,
-      fmt::format("the loops of a case may run at most {} times in all", max_case_iterations)));
+  if (!std::exchange(case_loops_cut_, true)) // once per case, where the limit was passed
+    report(DiagnosticEngine::make(
+        DiagId::bad_loop, at, mark,
+        fmt::format("the loops of a case may run at most {} times in all", max_case_iterations)));
   return false;
 }
 

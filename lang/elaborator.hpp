@@ -219,6 +219,8 @@ private:
   // OBJECT.KEY the case sets: where it was set first, and whether setting it again was reported
   std::map<std::string, std::pair<Span, bool>> set_keys_;
   std::size_t case_iterations_ = 0; // iterations of the case's loops so far
+  bool case_loops_cut_ = false;     // the case's loops passed the limit and stopped
+  GeneratedPlaces generated_;       // problems in loops and instances reported so far
 };
 
 } // namespace thermnet::lang

@@ -20,6 +20,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -79,6 +80,17 @@ struct Scope {
 /// Adds to a diagnostic the notes that say in which loop iterations and submodel instances it
 /// arose ("in iteration i = 3, j = 7", "in instance 'u1' of submodel 'box'"), innermost first.
 void add_scope_notes(Diagnostic& d, const Scope* scope);
+
+/// The places (code, file, start, marked start) of the problems reported inside loops and
+/// instances, where later iterations and instances repeat them: each is reported once.
+class GeneratedPlaces {
+public:
+  /// True the first time d's place is seen, false for every repetition.
+  bool first(const Diagnostic& d);
+
+private:
+  std::set<std::tuple<std::string, FileId, std::uint32_t, std::uint32_t>> seen_;
+};
 
 /// A submodel definition: its terminals, params, local consts and body.
 struct SubmodelDecl {

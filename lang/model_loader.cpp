@@ -828,11 +828,9 @@ private:
   /// per place (later iterations repeat it); `structural` problems make declarations unusable,
   /// and instantiate() throws the first of them.
   void report(Diagnostic d, const Scope* scope, bool structural) {
+    // (a repetition is dropped before its notes are made: a loop's millions of iterations)
+    if ((scope || d.generated) && !reported_.first(d)) return;
     add_scope_notes(d, scope);
-    if (d.generated) {
-      const Span a = d.at.value_or(Span{}), mk = d.mark.value_or(a);
-      if (!reported_.emplace(d.code, a.file, a.begin, mk.begin).second) return;
-    }
     if (structural && d.severity == Severity::error && !m_.load_error_) m_.load_error_ = d;
     diags_.add(std::move(d));
   }
@@ -855,7 +853,7 @@ private:
   std::size_t depth_ = 0;                   // instances being expanded, one inside the other
   std::vector<std::string> names_;          // scratch: the names of one declaration
   std::set<const ast::ForStmt*> bad_loops_; // loops whose variables hide another name
-  std::set<std::tuple<std::string, FileId, std::uint32_t, std::uint32_t>> reported_;
+  GeneratedPlaces reported_; // problems in loops and instances, reported once per place
   std::size_t work_ = 0;
   bool stopped_ = false;
   bool model_seen_ = false;

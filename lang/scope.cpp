@@ -60,6 +60,11 @@ void add_scope_notes(Diagnostic& d, const Scope* scope) {
   }
 }
 
+bool GeneratedPlaces::first(const Diagnostic& d) {
+  const Span a = d.at.value_or(Span{}), mark = d.mark.value_or(a);
+  return seen_.emplace(d.code, a.file, a.begin, mark.begin).second;
+}
+
 int SubmodelDecl::value_index(std::string_view n) const {
   for (std::size_t i = 0; i < values.size(); ++i)
     if (values[i].name == n) return static_cast<int>(i);
