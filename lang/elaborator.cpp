@@ -90,7 +90,7 @@ Elaborator Elaborator::structural(const Model& model, Reporter report) {
 void Elaborator::report(Diagnostic d) {
   // A problem inside a loop arises in every iteration (a million in a case's nested loops), and
   // the receivers keep the first per place: the repetitions are dropped before their notes.
-  if ((context_ || d.generated) && !generated_.first(d)) return;
+  if (!generated_.first(d, context_)) return;
   add_scope_notes(d, context_);
   report_(std::move(d));
 }

@@ -85,8 +85,9 @@ void add_scope_notes(Diagnostic& d, const Scope* scope);
 /// instances, where later iterations and instances repeat them: each is reported once.
 class GeneratedPlaces {
 public:
-  /// True the first time d's place is seen, false for every repetition.
-  bool first(const Diagnostic& d);
+  /// False for a repetition: d arose in a loop or instance (`scope`, or d.generated) at a place
+  /// seen before; true otherwise (every problem outside them).
+  bool first(const Diagnostic& d, const Scope* scope);
 
 private:
   std::set<std::tuple<std::string, FileId, std::uint32_t, std::uint32_t>> seen_;

@@ -829,7 +829,7 @@ private:
   /// and instantiate() throws the first of them.
   void report(Diagnostic d, const Scope* scope, bool structural) {
     // (a repetition is dropped before its notes are made: a loop's millions of iterations)
-    if ((scope || d.generated) && !reported_.first(d)) return;
+    if (!reported_.first(d, scope)) return;
     add_scope_notes(d, scope);
     if (structural && d.severity == Severity::error && !m_.load_error_) m_.load_error_ = d;
     diags_.add(std::move(d));

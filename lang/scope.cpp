@@ -60,7 +60,8 @@ void add_scope_notes(Diagnostic& d, const Scope* scope) {
   }
 }
 
-bool GeneratedPlaces::first(const Diagnostic& d) {
+bool GeneratedPlaces::first(const Diagnostic& d, const Scope* scope) {
+  if (!scope && !d.generated) return true;
   const Span a = d.at.value_or(Span{}), mark = d.mark.value_or(a);
   return seen_.emplace(d.code, a.file, a.begin, mark.begin).second;
 }
