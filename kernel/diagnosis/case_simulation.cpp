@@ -257,6 +257,15 @@ bool Engine::jacobian_residuals(const Hypothesis& h, const Candidate& c,
   residuals(sims, part, r);
   J.resize(static_cast<long>(r.size()), static_cast<long>(p.size()));
   std::vector<double> col;
+  // Where nothing corrects the series, the residuals' derivatives are the series' own.
+  if (!h.corrects(c)) {
+    for (std::size_t j = 0; j < p.size(); ++j) {
+      part_values(draw[j], part, col);
+      J.col(static_cast<long>(j)) =
+          Eigen::Map<const Eigen::VectorXd>(col.data(), static_cast<long>(col.size()));
+    }
+    return true;
+  }
   const auto add_difference = [&](const CaseSims& moved, double by, std::vector<double>& into) {
     residuals(moved, part, col);
     for (std::size_t i = 0; i < col.size(); ++i)
@@ -302,7 +311,16 @@ CaseSims Engine::simulate(const Hypothesis* h, const Candidate* c, const std::ve
 }
 
 void Engine::residuals(const CaseSims& sims, Part part, std::vector<double>& r) const {
-  r.clear();
+  gather(sims, part, true, r);
+}
+
+void Engine::part_values(const CaseSims& sims, Part part, std::vector<double>& out) const {
+  gather(sims, part, false, out);
+}
+
+void Engine::gather(const CaseSims& sims, Part part, bool minus_measured,
+                    std::vector<double>& out) const {
+  out.clear();
   for (std::size_t c = 0; c < ev_.cases.size(); ++c) {
     if (!case_used(c, part)) continue;
     const auto& m = ev_.cases[c].measured;
@@ -310,7 +328,7 @@ void Engine::residuals(const CaseSims& sims, Part part, std::vector<double>& r) 
       for (std::size_t k = 0; k < m.times.size(); ++k) {
         const double v = m.series[s].values[k];
         if (std::isnan(v) || !in_part(c, k, part)) continue;
-        r.push_back(sims[c][s][k] - v);
+        out.push_back(minus_measured ? sims[c][s][k] - v : sims[c][s][k]);
       }
   }
 }

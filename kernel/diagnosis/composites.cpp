@@ -4,6 +4,8 @@
 
 #include "kernel/diagnosis/composites.hpp"
 
+#include <algorithm>
+
 namespace thermnet::detail {
 
 lang::ParamValues Stack::overrides(const Candidate&, const std::vector<double>& p) const {
@@ -21,6 +23,12 @@ void Stack::extend(const Candidate&, const std::vector<double>& p, lang::Network
   for (const auto& a : *applied_)
     a.h->extend(a.c, a.p, spec);
   if (free_) free_->extend(*fc_, p, spec);
+}
+
+bool Stack::corrects(const Candidate&) const {
+  return std::any_of(applied_->begin(), applied_->end(),
+                     [](const Applied& a) { return a.h->corrects(a.c); }) ||
+         (free_ && free_->corrects(*fc_));
 }
 
 void Stack::correct(const Candidate&, const std::vector<double>& p, int node,
@@ -85,6 +93,11 @@ void Compose::extend(const Candidate&, const std::vector<double>& p,
     parts_[i].h->extend(parts_[i].c, slice(p, i), spec);
 }
 
+bool Compose::corrects(const Candidate&) const {
+  return std::any_of(parts_.begin(), parts_.end(),
+                     [](const Applied& a) { return a.h->corrects(a.c); });
+}
+
 void Compose::correct(const Candidate&, const std::vector<double>& p, int node,
                       const std::vector<double>& times, std::vector<double>& sim) const {
   for (std::size_t i = 0; i < parts_.size(); ++i)
@@ -142,6 +155,10 @@ lang::ParamValues Joint::overrides(const Candidate&, const std::vector<double>& 
 
 void Joint::extend(const Candidate&, const std::vector<double>& p, lang::NetworkSpec& spec) const {
   inner_->extend(ic_, head(p), spec);
+}
+
+bool Joint::corrects(const Candidate&) const {
+  return inner_->corrects(ic_);
 }
 
 void Joint::correct(const Candidate&, const std::vector<double>& p, int node,

@@ -27,6 +27,7 @@ public:
   lang::ParamValues overrides(const Candidate&, const std::vector<double>& p) const override;
   void extend(const Candidate&, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override;
+  bool corrects(const Candidate&) const override;
   void correct(const Candidate&, const std::vector<double>& p, int node,
                const std::vector<double>& times, std::vector<double>& sim) const override;
   std::string statement(const Candidate&, const std::vector<double>& p,
@@ -64,6 +65,7 @@ public:
   lang::ParamValues overrides(const Candidate&, const std::vector<double>& p) const override;
   void extend(const Candidate&, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override;
+  bool corrects(const Candidate&) const override;
   void correct(const Candidate&, const std::vector<double>& p, int node,
                const std::vector<double>& times, std::vector<double>& sim) const override;
   std::string statement(const Candidate&, const std::vector<double>& p,
@@ -96,6 +98,7 @@ public:
   lang::ParamValues overrides(const Candidate&, const std::vector<double>& p) const override;
   void extend(const Candidate&, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override;
+  bool corrects(const Candidate&) const override;
   void correct(const Candidate&, const std::vector<double>& p, int node,
                const std::vector<double>& times, std::vector<double>& sim) const override;
   std::string statement(const Candidate&, const std::vector<double>& p,

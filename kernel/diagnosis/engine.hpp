@@ -166,6 +166,10 @@ private:
   CaseSims simulate(const Hypothesis* h, const Candidate* c, const std::vector<double>& p,
                     Part part, const Base& base) const;
   void residuals(const CaseSims& sims, Part part, std::vector<double>& r) const;
+  /// The series' values at the part's measured points, in the residuals' order.
+  void part_values(const CaseSims& sims, Part part, std::vector<double>& out) const;
+  /// The part's measured points of sims in the residuals' order, less the data when asked.
+  void gather(const CaseSims& sims, Part part, bool minus_measured, std::vector<double>& out) const;
   /// Whether sims holds every case the part uses (a simulation made for another part).
   bool covers(const CaseSims& sims, Part part) const;
   bool model_sensitivities(const Hypothesis& h, const Candidate& c, const std::vector<double>& p,

@@ -132,6 +132,9 @@ public:
   }
   /// Extends an instantiated case at parameters p (default: nothing).
   virtual void extend(const Candidate&, const std::vector<double>&, lang::NetworkSpec&) const {}
+  /// True when correct() may change the series of candidate c (default: c.measurement_side; the
+  /// sensitivities' Jacobians differentiate the corrections of such candidates only).
+  virtual bool corrects(const Candidate& c) const { return c.measurement_side; }
   /// Corrects the simulated series of a spec node at parameters p (measurement-side kinds).
   virtual void correct(const Candidate&, const std::vector<double>&, int /*node*/,
                        const std::vector<double>& /*times*/, std::vector<double>& /*sim*/) const {}

@@ -1,8 +1,8 @@
 // The diagnosis's least-squares Jacobians from forward sensitivities (the cases' CVODES
 // sensitivities carried through the measurement-side corrections) against central differences of
 // simulations: every hypothesis kind, refitted on the declared model, jointly with the ranged
-// params, and on top of an applied finding; networks that cannot integrate sensitivities give
-// none (the least-squares core then differences simulations).
+// params, on top of an applied finding and composed with one; networks that cannot integrate
+// sensitivities give none (the least-squares core then differences simulations).
 
 #include "kernel/core/network.hpp"
 #include "kernel/core/simulation.hpp"
@@ -171,6 +171,12 @@ TEST_CASE("diagnosis Jacobian: sensitivities agree with central differences for 
     const Base base = engine.make_base({Applied{offset.h, offset.c, {0.4}}});
     for (const char* kind : {"missing_link", "sensor_lag", "capacity_error"})
       check_entry(engine, find(kind), base, fmt::format("{} on an applied offset", kind));
+    // findings re-estimated together: a link (model side) and an offset (measurement side) as one
+    // composite, whose offset only its correction moves
+    const Entry link = find("missing_link");
+    const Compose both({Applied{link.h, link.c, link.c.start}, Applied{offset.h, offset.c, {0.4}}});
+    check_entry(engine, Entry{&both, both.candidate(), link.h, link.c}, engine.declared(),
+                "a link and an offset composed");
   }
 }
 
