@@ -207,3 +207,51 @@ TEST_CASE("diagnosis Jacobian: no sensitivities through a thermostat or a sensor
 }
 
 } // namespace
+
+TEST_CASE("diagnosis Jacobian: heaters driven by a table of measured inputs") {
+  // The measured house's heaters read a CSV column (table()): their kinds' derivatives must follow
+  // the power over time, not its start.
+  test::TempDir dir;
+  write_data(dir);
+  std::string inputs = "time,Qa,Qc\n";
+  for (int k = 0; k <= 120; ++k)
+    inputs += fmt::format("{},{},{}\n", 60 * k, 3.0 + 2.0 * std::sin(k / 9.0), k < 50 ? 0.0 : 4.0);
+  dir.write("inputs.csv", inputs);
+  std::string text = fill(kModel, "", true);
+  const auto swap = [&](const std::string& from, const std::string& to) {
+    const auto p = text.find(from);
+    REQUIRE(p != std::string::npos);
+    text.replace(p, from.size(), to);
+  };
+  swap("heater q a P = 0", "heater q a P = table(\"inputs.csv\", \"Qa\")");
+  swap("heater r c P = 0", "heater r c P = table(\"inputs.csv\", \"Qc\")");
+  swap("q.P = step(0: 5, 3000: 1); r.P = 2", "initial = 20");
+  swap("q.P = 2; r.P = step(0: 0, 1800: 4)", "initial = 20");
+  test::LoadedModel m(dir.write("model.tnet", text), test::Lint::clean);
+  DiagnosisOptions opt;
+  opt.threads = 1;
+  const Engine engine(*m.model, opt);
+  std::vector<std::unique_ptr<Hypothesis>> owned;
+  int checked = 0;
+  for (const char* name : {"heater_gain", "input_split", "heater_mass"}) {
+    owned.push_back(HypothesisRegistry::global().find(name)->create());
+    const Hypothesis* h = owned.back().get();
+    for (const Candidate& c : h->propose(engine.evidence())) {
+      if (c.start.empty()) continue;
+      check_entry(engine, Entry{h, c, h, c}, engine.declared(),
+                  fmt::format("{} [{}] {}", c.kind, fmt::join(c.nodes, ", "), c.element));
+      ++checked;
+    }
+  }
+  CHECK(checked >= 3);
+  // and on top of an applied gain of one heater (the house's second finding before its third)
+  const Hypothesis* gain = owned[0].get();
+  const Hypothesis* split = owned[1].get();
+  const std::vector<Candidate> gains = gain->propose(engine.evidence());
+  REQUIRE(!gains.empty());
+  const Base base = engine.make_base({Applied{gain, gains.front(), {0.6}}});
+  for (const Hypothesis* h : {split, gain})
+    for (const Candidate& c : h->propose(engine.evidence()))
+      check_entry(engine, Entry{h, c, h, c}, base,
+                  fmt::format("{} {} on a gain of {}", c.kind, c.element, gains.front().element));
+}
