@@ -16,6 +16,10 @@ namespace thermnet::detail {
 
 namespace {
 
+bool all_finite(const std::vector<double>& r) {
+  return std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); });
+}
+
 /// A candidate's parameters against the data of a part, as a residual problem: log scale where the
 /// lower bound is positive; the Jacobian from the cases' sensitivities (Engine::jacobian_residuals)
 /// where the networks allow, otherwise finite differences of 1e-3 in ln x (log) or of
@@ -41,10 +45,7 @@ public:
                                    Eigen::MatrixXd& J) const override {
     if (!no_sensitivities_.load()) {
       try {
-        if (g_(x, r, J))
-          return std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); })
-                     ? Evaluated::both
-                     : Evaluated::nothing;
+        if (g_(x, r, J)) return all_finite(r) ? Evaluated::both : Evaluated::nothing;
         no_sensitivities_.store(true);
       } catch (const std::exception&) {
         return Evaluated::nothing;
@@ -104,8 +105,7 @@ Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vect
         try {
           CaseSims sims = simulate(&h, &c, x, part, base);
           residuals(sims, part, r);
-          if (!std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); }))
-            return false;
+          if (!all_finite(r)) return false;
           lowest.offer(x, sum_of_squares(r), std::move(sims));
           return true;
         } catch (const std::exception&) {

@@ -252,13 +252,17 @@ bool Engine::jacobian_residuals(const Hypothesis& h, const Candidate& c,
   CaseSims raw;
   std::vector<CaseSims> draw;
   if (!model_sensitivities(h, c, p, part, base, raw, draw)) return false;
-  CaseSims sims = raw;
-  correct(h, c, p, sims);
-  residuals(sims, part, r);
+  // Where nothing corrects the series, the residuals and their derivatives are the series' own.
+  const bool corrects = h.corrects(c);
+  CaseSims sims;
+  if (corrects) {
+    sims = raw;
+    correct(h, c, p, sims);
+  }
+  residuals(corrects ? sims : raw, part, r);
   J.resize(static_cast<long>(r.size()), static_cast<long>(p.size()));
   std::vector<double> col;
-  // Where nothing corrects the series, the residuals' derivatives are the series' own.
-  if (!h.corrects(c)) {
+  if (!corrects) {
     for (std::size_t j = 0; j < p.size(); ++j) {
       part_values(draw[j], part, col);
       J.col(static_cast<long>(j)) =
