@@ -848,6 +848,7 @@ void Elaborator::apply_case(NetworkSpec& net) {
   set_keys_.clear();
   case_iterations_ = 0;
   case_loops_cut_ = false;
+  failed_case_loops_.clear();
   apply_case_items(net, case_->stmt->items, nullptr, seen);
   if (!seen.count("duration"))
     report(DiagnosticEngine::make(DiagId::missing_duration,
@@ -882,6 +883,7 @@ void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseI
   const FileId f = case_->file;
   for (const auto& item : items) {
     if (const auto* loop = std::get_if<ast::CaseFor>(&item)) {
+      if (failed_case_loops_.count(loop)) continue; // a bound was wrong: reported once
       // A loop over settings: each iteration applies its items with the loop's variables.
       Scope partial = Scope::loop(scope, f, loop->begin, loop->ranges);
       const auto bounds = [&](std::size_t k) -> std::optional<LoopBounds> {
@@ -896,8 +898,11 @@ void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseI
             return LoopBounds{lo, hi};
           return std::nullopt;
         } catch (const EvalError& e) {
+          // Reported once: the loop runs no more in this case, in any iteration of those around
+          // it (a wrong bound inside 20 nested loops would otherwise be evaluated a million times).
           if (!e.diag.code.empty()) report(e.diag);
-          return LoopBounds{1, 0}; // no iteration for these values of the outer variables
+          failed_case_loops_.insert(loop);
+          return std::nullopt;
         }
       };
       for_each_iteration(
@@ -946,15 +951,16 @@ void Elaborator::apply_case_items(NetworkSpec& net, const std::vector<ast::CaseI
 }
 
 bool Elaborator::afford_case_iterations(std::size_t n, Span at, Span mark) {
-  if (n <= max_case_iterations - case_iterations_) {
+  const std::size_t limit = m_.max_case_iterations();
+  if (n <= limit - case_iterations_) {
     case_iterations_ += n;
     return true;
   }
-  case_iterations_ = max_case_iterations;
+  case_iterations_ = limit;
   if (!std::exchange(case_loops_cut_, true)) // once per case, where the limit was passed
     report(DiagnosticEngine::make(
         DiagId::bad_loop, at, mark,
-        fmt::format("the loops of a case may run at most {} times in all", max_case_iterations)));
+        fmt::format("the loops of a case may run at most {} times in all", limit)));
   return false;
 }
 

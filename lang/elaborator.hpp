@@ -22,9 +22,6 @@ namespace thermnet::lang {
 /// is resolved; each link is a level of recursion.
 inline constexpr std::size_t max_reference_depth = 100;
 
-/// Most iterations the loops of one case may run, all together.
-inline constexpr std::size_t max_case_iterations = 1'000'000;
-
 /// Receives each problem found; may throw to stop at the first error.
 using Reporter = std::function<void(Diagnostic)>;
 
@@ -218,9 +215,10 @@ private:
   std::vector<int> element_slot_; // per element declaration: index in the network, or -1
   // OBJECT.KEY the case sets: where it was set first, and whether setting it again was reported
   std::map<std::string, std::pair<Span, bool>> set_keys_;
-  std::size_t case_iterations_ = 0; // iterations of the case's loops so far
-  bool case_loops_cut_ = false;     // the case's loops passed the limit and stopped
-  GeneratedPlaces generated_;       // problems in loops and instances reported so far
+  std::size_t case_iterations_ = 0;                 // iterations of the case's loops so far
+  bool case_loops_cut_ = false;                     // the case's loops passed the limit and stopped
+  std::set<const ast::CaseFor*> failed_case_loops_; // the case's loops with a wrong bound
+  GeneratedPlaces generated_; // problems in loops and instances reported so far
 };
 
 } // namespace thermnet::lang

@@ -216,6 +216,8 @@ struct LoadOptions {
   /// Most declarations and loop iterations loops and submodels may generate (a bound on the work
   /// a small file can ask for, in time and memory); counted before each range runs.
   std::size_t max_generated = 5'000'000;
+  /// Most iterations the loops of one case may run, all together (counted before each range runs).
+  std::size_t max_case_iterations = 1'000'000;
   /// A note added to the error of a model that generates more (empty: none).
   std::string too_large_note;
 };
@@ -329,6 +331,8 @@ public:
   /// The first error that made a declaration unusable while loading (an unknown kind or node,
   /// wrong terminals, a bad loop or index), which instantiate() throws; empty when there is none.
   const std::optional<Diagnostic>& load_error() const { return load_error_; }
+  /// Most iterations the loops of one case may run, all together (LoadOptions).
+  std::size_t max_case_iterations() const { return max_case_iterations_; }
 
 private:
   friend class ModelBuilder;
@@ -352,6 +356,7 @@ private:
   std::size_t syntax_errors_ = 0;
   std::size_t instance_slots_ = 0;
   bool truncated_ = false; // loops or instances were cut short at the generation limit
+  std::size_t max_case_iterations_ = LoadOptions{}.max_case_iterations; // from the LoadOptions
   std::optional<Diagnostic> load_error_;
   Overrides overrides_; // values set from outside the model (`--set`)
   std::set<std::string, std::less<>> structurally_used_; // consts used by loops and indices

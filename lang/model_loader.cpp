@@ -23,7 +23,9 @@ namespace fs = std::filesystem;
 class ModelBuilder {
 public:
   ModelBuilder(Model& m, SourceManager& sources, DiagnosticEngine& diags, const LoadOptions& opt)
-      : m_(m), sources_(sources), diags_(diags), opt_(opt) {}
+      : m_(m), sources_(sources), diags_(diags), opt_(opt) {
+    m_.max_case_iterations_ = opt.max_case_iterations;
+  }
 
   bool load_root(const std::string& path) {
     std::string text, error;
@@ -468,7 +470,9 @@ private:
         declare_elements(e, nullptr, f, scope);
     } else if (const auto* c = std::get_if<ast::CompositeStmt>(&s)) {
       declare_elements(nullptr, c, f, scope);
-    } else if (const auto* loop = std::get_if<ast::ForStmt>(&s); loop && !bad_loops_.count(loop)) {
+    } else if (const auto* loop = std::get_if<ast::ForStmt>(&s);
+               loop && !bad_loops_.count(loop) &&
+               !failed_loops_.count({loop, scope ? scope->instance() : nullptr})) {
       Scope partial = Scope::loop(scope, f, loop->begin, loop->ranges);
       iterate(*loop, partial);
     }
@@ -489,8 +493,11 @@ private:
           return std::nullopt;
         return LoopBounds{lo, hi};
       } catch (const EvalError& e) {
+        // Reported once: the loop runs no more, here or in the iterations of the loops around it
+        // (a wrong bound inside 20 nested loops would otherwise be evaluated a million times).
         if (!e.diag.code.empty()) report(located(e.diag, f, loop), partial.parent, true);
-        return LoopBounds{1, 0}; // no iteration for these values of the outer variables
+        failed_loops_.emplace(&loop, partial.instance());
+        return std::nullopt;
       }
     };
     const auto body = [&] {
@@ -853,6 +860,8 @@ private:
   std::size_t depth_ = 0;                   // instances being expanded, one inside the other
   std::vector<std::string> names_;          // scratch: the names of one declaration
   std::set<const ast::ForStmt*> bad_loops_; // loops whose variables hide another name
+  // Loops with a wrong bound, by the instance they expand in (nullptr: the top level).
+  std::set<std::pair<const ast::ForStmt*, const Scope*>> failed_loops_;
   GeneratedPlaces reported_; // problems in loops and instances, reported once per place
   std::size_t work_ = 0;
   bool stopped_ = false;

@@ -126,10 +126,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // 2. The whole front end, in the folder of data files.
   lang::SourceManager sources;
   lang::DiagnosticEngine diags(sources);
-  // Loops and instances may generate at most 20,000 declarations and iterations here, so that a
-  // short input cannot ask for more time or memory than the fuzzer allows.
+  // Loops and instances may generate at most 20,000 declarations and iterations here, and the
+  // loops of a case run as often, so that a short input cannot ask for more time or memory than
+  // the fuzzer allows.
   lang::LoadOptions options;
   options.max_generated = 20'000;
+  options.max_case_iterations = 20'000;
   auto model = lang::Model::from_text(folder + "/fuzz.tnet", text, thermnet::element_catalog(),
                                       sources, diags, options);
   model->lint(diags);

@@ -41,6 +41,21 @@ hostile_run "nested loops of 10^10 iterations" 300 2000 1 "too-large" lint neste
 printf 'boundary b T = 20\nnode n C = 1\nconductance g n b G = 1\ncase c {\n  duration = 1\n  for i in 1 .. 100000, j in 1 .. 100000 { }\n}\n' >caseloop.tnet
 hostile_run "a case loop of 10^10 iterations" 30 1000 1 "at most 1000000 times" lint caseloop.tnet
 
+# A wrong bound inside 22 nested loops, in the model and in a case: reported once, and the loop is
+# not evaluated again in the 2 million iterations around it (the fuzzer found a case taking 6 s).
+python3 -c "
+outer = ''.join(f'for a{k} in 1 .. 2 {{\n' for k in range(21))
+print('node n C = 1\n' + outer + 'for z in 1 [q] .. 2 { node m[z] C = 1 }\n' + '}\n' * 21)
+" >badbound.tnet
+hostile_run "a wrong loop bound inside 22 nested loops" 20 1000 1 \
+  "badbound.tnet:23:1: error: unknown unit 'q'" lint badbound.tnet
+python3 -c "
+outer = ''.join(f'for a{k} in 1 .. 2 {{\n' for k in range(21))
+print('node n C = 1\ncase c {\n  duration = 1\n' + outer + 'for z in 1 [q] .. 2 { n.C = z }\n'
+      + '}\n' * 22)
+" >casebound.tnet
+hostile_run "  ... in a case" 20 1000 1 "casebound.tnet:25:10: error: unknown unit 'q'" lint casebound.tnet
+
 # One warning per statement, not one per node: 400,000 isolated nodes from a range and a loop.
 printf 'boundary b T = 20\nnode p[1 .. 200000] C = 1\nfor i in 1 .. 200000 { node q[i] C = 1 }\n' >isolated.tnet
 hostile_run "400,000 isolated generated nodes" 60 2000 0 \

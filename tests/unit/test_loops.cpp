@@ -323,6 +323,21 @@ TEST_CASE("loops: a loop that asks for too much stops with an error, not a hang"
                    small) == "too-large");
 }
 
+TEST_CASE("loops: a case's loops run at most LoadOptions::max_case_iterations times in all") {
+  // Each range counts its values: 10 of i, then 10 times the n of j.
+  LoadOptions small;
+  small.max_case_iterations = 110;
+  const auto model = [](int n) {
+    return fmt::format("boundary b T = 0\nnode p[1 .. 10] C = 1\nfor i in 1 .. 10 {{ conductance "
+                       "g[i] p[i] b G = 1 }}\ncase c {{\n  duration = 1\n  for i in 1 .. 10, j "
+                       "in 1 .. {} {{ }}\n}}\n",
+                       n);
+  };
+  CHECK(lint_codes(model(10), small) == "");
+  CHECK(lint_codes(model(11), small) == "bad-loop");
+  CHECK(lint_codes(model(11)) == ""); // the default allows a million
+}
+
 TEST_CASE(
     "loops: the iterations of a header without recursion, later ranges using earlier values") {
   // for i in 1 .. 3, j in i .. 3, k in 1 .. j - i: the combinations in order, outermost first.
