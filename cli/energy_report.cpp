@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <vector>
 
 namespace thermnet::cli {
 
@@ -34,27 +35,27 @@ std::string energy_report(const lang::NetworkSpec& spec, const EnergyTotals& tot
       totals.t1);
   put(out, "\n{:<20} {:>16} {:>16} {:>16} {:>12}\n", "node", "stored", "from sources",
       "through links", "residual");
+  // Per node, in one pass over the elements (in their order, as a sum per node would add them):
+  // the energy from its sources, through its links, and all of it (what a boundary received).
+  std::vector<double> sources(spec.nodes.size()), links(spec.nodes.size()),
+      received(spec.nodes.size());
+  for (std::size_t e = 0; e < spec.elements.size(); ++e) {
+    const auto nodes = spec.elements[e].nodes();
+    for (std::size_t j = 0; j < nodes.size(); ++j) {
+      const auto i = static_cast<std::size_t>(nodes[j]);
+      (nodes.size() == 1 ? sources : links)[i] += totals.element_energy[e][j];
+      received[i] += totals.element_energy[e][j];
+    }
+  }
   for (std::size_t i = 0; i < spec.nodes.size(); ++i) {
     if (spec.nodes[i].boundary) continue;
-    double sources = 0.0, links = 0.0;
-    for (std::size_t e = 0; e < spec.elements.size(); ++e)
-      for (std::size_t j = 0; j < spec.elements[e].nodes().size(); ++j)
-        if (static_cast<std::size_t>(spec.elements[e].nodes()[j]) == i)
-          (spec.elements[e].nodes().size() == 1 ? sources : links) += totals.element_energy[e][j];
     const double stored = spec.nodes[i].C * (totals.T_end[i] - totals.T_start[i]);
     put(out, "{:<20} {:>16.6g} {:>16.6g} {:>16.6g} {:>12.3e}\n", spec.nodes[i].name, stored,
-        sources, links, stored - sources - links);
+        sources[i], links[i], stored - sources[i] - links[i]);
   }
   put(out, "\n{:<20} {:>16}\n", "boundary", "heat received");
-  for (std::size_t i = 0; i < spec.nodes.size(); ++i) {
-    if (!spec.nodes[i].boundary) continue;
-    double received = 0.0;
-    for (std::size_t e = 0; e < spec.elements.size(); ++e)
-      for (std::size_t j = 0; j < spec.elements[e].nodes().size(); ++j)
-        if (static_cast<std::size_t>(spec.elements[e].nodes()[j]) == i)
-          received += totals.element_energy[e][j];
-    put(out, "{:<20} {:>16.6g}\n", spec.nodes[i].name, received);
-  }
+  for (std::size_t i = 0; i < spec.nodes.size(); ++i)
+    if (spec.nodes[i].boundary) put(out, "{:<20} {:>16.6g}\n", spec.nodes[i].name, received[i]);
   bool header = false;
   for (std::size_t e = 0; e < spec.elements.size(); ++e) {
     if (spec.elements[e].nodes().size() != 1) continue;

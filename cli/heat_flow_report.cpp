@@ -8,6 +8,8 @@
 
 #include <cmath>
 #include <iterator>
+#include <utility>
+#include <vector>
 
 namespace thermnet::cli {
 
@@ -86,6 +88,11 @@ std::string steady_flow_listing(const lang::NetworkSpec& spec,
   std::vector<char> listed(spec.elements.size(), 0);
   for (std::size_t e : elements)
     listed[e] = 1;
+  // Each node's (element, terminal) pairs in the elements' order: one pass, not one per node.
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> at_node(spec.nodes.size());
+  for (std::size_t e = 0; e < spec.elements.size(); ++e)
+    for (std::size_t j = 0; j < spec.elements[e].nodes().size(); ++j)
+      at_node[static_cast<std::size_t>(spec.elements[e].nodes()[j])].emplace_back(e, j);
   fmt::memory_buffer out;
   put(out, "# steady-state heat flows, case {} (W; positive: into the node)\n", spec.settings.name);
   for (std::size_t i = 0; i < spec.nodes.size(); ++i) {
@@ -93,18 +100,15 @@ std::string steady_flow_listing(const lang::NetworkSpec& spec,
     put(out, "\n{} {}  T = {:.6f} degC\n", node.boundary ? "boundary" : "node", node.name,
         temps[i] - kZeroCelsius);
     double balance = 0.0, sources = 0.0;
-    for (std::size_t e = 0; e < spec.elements.size(); ++e) {
+    for (const auto& [e, j] : at_node[i]) {
       const auto& el = spec.elements[e];
-      for (std::size_t j = 0; j < el.nodes().size(); ++j) {
-        if (static_cast<std::size_t>(el.nodes()[j]) != i) continue;
-        const double q = heat[e][j];
-        balance += q;
-        if (el.nodes().size() == 1) sources += q;
-        if (!listed[e]) continue;
-        std::string other = "(source)";
-        if (two_terminal(el)) other = "from " + node_name(spec, el.nodes()[1 - j]);
-        put(out, "  {:<20} {:<24} {:>16.9f}\n", element_label(spec, e), other, q);
-      }
+      const double q = heat[e][j];
+      balance += q;
+      if (el.nodes().size() == 1) sources += q;
+      if (!listed[e]) continue;
+      std::string other = "(source)";
+      if (two_terminal(el)) other = "from " + node_name(spec, el.nodes()[1 - j]);
+      put(out, "  {:<20} {:<24} {:>16.9f}\n", element_label(spec, e), other, q);
     }
     if (sources != 0.0) put(out, "  {:<45} {:>16.9f}\n", "sources", sources);
     put(out, "  {:<45} {:>16.3e}\n",

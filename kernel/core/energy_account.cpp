@@ -15,8 +15,8 @@ public:
     for (std::size_t e = 0; e < elements.size(); ++e) {
       offset_.push_back(extra_);
       extra_ += static_cast<int>(elements[e].nodes().size()) + 1; // terminals, then on-time
-      totals.switching.push_back(net.element_switches(e) ? 1 : 0);
     }
+    totals.switching = net.switching_elements();
     totals.switches.assign(elements.size(), 0);
     capacities_ = net.capacities();
     capacities_.resize(static_cast<std::size_t>(n_ + extra_), 1.0);

@@ -338,12 +338,12 @@ double Network::boundary_loss(double t, const double* T) {
   return loss;
 }
 
-bool Network::element_switches(std::size_t e) const {
+std::vector<char> Network::switching_elements() const {
+  std::vector<char> out(spec_.elements.size(), 0);
   for (const Piece& p : pieces_)
-    if (static_cast<std::size_t>(p.spec_element) == e && p.element >= 0 &&
-        elements_[static_cast<std::size_t>(p.element)]->event_count() > 0)
-      return true;
-  return false;
+    if (p.element >= 0 && elements_[static_cast<std::size_t>(p.element)]->event_count() > 0)
+      out[static_cast<std::size_t>(p.spec_element)] = 1;
+  return out;
 }
 
 void Network::element_heat(double t, const double* T, std::vector<std::vector<double>>& heat) {

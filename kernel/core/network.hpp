@@ -64,8 +64,8 @@ public:
   /// heat[e][j] goes into spec().elements[e].nodes[j]; a two-terminal link gives (-Q, +Q) with Q
   /// its flow from the first terminal to the second. `heat` is resized as needed.
   void element_heat(double t, const double* T, std::vector<std::vector<double>>& heat);
-  /// True when spec element e switches by events (a thermostat).
-  bool element_switches(std::size_t e) const;
+  /// Per spec element: 1 when it switches by events (a thermostat), else 0.
+  std::vector<char> switching_elements() const;
   /// The reading of sensor spec element e at (t, T) (T: all unknowns), K; throws
   /// std::invalid_argument when e is not a sensor.
   double sensor_reading(std::size_t e, double t, const double* T);
