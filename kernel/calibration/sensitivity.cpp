@@ -17,6 +17,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <unordered_map>
 
 namespace thermnet {
 namespace {
@@ -164,15 +165,16 @@ SensitivityReport compute_sensitivities(const lang::Model& model, const Sensitiv
     }
     runs.push_back(std::move(c));
   }
+  std::unordered_map<std::string, std::size_t> output_slot; // rep.outputs by name
   for (CaseRun& c : runs) {
     if (!any_data)
       for (std::size_t i = 0; i < c.spec.nodes.size(); ++i)
         if (!c.spec.nodes[i].boundary) c.nodes.push_back(static_cast<int>(i));
     for (int node : c.nodes) {
       const std::string& n = c.spec.nodes[static_cast<std::size_t>(node)].name;
-      auto it = std::find(rep.outputs.begin(), rep.outputs.end(), n);
-      c.slots.push_back(static_cast<std::size_t>(it - rep.outputs.begin()));
-      if (it == rep.outputs.end()) rep.outputs.push_back(n);
+      const auto [it, added] = output_slot.try_emplace(n, rep.outputs.size());
+      c.slots.push_back(it->second);
+      if (added) rep.outputs.push_back(n);
     }
   }
   std::vector<std::string> failures(runs.size());
