@@ -45,6 +45,7 @@ struct DiagnoseOptions {
   std::string events;
   int threads = 0;
   std::size_t top = 5;
+  std::size_t case_folds = DiagnosisOptions{}.case_folds;
   double min_gain = DiagnosisOptions{}.min_gain;
   std::vector<std::string> sets;
   bool stats = false;
@@ -79,6 +80,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   opt.cases = o.cases;
   opt.threads = o.threads;
   opt.top = o.top;
+  opt.case_folds = o.case_folds;
   opt.criterion = o.prediction.criterion;
   opt.sensitivities = o.jacobian == "sensitivities";
   opt.initial_sd = o.prediction.initial_sd;
@@ -231,6 +233,10 @@ void add_diagnose_command(CLI::App& app, int& status) {
       ->check(rule_validator(non_negative_whole_rule, "INT"));
   sub->add_option("--top", o->top, "most findings reported")
       ->check(rule_validator(positive_whole_rule, "INT"));
+  sub->add_option("--case-folds", o->case_folds,
+                  "most validation folds of cases held out whole (default 5): with more cases, "
+                  "every 5th case shares a fold; as many as the cases: leave one case out")
+      ->check(rule_validator(at_least_two_whole_rule, "INT"));
   sub->add_option("--min-gain", o->min_gain,
                   "practical floor, K: no finding that lowers the RMS error over 10 consecutive "
                   "samples of a series by less than this (default 0.05)")

@@ -42,6 +42,10 @@ std::string positive_whole_rule(double value) {
   return whole(value) && value > 0 ? std::string() : "a positive whole number";
 }
 
+std::string at_least_two_whole_rule(double value) {
+  return whole(value) && value >= 2 ? std::string() : "a whole number from 2";
+}
+
 std::string non_negative_whole_rule(double value) {
   return whole(value) && value >= 0 ? std::string() : "a non-negative whole number";
 }

@@ -24,6 +24,8 @@ std::string positive_number_rule(double value);
 std::string non_negative_number_rule(double value);
 /// A whole number above 0 (a count of samples, of findings).
 std::string positive_whole_rule(double value);
+/// A whole number from 2 (a count of validation folds).
+std::string at_least_two_whole_rule(double value);
 /// A whole number from 0 (a seed, a number of threads with 0 for all cores).
 std::string non_negative_whole_rule(double value);
 

@@ -24,6 +24,7 @@ DiagnosisReport diagnose(const lang::Model& model, const DiagnosisOptions& optio
   rep.noise_floor = engine.evidence().noise_floor;
   rep.validation = engine.validation();
   rep.split_cases = engine.split_cases();
+  rep.case_folds = engine.case_folds();
   rep.folds = engine.folds();
   rep.baseline = engine.declared().metrics;
   rep.at_noise_floor = engine.declared().at_floor;

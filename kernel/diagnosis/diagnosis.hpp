@@ -25,6 +25,9 @@ struct DiagnosisOptions {
                                   ///< best of each kind)
   std::size_t time_folds = 3;     ///< with one case: equal stretches of its time span, each held
                                   ///< back once for validation
+  /// most folds of cases held out whole: with more cases, case i of them joins fold i mod this
+  /// (5-fold instead of leave-one-case-out, whose cost grows with the square of the cases)
+  std::size_t case_folds = 5;
   /// known events (a lid opened), for event_loss candidates: as read_events() gives them (a log's
   /// UNIX times are placed in each case by its data file's first time)
   std::vector<EventWindow> events;
@@ -160,11 +163,14 @@ struct DiagnosisReport {
   std::size_t refitted = 0;          ///< candidates refitted by simulation
   std::string criterion = "output-error";      ///< the criterion used (DiagnosisOptions::criterion)
   std::optional<PredictionSummary> prediction; ///< prediction criterion: likelihoods, whiteness
-  std::string validation; ///< "leave_one_case_out", "held_back_time" or "cases_and_time"
+  /// "leave_one_case_out", "case_folds", "held_back_time" or "cases_and_time"
+  std::string validation;
   std::vector<std::string> split_cases; ///< with "cases_and_time": the cases held out by stretches
-  std::size_t folds = 0;                ///< validation folds
-  double wall_s = 0.0;                  ///< wall time, s
-  double cpu_s = 0.0;                   ///< CPU time of the process (every thread), s
+  /// the cases of each fold that holds out more than one whole case (empty: each case alone)
+  std::vector<std::vector<std::string>> case_folds;
+  std::size_t folds = 0;     ///< validation folds
+  double wall_s = 0.0;       ///< wall time, s
+  double cpu_s = 0.0;        ///< CPU time of the process (every thread), s
   double setup_wall_s = 0.0; ///< wall time of loading the data, the baseline and the heat flows, s
   std::vector<RefitBatch> batches; ///< the refit batches, in order
   /// Per case: times, and per measured node: measured, baseline and best-finding series (K).

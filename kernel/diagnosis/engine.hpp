@@ -91,15 +91,19 @@ public:
   const Evidence& evidence() const { return ev_; }
   /// The declared model as a base (the baseline).
   const Base& declared() const { return base0_; }
-  /// Validation folds: each case held out whole, or each stretch of a case split in time.
+  /// Validation folds: cases held out whole (each alone, or in case_folds groups), or each
+  /// stretch of a case split in time.
   std::size_t folds() const { return folds_.size(); }
-  /// How the data are held out: "leave_one_case_out" (every case whole), "held_back_time" (one
-  /// case, its stretches) or "cases_and_time" (cases held out whole, and the cases split_cases()
-  /// names by their stretches).
+  /// How the data are held out: "leave_one_case_out" (every case whole and alone), "case_folds"
+  /// (every case whole, in the groups case_folds() names), "held_back_time" (one case, its
+  /// stretches) or "cases_and_time" (cases held out whole, and the cases split_cases() names by
+  /// their stretches).
   std::string validation() const;
   /// The cases validated by their stretches of time, though other cases exist: an event of theirs
   /// no other case has, which a fit to the other cases could not test.
   std::vector<std::string> split_cases() const;
+  /// The cases of each fold that holds out several whole cases (empty when each is alone).
+  std::vector<std::vector<std::string>> case_folds() const;
   /// Measured points, all data.
   std::size_t points() const { return n_all_; }
   /// Measured points held out over every fold.
@@ -201,12 +205,13 @@ private:
   DiagnosisOptions opt_;
   Evidence ev_;
   std::vector<std::pair<double, double>> span_; // per case: first time and time span, s
-  /// A validation fold: case c held out whole (stretch < 0), or its stretch held out.
+  /// A validation fold: the cases of a group held out whole (stretch < 0), or a stretch of case c.
   struct Fold {
-    std::size_t c = 0;
+    std::size_t c = 0; ///< the case split in time, or the group's first case
     int stretch = -1;
   };
   std::vector<Fold> folds_;
+  std::vector<std::size_t> group_; // per case held out whole: its group's fold (split: none)
   std::size_t n_all_ = 0, n_test_ = 0;
   std::vector<std::size_t> segments_;                    // held-out runs, per fold and series
   Base base0_;                                           // the declared model

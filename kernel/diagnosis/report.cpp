@@ -182,6 +182,7 @@ nlohmann::json diagnosis_json(const DiagnosisReport& r) {
   j["criterion"] = r.criterion;
   if (r.prediction) j["prediction"] = prediction_json(r);
   if (!r.split_cases.empty()) j["validation"]["split_cases"] = r.split_cases;
+  if (!r.case_folds.empty()) j["validation"]["case_folds"] = r.case_folds;
   j["screened"] = r.screened;
   j["refitted"] = r.refitted;
   j["wall_s"] = r.wall_s;
@@ -271,16 +272,24 @@ std::string diagnosis_text(const DiagnosisReport& r) {
     return s;
   }
   std::string validation;
+  // (with several cases to a fold: the other folds)
+  const std::string others =
+      r.case_folds.empty()
+          ? std::string("the others")
+          : fmt::format("the other {} of {} folds of the {} cases", r.case_folds.size() - 1,
+                        r.case_folds.size(), r.cases.size() - r.split_cases.size());
   if (r.validation == "leave_one_case_out")
     validation = fmt::format("each case predicted by a fit to the other {}", r.folds - 1);
+  else if (r.validation == "case_folds")
+    validation = fmt::format("each case predicted by a fit to {}", others);
   else if (r.validation == "held_back_time")
     validation = fmt::format("each of {} equal stretches of the case predicted by a fit to the "
                              "others",
                              r.folds);
   else
-    validation = fmt::format("each case predicted by a fit to the others, and each equal stretch "
+    validation = fmt::format("each case predicted by a fit to {}, and each equal stretch "
                              "of {} (an event no other case has) by a fit to the rest",
-                             fmt::join(r.split_cases, ", "));
+                             others, fmt::join(r.split_cases, ", "));
   s += "\nCauses (ranked; each given the ones above):\n";
   for (const auto& f : r.findings) {
     std::string what = f.candidate.kind;

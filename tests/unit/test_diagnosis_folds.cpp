@@ -134,3 +134,59 @@ TEST_CASE("diagnose: a model's own simulation fed back gives no finding") {
   CHECK(r.baseline.rmse < 5e-3); // (the data's solver tolerances are not the diagnosis's)
   CHECK_FALSE(r.structural.remains);
 }
+
+TEST_CASE("diagnose: more cases than --case-folds are held out in turn, each case once") {
+  // Seven runs of the box at different heater powers, the truth with a leak to the room: with 3
+  // case folds case i joins fold i mod 3; with 7, each case is left out alone. Either way every
+  // measured point is held out exactly once, so the baseline's held-out error is its error.
+  test::TempDir dir;
+  const auto model = [](const std::string& leak, bool data) {
+    std::string text = R"(boundary room T = 20
+node air C = 800 [J/K] T0 = 20
+node wall C = 3000 [J/K] T0 = 20
+conductance g_in air wall G = 4 [W/K]
+conductance g_out wall room G = 1.5 [W/K]
+heater h air P = 0 [W]
+)" + leak + "\n";
+    for (int c = 0; c < 7; ++c)
+      text += fmt::format(
+          "case c{0} {{ duration = 3600; output = 60; h.P = step(0: {1} [W], 1800: 0 [W]){2} }}\n",
+          c, 10 + 5 * c, data ? fmt::format("; data \"c{}.csv\"", c) : "");
+    return text;
+  };
+  {
+    test::LoadedModel gen(
+        dir.write("truth.tnet", model("conductance leak air room G = 1 [W/K]", false)));
+    for (unsigned c = 0; c < 7; ++c)
+      write_data(dir, *gen.model, fmt::format("c{}", c), {"air", "wall"}, 0.05, 4, 20 + c);
+  }
+  test::LoadedModel m(dir.write("model.tnet", model("", true)), test::Lint::clean);
+  DiagnosisOptions opt;
+  opt.threads = 1;
+  opt.top = 1;
+  opt.case_folds = 3;
+  const DiagnosisReport grouped = diagnose(*m.model, opt);
+  INFO(diagnosis_text(grouped));
+  CHECK(grouped.validation == "case_folds");
+  CHECK(grouped.folds == 3);
+  CHECK(grouped.case_folds ==
+        std::vector<std::vector<std::string>>{{"c0", "c3", "c6"}, {"c1", "c4"}, {"c2", "c5"}});
+  const auto j = diagnosis_json(grouped);
+  CHECK(j["validation"]["method"] == "case_folds");
+  CHECK(j["validation"]["case_folds"].size() == 3);
+  REQUIRE_FALSE(grouped.findings.empty());
+  const Finding& f = grouped.findings.front();
+  CHECK(f.validation_rmse_before == doctest::Approx(f.rmse_before).epsilon(1e-9));
+  CHECK(diagnosis_text(grouped).find(
+            "each case predicted by a fit to the other 2 of 3 folds of the 7 cases") !=
+        std::string::npos);
+
+  opt.case_folds = 7;
+  const DiagnosisReport alone = diagnose(*m.model, opt);
+  CHECK(alone.validation == "leave_one_case_out");
+  CHECK(alone.folds == 7);
+  CHECK(alone.case_folds.empty());
+  REQUIRE_FALSE(alone.findings.empty());
+  CHECK(alone.findings.front().validation_rmse_before ==
+        doctest::Approx(alone.findings.front().rmse_before).epsilon(1e-9));
+}
