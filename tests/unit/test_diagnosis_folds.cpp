@@ -190,3 +190,49 @@ heater h air P = 0 [W]
   CHECK(alone.findings.front().validation_rmse_before ==
         doctest::Approx(alone.findings.front().rmse_before).epsilon(1e-9));
 }
+
+TEST_CASE("diagnose: case folds beside a case split by its event") {
+  // Three runs without the lid and one with it (the event only it holds): that one is held back by
+  // its stretches; the three others, with --case-folds 2, in two folds (c0 with c2, c1 alone).
+  test::TempDir dir;
+  const auto model = [](bool truth) {
+    std::string text = R"(boundary room T = 20
+node air C = 800 [J/K] T0 = 20
+node wall C = 3000 [J/K] T0 = 20
+conductance g_in air wall G = 4 [W/K]
+conductance g_out wall room G = 1.5 [W/K]
+heater h air P = 0 [W]
+)";
+    if (truth)
+      text += "switched_conductance lid air room G = 3 [W/K] on = step(0: 0, 900: 1, 1500: 0)\n";
+    for (int c = 0; c < 4; ++c)
+      text += fmt::format("case c{0} {{ duration = 3600; output = 60; h.P = step(0: {1} [W], "
+                          "1800: 0 [W]){2}{3} }}\n",
+                          c, 10 + 5 * c, truth && c < 3 ? "; lid.on = 0" : "",
+                          truth ? "" : fmt::format("; data \"c{}.csv\"", c));
+    return text;
+  };
+  {
+    test::LoadedModel gen(dir.write("truth.tnet", model(true)));
+    for (unsigned c = 0; c < 4; ++c)
+      write_data(dir, *gen.model, fmt::format("c{}", c), {"air", "wall"}, 0.05, 4, 40 + c);
+  }
+  dir.write("events.csv", "case,event,start,end\nc3,lid,900,1500\n");
+  test::LoadedModel m(dir.write("model.tnet", model(false)), test::Lint::clean);
+  DiagnosisOptions opt;
+  opt.events = read_events((dir.path / "events.csv").string(), m.model->run_case_names());
+  opt.threads = 1;
+  opt.top = 1;
+  opt.case_folds = 2;
+  const DiagnosisReport r = diagnose(*m.model, opt);
+  INFO(diagnosis_text(r));
+  CHECK(r.validation == "cases_and_time");
+  CHECK(r.split_cases == std::vector<std::string>{"c3"});
+  CHECK(r.folds == 5); // two folds of whole cases, c3's three stretches
+  CHECK(r.case_folds == std::vector<std::vector<std::string>>{{"c0", "c2"}, {"c1"}});
+  REQUIRE_FALSE(r.findings.empty());
+  CHECK(r.findings.front().validation_rmse_before ==
+        doctest::Approx(r.findings.front().rmse_before).epsilon(1e-9));
+  CHECK(diagnosis_text(r).find("each case predicted by a fit to the other 1 of 2 folds of the 3 "
+                               "cases, and each equal stretch of c3") != std::string::npos);
+}
