@@ -235,7 +235,7 @@ void add_diagnose_command(CLI::App& app, int& status) {
       ->check(rule_validator(positive_whole_rule, "INT"));
   sub->add_option("--case-folds", o->case_folds,
                   "most validation folds of cases held out whole (default 5): with more cases, "
-                  "every 5th case shares a fold; as many as the cases: leave one case out")
+                  "case i joins fold i mod N; as many as the cases: leave one case out")
       ->check(rule_validator(at_least_two_whole_rule, "INT"));
   sub->add_option("--min-gain", o->min_gain,
                   "practical floor, K: no finding that lowers the RMS error over 10 consecutive "

@@ -40,7 +40,7 @@ echo "== 0. lint"
 
 echo "== 1+2. nominal model against the data, and diagnosis"
 # Jacobians from CVODES sensitivities: on this camera (24 nodes, 11 cases, joint refits of 11 params)
-# the same findings as with forward differences in about a fifth less time (docs/aerial_camera.md).
+# the same findings as with forward differences in a tenth less time (docs/aerial_camera.md).
 # shellcheck disable=SC2086 # DIAG_CASES is a list of options
 "$T" diagnose "$M/camera.tnet" $DIAG_CASES --threads "$THREADS" --top 3 --jacobian sensitivities \
   --json "$OUT/diag_nominal.json" \
