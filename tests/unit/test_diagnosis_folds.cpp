@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 #include <string>
 #include <vector>
@@ -61,6 +62,29 @@ case shut {{ duration = 5400; output = 30; h.P = step(0: 0 [W], 600: 20 [W], 360
 )",
                      lid, data ? "; data \"open.csv\"" : "", lid.empty() ? "" : "; lid.on = 0",
                      data ? "; data \"shut.csv\"" : "");
+}
+
+/// The box with `runs` cases, run c heated by 10 + 5c W for its first 1800 s of 3600 s: `extra` is
+/// what the network adds, `in_case(c)` what case c's block adds.
+std::string box_runs(int runs, const std::string& extra,
+                     const std::function<std::string(int)>& in_case) {
+  std::string text = R"(boundary room T = 20
+node air C = 800 [J/K] T0 = 20
+node wall C = 3000 [J/K] T0 = 20
+conductance g_in air wall G = 4 [W/K]
+conductance g_out wall room G = 1.5 [W/K]
+heater h air P = 0 [W]
+)" + extra + "\n";
+  for (int c = 0; c < runs; ++c)
+    text += fmt::format(
+        "case c{0} {{ duration = 3600; output = 60; h.P = step(0: {1} [W], 1800: 0 [W]){2} }}\n", c,
+        10 + 5 * c, in_case(c));
+  return text;
+}
+
+/// `; data "cN.csv"` for case N.
+std::string data_of(int c) {
+  return fmt::format("; data \"c{}.csv\"", c);
 }
 
 } // namespace
@@ -140,27 +164,14 @@ TEST_CASE("diagnose: more cases than --case-folds are held out in turn, each cas
   // case folds case i joins fold i mod 3; with 7, each case is left out alone. Either way every
   // measured point is held out exactly once, so the baseline's held-out error is its error.
   test::TempDir dir;
-  const auto model = [](const std::string& leak, bool data) {
-    std::string text = R"(boundary room T = 20
-node air C = 800 [J/K] T0 = 20
-node wall C = 3000 [J/K] T0 = 20
-conductance g_in air wall G = 4 [W/K]
-conductance g_out wall room G = 1.5 [W/K]
-heater h air P = 0 [W]
-)" + leak + "\n";
-    for (int c = 0; c < 7; ++c)
-      text += fmt::format(
-          "case c{0} {{ duration = 3600; output = 60; h.P = step(0: {1} [W], 1800: 0 [W]){2} }}\n",
-          c, 10 + 5 * c, data ? fmt::format("; data \"c{}.csv\"", c) : "");
-    return text;
-  };
   {
     test::LoadedModel gen(
-        dir.write("truth.tnet", model("conductance leak air room G = 1 [W/K]", false)));
+        dir.write("truth.tnet",
+                  box_runs(7, "conductance leak air room G = 1 [W/K]", [](int) { return ""; })));
     for (unsigned c = 0; c < 7; ++c)
       write_data(dir, *gen.model, fmt::format("c{}", c), {"air", "wall"}, 0.05, 4, 20 + c);
   }
-  test::LoadedModel m(dir.write("model.tnet", model("", true)), test::Lint::clean);
+  test::LoadedModel m(dir.write("model.tnet", box_runs(7, "", data_of)), test::Lint::clean);
   DiagnosisOptions opt;
   opt.threads = 1;
   opt.top = 1;
@@ -195,30 +206,17 @@ TEST_CASE("diagnose: case folds beside a case split by its event") {
   // Three runs without the lid and one with it (the event only it holds): that one is held back by
   // its stretches; the three others, with --case-folds 2, in two folds (c0 with c2, c1 alone).
   test::TempDir dir;
-  const auto model = [](bool truth) {
-    std::string text = R"(boundary room T = 20
-node air C = 800 [J/K] T0 = 20
-node wall C = 3000 [J/K] T0 = 20
-conductance g_in air wall G = 4 [W/K]
-conductance g_out wall room G = 1.5 [W/K]
-heater h air P = 0 [W]
-)";
-    if (truth)
-      text += "switched_conductance lid air room G = 3 [W/K] on = step(0: 0, 900: 1, 1500: 0)\n";
-    for (int c = 0; c < 4; ++c)
-      text += fmt::format("case c{0} {{ duration = 3600; output = 60; h.P = step(0: {1} [W], "
-                          "1800: 0 [W]){2}{3} }}\n",
-                          c, 10 + 5 * c, truth && c < 3 ? "; lid.on = 0" : "",
-                          truth ? "" : fmt::format("; data \"c{}.csv\"", c));
-    return text;
-  };
   {
-    test::LoadedModel gen(dir.write("truth.tnet", model(true)));
+    test::LoadedModel gen(dir.write(
+        "truth.tnet",
+        box_runs(4,
+                 "switched_conductance lid air room G = 3 [W/K] on = step(0: 0, 900: 1, 1500: 0)",
+                 [](int c) { return std::string(c < 3 ? "; lid.on = 0" : ""); })));
     for (unsigned c = 0; c < 4; ++c)
       write_data(dir, *gen.model, fmt::format("c{}", c), {"air", "wall"}, 0.05, 4, 40 + c);
   }
   dir.write("events.csv", "case,event,start,end\nc3,lid,900,1500\n");
-  test::LoadedModel m(dir.write("model.tnet", model(false)), test::Lint::clean);
+  test::LoadedModel m(dir.write("model.tnet", box_runs(4, "", data_of)), test::Lint::clean);
   DiagnosisOptions opt;
   opt.events = read_events((dir.path / "events.csv").string(), m.model->run_case_names());
   opt.threads = 1;
