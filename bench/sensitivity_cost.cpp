@@ -7,13 +7,16 @@
 // output at every output time of the case; the solver is the diagnosis's (rtol = atol =
 // TOLERANCE, dense LU up to 64 unknowns, KLU above). Prints the CPU time per run (ms, the median
 // of the repetitions, one thread) of the elaboration, the plain simulation and each sensitivity
-// run, and the largest difference between the plain and the sensitivity run's temperatures.
+// run, and the largest difference between the plain and the sensitivity run's temperatures; and
+// the elaboration of a network with one param moved, in full and from the case's record (as the
+// sensitivity runs make their moved networks).
 #include "kernel/core/case_sensitivities.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/simulation.hpp"
 #include "lang/diagnostics.hpp"
+#include "lang/elaborator.hpp"
 #include "lang/model.hpp"
 #include "lang/source.hpp"
 
@@ -23,6 +26,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,19 +34,27 @@ namespace {
 
 using namespace thermnet;
 
+/// CPU time of one call of f, ms.
+double cpu_ms(const std::function<void()>& f) {
+  timespec a{}, b{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a);
+  f();
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
+  return 1e3 * static_cast<double>(b.tv_sec - a.tv_sec) +
+         1e-6 * static_cast<double>(b.tv_nsec - a.tv_nsec);
+}
+
+double median(std::vector<double> t) {
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
 /// Median CPU time of `reps` calls of f, ms.
 double median_ms(int reps, const std::function<void()>& f) {
   std::vector<double> t;
-  for (int i = 0; i < reps; ++i) {
-    timespec a{}, b{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a);
-    f();
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
-    t.push_back(1e3 * static_cast<double>(b.tv_sec - a.tv_sec) +
-                1e-6 * static_cast<double>(b.tv_nsec - a.tv_nsec));
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  for (int i = 0; i < reps; ++i)
+    t.push_back(cpu_ms(f));
+  return median(t);
 }
 
 } // namespace
@@ -86,13 +98,27 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < spec.nodes.size(); ++i)
     if (!spec.nodes[i].boundary) nodes.push_back(static_cast<int>(i));
 
+  // As the diagnosis does: each moved network elaborated from the record of the case's.
+  std::shared_ptr<const lang::ElaborationRecord> record;
+  (void)model->instantiate_recorded(case_name, {}, record);
+  const auto moved_values = [&](std::size_t j, MovedSpec* m = nullptr) {
+    const double scale =
+        std::max(std::abs(ranged[j].value), 1e-3 * (*ranged[j].hi - *ranged[j].lo));
+    if (m) {
+      m->scale = scale;
+      m->step = 1e-7 * scale;
+    }
+    return lang::ParamValues{{ranged[j].name, ranged[j].value + 1e-7 * scale}};
+  };
+  const auto moved_network = [&](std::size_t j, MovedSpec* m = nullptr) {
+    return record ? model->instantiate_near(*record, moved_values(j, m))
+                  : model->instantiate(case_name, moved_values(j, m));
+  };
   const auto moved_specs = [&](std::size_t count) {
     std::vector<MovedSpec> moved;
     for (std::size_t j = 0; j < count; ++j) {
       MovedSpec m;
-      m.scale = std::max(std::abs(ranged[j].value), 1e-3 * (*ranged[j].hi - *ranged[j].lo));
-      m.step = 1e-7 * m.scale;
-      m.spec = model->instantiate(case_name, {{ranged[j].name, ranged[j].value + m.step}});
+      m.spec = moved_network(j, &m);
       moved.push_back(std::move(m));
     }
     return moved;
@@ -122,6 +148,30 @@ int main(int argc, char** argv) {
   const double elaborate = median_ms(reps, [&] { (void)model->instantiate(case_name); });
   const double base = median_ms(reps, run_plain);
   std::printf("  elaboration (Model::instantiate): %.3f ms\n", elaborate);
+  if (record && !ranged.empty()) {
+    // A network with one param moved (each in turn), elaborated in full and from the case's
+    // record, the two alternating.
+    std::vector<double> full, near, recorded;
+    for (int i = 0; i < reps; ++i) {
+      full.push_back(cpu_ms([&] {
+        for (std::size_t j = 0; j < ranged.size(); ++j)
+          (void)model->instantiate(case_name, moved_values(j));
+      }));
+      near.push_back(cpu_ms([&] {
+        for (std::size_t j = 0; j < ranged.size(); ++j)
+          (void)moved_network(j);
+      }));
+      recorded.push_back(cpu_ms([&] {
+        std::shared_ptr<const lang::ElaborationRecord> r;
+        (void)model->instantiate_recorded(case_name, {}, r);
+      }));
+    }
+    const double n = static_cast<double>(ranged.size());
+    std::printf("  elaboration with its record (Model::instantiate_recorded): %.3f ms; one param "
+                "moved (mean over the %zu ranged params): %.3f ms in full, %.3f ms from the record "
+                "(Model::instantiate_near)\n",
+                median(recorded), ranged.size(), median(full) / n, median(near) / n);
+  }
   {
     Network net(spec);
     std::vector<double> T = start_state(net, solver);

@@ -95,6 +95,32 @@ void Elaborator::report(Diagnostic d) {
   report_(std::move(d));
 }
 
+// While it lives, every param read (directly or through a value) is noted in `into` too.
+class Elaborator::Reading {
+public:
+  Reading(Elaborator& e, ParamReads& into) : e_(e), on_(e.recording_) {
+    if (on_) e_.readers_.push_back(&into);
+  }
+  ~Reading() { stop(); }
+  Reading(const Reading&) = delete;
+  Reading& operator=(const Reading&) = delete;
+  /// Ends the reading before the end of its scope.
+  void stop() {
+    if (on_) e_.readers_.pop_back();
+    on_ = false;
+  }
+
+private:
+  Elaborator& e_;
+  bool on_;
+};
+
+void Elaborator::note_reads(const ParamReads& reads) {
+  for (ParamReads* r : readers_)
+    for (const ValueDecl* d : reads)
+      if (std::find(r->begin(), r->end(), d) == r->end()) r->push_back(d);
+}
+
 Evaluator Elaborator::evaluator(FileId f, const Scope* scope) {
   return Evaluator(
       m_.file(f),
@@ -144,6 +170,7 @@ Quantity Elaborator::value_of(std::string_view name, Span use) {
     throw EvalError(DiagnosticEngine::make(DiagId::structure_param, use, use, name));
   if (auto it = values_.find(decl.name); it != values_.end()) {
     if (std::isnan(it->second.value)) throw EvalError(Diagnostic{}); // failed earlier, reported
+    if (recording_) note_reads(value_reads_[&decl]);
     return it->second;
   }
   // A declaration's problems are its own: no loop or instance of the use, no `time`.
@@ -159,6 +186,9 @@ Quantity Elaborator::value_of(std::string_view name, Span use) {
           DiagnosticEngine::make(DiagId::cycle, at, decl.name_span, decl.name, path + decl.name));
     }
   evaluating_.push_back(decl.name);
+  ParamReads reads; // a param reads itself, and what its expression and range read
+  if (decl.is_param) reads.push_back(&decl);
+  Reading reading(*this, reads);
   Quantity q;
   try {
     q = evaluator(decl.file, nullptr).eval(*decl.expr);
@@ -215,6 +245,14 @@ Quantity Elaborator::value_of(std::string_view name, Span use) {
   evaluating_.pop_back();
   if (auto o = overrides_.find(decl.name); o != overrides_.end()) q.value = o->second;
   values_[decl.name] = q;
+  reading.stop();
+  if (recording_) {
+    if (auto c = case_reads_.find(&decl); c != case_reads_.end())
+      for (const ValueDecl* d : c->second)
+        if (std::find(reads.begin(), reads.end(), d) == reads.end()) reads.push_back(d);
+    note_reads(reads);
+    value_reads_[&decl] = std::move(reads);
+  }
   return q;
 }
 
@@ -223,8 +261,10 @@ Quantity Elaborator::value_of(std::string_view name, Span use) {
 Quantity Elaborator::instance_value(const Scope& inst, int index, Span use) {
   const std::size_t slot = inst.slot + static_cast<std::size_t>(index);
   if (slot >= instance_values_.size()) instance_values_.resize(slot + 1);
+  if (recording_ && slot >= instance_reads_.size()) instance_reads_.resize(slot + 1);
   if (const auto& cached = instance_values_[slot]) {
     if (std::isnan(cached->value)) throw EvalError(Diagnostic{}); // failed earlier, reported
+    if (recording_) note_reads(instance_reads_[slot]);
     return *cached;
   }
   const ValueDecl& decl = inst.submodel->values[static_cast<std::size_t>(index)];
@@ -246,6 +286,8 @@ Quantity Elaborator::instance_value(const Scope& inst, int index, Span use) {
   }
   Restore<bool> no_time(time_allowed_, false);
   evaluating_.push_back(full);
+  ParamReads reads;
+  Reading reading(*this, reads);
   Quantity q;
   try {
     if (arg) {
@@ -275,6 +317,11 @@ Quantity Elaborator::instance_value(const Scope& inst, int index, Span use) {
   }
   evaluating_.pop_back();
   instance_values_[slot] = q;
+  reading.stop();
+  if (recording_) {
+    note_reads(reads);
+    instance_reads_[slot] = std::move(reads);
+  }
   return q;
 }
 
@@ -736,6 +783,9 @@ void Elaborator::apply_param_overrides() {
       continue;
     }
     try {
+      // (what the setting reads is what the param then reads: value_of())
+      ParamReads& reads = case_reads_[&decl];
+      Reading reading(*this, reads);
       Quantity declared = value_of(name, mark);
       Quantity q = evaluator(case_->file, nullptr).eval(*e);
       if (q.dim && declared.dim && !(*q.dim == *declared.dim)) {
@@ -753,28 +803,84 @@ void Elaborator::apply_param_overrides() {
     if (!external_->params.count(k)) overrides_[k] = v; // set from outside: kept
   values_.clear(); // values computed so far may have used the declared params
   std::fill(instance_values_.begin(), instance_values_.end(), std::nullopt);
+  value_reads_.clear();
+  instance_reads_.clear();
 }
 
 NetworkSpec Elaborator::run() {
+  return run_near(nullptr, {}, nullptr);
+}
+
+NetworkSpec Elaborator::run_near(const ElaborationRecord* from, const ParamReads& moved,
+                                 std::optional<ElaborationRecord>* record) {
   NetworkSpec net;
   net.model = m_.name();
+  ElaborationRecord r;
+  recording_ = record != nullptr;
   if (case_) apply_param_overrides();
+  elaborate_declarations(net, from, moved, record ? &r : nullptr);
+  recording_ = false;
+  if (record) {
+    record->reset();
+    if (references_.empty()) { // (a value reading another key is resolved with the case's settings)
+      r.declared = net;
+      r.element_slot = element_slot_;
+      *record = std::move(r);
+    }
+  }
+  finish(net);
+  return net;
+}
+
+void Elaborator::elaborate_declarations(NetworkSpec& net, const ElaborationRecord* from,
+                                        const ParamReads& moved, ElaborationRecord* into) {
+  // A declaration is copied from the record when it read none of the moved params.
+  const auto copied = [&](const ParamReads& reads) {
+    return std::none_of(reads.begin(), reads.end(), [&](const ValueDecl* d) {
+      return std::find(moved.begin(), moved.end(), d) != moved.end();
+    });
+  };
   const auto& nodes = m_.nodes();
   net.nodes.resize(nodes.size());
-  for (std::size_t i = 0; i < nodes.size(); ++i)
-    elaborate_node(nodes[i], net.nodes[i]);
+  if (into) into->node_reads.assign(nodes.size(), {});
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (from && copied(from->node_reads[i])) {
+      net.nodes[i] = from->declared.nodes[i];
+      if (into) into->node_reads[i] = from->node_reads[i];
+      continue;
+    }
+    ParamReads reads;
+    {
+      Reading reading(*this, reads);
+      elaborate_node(nodes[i], net.nodes[i]);
+    }
+    if (into) into->node_reads[i] = std::move(reads);
+  }
   const auto& elements = m_.elements();
   element_slot_.assign(elements.size(), -1);
   net.elements.reserve(elements.size());
+  if (into) into->element_reads.assign(elements.size(), {});
   for (std::size_t i = 0; i < elements.size(); ++i) {
     const ElementDecl& d = elements[i];
-    auto e = d.element ? elaborate_element(d) : elaborate_composite(d);
+    if (from && copied(from->element_reads[i])) {
+      if (const int slot = from->element_slot[i]; slot >= 0) {
+        element_slot_[i] = static_cast<int>(net.elements.size());
+        net.elements.push_back(from->declared.elements[static_cast<std::size_t>(slot)]);
+      }
+      if (into) into->element_reads[i] = from->element_reads[i];
+      continue;
+    }
+    ParamReads reads;
+    std::optional<ElementSpec> e;
+    {
+      Reading reading(*this, reads);
+      e = d.element ? elaborate_element(d) : elaborate_composite(d);
+    }
+    if (into) into->element_reads[i] = std::move(reads);
     if (!e) continue;
     element_slot_[i] = static_cast<int>(net.elements.size());
     net.elements.push_back(std::move(*e));
   }
-  finish(net);
-  return net;
 }
 
 // The case's settings, the values set from outside the model over them, and the requirements that

@@ -34,6 +34,21 @@ const ElementSchema& node_schema();
 /// The schema of boundary statements (key T).
 const ElementSchema& boundary_schema();
 
+/// The params a value read, directly or through the consts and instance values it read.
+using ParamReads = std::vector<const ValueDecl*>;
+
+/// One elaboration of a case kept to elaborate it again at nearby param values
+/// (Elaborator::run_near()): the network before the case's settings and what each node and
+/// element declaration read.
+struct ElaborationRecord {
+  std::string case_name;                 ///< the case elaborated
+  ParamValues params;                    ///< the param overrides it was elaborated with
+  NetworkSpec declared;                  ///< its nodes and elements before the case's settings
+  std::vector<ParamReads> node_reads;    ///< per node: the params its values read
+  std::vector<ParamReads> element_reads; ///< per element declaration: the params its values read
+  std::vector<int> element_slot;         ///< per element declaration: index in declared.elements
+};
+
 /// Evaluates and checks one instantiation of a model.
 class Elaborator {
 public:
@@ -47,6 +62,18 @@ public:
 
   /// Builds the network; problems go to the reporter (the result is partial after an error).
   NetworkSpec run();
+  /// run() from a record of the same case (none: the same as run()) at param overrides that differ
+  /// from the record's in the params `moved` (declarations of the model's params) only: the nodes
+  /// and elements that read none of them are copied from it, the others elaborated again, the
+  /// case's settings applied afresh. With `record`, keeps there what a later run_near() needs
+  /// (nothing when a value reads another key: such values are resolved with the case's settings).
+  NetworkSpec run_near(const ElaborationRecord* from, const ParamReads& moved,
+                       std::optional<ElaborationRecord>* record);
+  /// The declaration of a top-level param or const, or nullptr.
+  const ValueDecl* value_decl(std::string_view name) const {
+    auto it = value_decls_.find(name);
+    return it == value_decls_.end() ? nullptr : it->second;
+  }
   /// Applies the case to `net`, the network `base` built without a case (run() on the base
   /// model): the same as run() when the case sets no param, without elaborating again.
   NetworkSpec run_on(NetworkSpec net, const Elaborator& base);
@@ -145,6 +172,15 @@ private:
   bool check_range(double v, const Place& p, Span at, Span mark);
   void report(Diagnostic d);
 
+  /// Elaborates the nodes and elements into `net`: each copied from `from` when it reads none of
+  /// `moved`, else elaborated; with `into`, what each read is kept there.
+  void elaborate_declarations(NetworkSpec& net, const ElaborationRecord* from,
+                              const ParamReads& moved, ElaborationRecord* into);
+  /// Notes that the value being evaluated read `reads` (when reads are recorded).
+  void note_reads(const ParamReads& reads);
+  /// Collects the reads of an evaluation while it lives (when reads are recorded).
+  class Reading;
+
   void elaborate_node(const NodeDecl& d, NodeSpec& out);
   bool fill_keys(const ElementSchema& schema, ast::KeyList keys, FileId f, Span at,
                  const std::function<std::string()>& owner, ElementSpec& out);
@@ -219,6 +255,13 @@ private:
   bool case_loops_cut_ = false;                     // the case's loops passed the limit and stopped
   std::set<const ast::CaseFor*> failed_case_loops_; // the case's loops with a wrong bound
   GeneratedPlaces generated_; // problems in loops and instances reported so far
+  // Reads recorded (run_near() with a record): the evaluations under way, innermost
+  // last, and what each top-level value and instance value slot read.
+  bool recording_ = false;
+  std::vector<ParamReads*> readers_;
+  std::unordered_map<const ValueDecl*, ParamReads> value_reads_;
+  std::vector<ParamReads> instance_reads_;
+  std::unordered_map<const ValueDecl*, ParamReads> case_reads_; // a case's param settings
 };
 
 } // namespace thermnet::lang

@@ -237,15 +237,65 @@ NetworkSpec Model::instantiate(const std::string& case_name, const ParamValues& 
     std::lock_guard lock(cache_mutex_);
     if (auto it = cache_.find(name); it != cache_.end()) return *it->second;
   }
-  const CaseDecl* c = nullptr;
-  for (const auto& d : cases_)
-    if (d.name == name) c = &d;
+  const CaseDecl* c = find_case(name);
   Reporter fail = [](Diagnostic d) {
     if (d.severity == Severity::error) throw ModelError(std::move(d));
   };
   Elaborator e(*this, fail, c, params, false, &overrides);
   NetworkSpec net = e.run();
   if (!c) net.settings.name = name;
+  return net;
+}
+
+const CaseDecl* Model::find_case(std::string_view name) const {
+  for (const auto& d : cases_)
+    if (d.name == name) return &d;
+  return nullptr;
+}
+
+NetworkSpec Model::instantiate_recorded(const std::string& case_name, const ParamValues& params,
+                                        std::shared_ptr<const ElaborationRecord>& record) const {
+  return elaborate_near(resolve_case(case_name), nullptr, params, &record);
+}
+
+NetworkSpec Model::instantiate_near(const ElaborationRecord& from, const ParamValues& params,
+                                    std::shared_ptr<const ElaborationRecord>* record) const {
+  return elaborate_near(from.case_name, &from, params, record);
+}
+
+NetworkSpec Model::elaborate_near(const std::string& name, const ElaborationRecord* from,
+                                  const ParamValues& params,
+                                  std::shared_ptr<const ElaborationRecord>* record) const {
+  if (load_error_) throw ModelError(*load_error_);
+  Reporter fail = [](Diagnostic d) {
+    if (d.severity == Severity::error) throw ModelError(std::move(d));
+  };
+  const CaseDecl* c = find_case(name);
+  Elaborator e(*this, fail, c, params, false, &overrides_);
+  // The model's params whose value differs (set on one side only, or to another value); others
+  // (a case's start temperatures) are applied with the case's settings, which are elaborated anew.
+  ParamReads moved;
+  if (from) {
+    const auto move = [&](const std::string& p) {
+      if (const ValueDecl* d = e.value_decl(p)) moved.push_back(d);
+    };
+    for (const auto& [p, value] : params)
+      if (auto it = from->params.find(p); it == from->params.end() || !(it->second == value))
+        move(p);
+    for (const auto& [p, value] : from->params)
+      if (!params.count(p)) move(p);
+  }
+  std::optional<ElaborationRecord> r;
+  NetworkSpec net = e.run_near(from, moved, record ? &r : nullptr);
+  if (!c) net.settings.name = name;
+  if (record) {
+    record->reset();
+    if (r) {
+      r->case_name = name;
+      r->params = params;
+      *record = std::make_shared<const ElaborationRecord>(std::move(*r));
+    }
+  }
   return net;
 }
 

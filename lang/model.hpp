@@ -222,6 +222,8 @@ struct LoadOptions {
   std::string too_large_note;
 };
 
+struct ElaborationRecord;
+
 /// A parsed model with its declarations; instantiate() elaborates one case into a NetworkSpec.
 class Model {
 public:
@@ -267,6 +269,15 @@ public:
   /// Elaborates a case like instantiate(), with `overrides` in place of the model's own.
   NetworkSpec instantiate(const std::string& case_name, const ParamValues& params,
                           const Overrides& overrides) const;
+  /// instantiate(case_name, params), keeping in `record` what instantiate_near() elaborates
+  /// from (null when it cannot serve: a value that reads another key).
+  NetworkSpec instantiate_recorded(const std::string& case_name, const ParamValues& params,
+                                   std::shared_ptr<const ElaborationRecord>& record) const;
+  /// instantiate(from.case_name, params), elaborated from a record: only the nodes and elements
+  /// that read a param whose value differs from the record's are evaluated again. With `record`,
+  /// keeps the result's record there as instantiate_recorded() does.
+  NetworkSpec instantiate_near(const ElaborationRecord& from, const ParamValues& params,
+                               std::shared_ptr<const ElaborationRecord>* record = nullptr) const;
 
   /// Names of the declared cases, in order (empty when the model has none).
   std::vector<std::string> case_names() const;
@@ -337,6 +348,12 @@ public:
 private:
   friend class ModelBuilder;
   void remember(const std::string& case_name, NetworkSpec net) const;
+  /// The declared case of that name, or nullptr (the implicit default case).
+  const CaseDecl* find_case(std::string_view name) const;
+  /// instantiate_near() from `from` (none: a full elaboration) of the case `name` (resolved).
+  NetworkSpec elaborate_near(const std::string& name, const ElaborationRecord* from,
+                             const ParamValues& params,
+                             std::shared_ptr<const ElaborationRecord>* record) const;
 
   std::string path_;
   std::string name_;

@@ -235,7 +235,10 @@ bool Engine::model_sensitivities(const Hypothesis& h, const Candidate& c,
       continue;
     }
     const lang::ParamValues ov = h.overrides(c, p);
-    const lang::NetworkSpec inst = ov.empty() ? ce.spec : model_.instantiate(ce.name, ov);
+    // (each moved network is elaborated from this one's record: only what its param reaches)
+    std::shared_ptr<const lang::ElaborationRecord> record;
+    const lang::NetworkSpec inst =
+        ov.empty() ? ce.spec : model_.instantiate_recorded(ce.name, ov, record);
     lang::NetworkSpec spec = inst;
     h.extend(c, p, spec);
     std::vector<MovedSpec> moved(np);
@@ -245,7 +248,9 @@ bool Engine::model_sensitivities(const Hypothesis& h, const Candidate& c,
       moved[j].scale = parameter_size(c, p, j);
       q[j] += moved[j].step;
       const lang::ParamValues ovj = h.overrides(c, q);
-      moved[j].spec = ovj == ov ? inst : model_.instantiate(ce.name, ovj);
+      moved[j].spec = ovj == ov ? inst
+                      : record  ? model_.instantiate_near(*record, ovj)
+                                : model_.instantiate(ce.name, ovj);
       h.extend(c, q, moved[j].spec);
     }
     std::vector<int> nodes;
