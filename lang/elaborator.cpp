@@ -115,10 +115,19 @@ private:
   bool on_;
 };
 
+namespace {
+
+/// Adds to `into` the params of `reads` it does not hold yet.
+void add_reads(ParamReads& into, const ParamReads& reads) {
+  for (const ValueDecl* d : reads)
+    if (std::find(into.begin(), into.end(), d) == into.end()) into.push_back(d);
+}
+
+} // namespace
+
 void Elaborator::note_reads(const ParamReads& reads) {
   for (ParamReads* r : readers_)
-    for (const ValueDecl* d : reads)
-      if (std::find(r->begin(), r->end(), d) == r->end()) r->push_back(d);
+    add_reads(*r, reads);
 }
 
 Evaluator Elaborator::evaluator(FileId f, const Scope* scope) {
@@ -247,9 +256,7 @@ Quantity Elaborator::value_of(std::string_view name, Span use) {
   values_[decl.name] = q;
   reading.stop();
   if (recording_) {
-    if (auto c = case_reads_.find(&decl); c != case_reads_.end())
-      for (const ValueDecl* d : c->second)
-        if (std::find(reads.begin(), reads.end(), d) == reads.end()) reads.push_back(d);
+    if (auto c = case_reads_.find(&decl); c != case_reads_.end()) add_reads(reads, c->second);
     note_reads(reads);
     value_reads_[&decl] = std::move(reads);
   }

@@ -237,14 +237,7 @@ NetworkSpec Model::instantiate(const std::string& case_name, const ParamValues& 
     std::lock_guard lock(cache_mutex_);
     if (auto it = cache_.find(name); it != cache_.end()) return *it->second;
   }
-  const CaseDecl* c = find_case(name);
-  Reporter fail = [](Diagnostic d) {
-    if (d.severity == Severity::error) throw ModelError(std::move(d));
-  };
-  Elaborator e(*this, fail, c, params, false, &overrides);
-  NetworkSpec net = e.run();
-  if (!c) net.settings.name = name;
-  return net;
+  return elaborate_near(name, nullptr, params, nullptr, overrides);
 }
 
 const CaseDecl* Model::find_case(std::string_view name) const {
@@ -255,23 +248,24 @@ const CaseDecl* Model::find_case(std::string_view name) const {
 
 NetworkSpec Model::instantiate_recorded(const std::string& case_name, const ParamValues& params,
                                         std::shared_ptr<const ElaborationRecord>& record) const {
-  return elaborate_near(resolve_case(case_name), nullptr, params, &record);
+  return elaborate_near(resolve_case(case_name), nullptr, params, &record, overrides_);
 }
 
 NetworkSpec Model::instantiate_near(const ElaborationRecord& from, const ParamValues& params,
                                     std::shared_ptr<const ElaborationRecord>* record) const {
-  return elaborate_near(from.case_name, &from, params, record);
+  return elaborate_near(from.case_name, &from, params, record, overrides_);
 }
 
 NetworkSpec Model::elaborate_near(const std::string& name, const ElaborationRecord* from,
                                   const ParamValues& params,
-                                  std::shared_ptr<const ElaborationRecord>* record) const {
+                                  std::shared_ptr<const ElaborationRecord>* record,
+                                  const Overrides& overrides) const {
   if (load_error_) throw ModelError(*load_error_);
   Reporter fail = [](Diagnostic d) {
     if (d.severity == Severity::error) throw ModelError(std::move(d));
   };
   const CaseDecl* c = find_case(name);
-  Elaborator e(*this, fail, c, params, false, &overrides_);
+  Elaborator e(*this, fail, c, params, false, &overrides);
   // The model's params whose value differs (set on one side only, or to another value); others
   // (a case's start temperatures) are applied with the case's settings, which are elaborated anew.
   ParamReads moved;

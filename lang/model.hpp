@@ -350,10 +350,12 @@ private:
   void remember(const std::string& case_name, NetworkSpec net) const;
   /// The declared case of that name, or nullptr (the implicit default case).
   const CaseDecl* find_case(std::string_view name) const;
-  /// instantiate_near() from `from` (none: a full elaboration) of the case `name` (resolved).
+  /// Elaborates the case `name` (resolved) with `overrides`: from `from` as instantiate_near()
+  /// does, or in full without it; keeps the result's record in `record` when given.
   NetworkSpec elaborate_near(const std::string& name, const ElaborationRecord* from,
                              const ParamValues& params,
-                             std::shared_ptr<const ElaborationRecord>* record) const;
+                             std::shared_ptr<const ElaborationRecord>* record,
+                             const Overrides& overrides) const;
 
   std::string path_;
   std::string name_;
