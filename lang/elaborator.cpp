@@ -95,6 +95,14 @@ void Elaborator::report(Diagnostic d) {
   report_(std::move(d));
 }
 
+bool Elaborator::suggest(Diagnostic& d, const std::string& word,
+                         const std::function<std::vector<std::string>()>& names) const {
+  if (generated_.seen(d, context_)) return true;
+  const std::optional<std::string> s = closest_match(word, names());
+  if (s) d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
+  return s.has_value();
+}
+
 // While it lives, every param read (directly or through a value) is noted in `into` too.
 class Elaborator::Reading {
 public:
@@ -167,11 +175,12 @@ Quantity Elaborator::value_of(std::string_view name, Span use) {
   if (decl_it == value_decls_.end()) {
     if (m_.declared_by_unparsed(name)) throw EvalError(Diagnostic{}); // its syntax error is out
     Diagnostic d = DiagnosticEngine::make(DiagId::unknown_name, use, use, name);
-    std::vector<std::string> names;
-    for (const auto& v : m_.values())
-      names.push_back(v.name);
-    if (auto s = closest_match(std::string(name), names))
-      d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
+    suggest(d, std::string(name), [&] {
+      std::vector<std::string> names;
+      for (const auto& v : m_.values())
+        names.push_back(v.name);
+      return names;
+    });
     throw EvalError(std::move(d));
   }
   const ValueDecl& decl = *decl_it->second;
@@ -420,27 +429,27 @@ std::optional<int> Elaborator::resolve_node(const ast::Ref& r, FileId file, cons
   Diagnostic d = DiagnosticEngine::make(DiagId::unknown_node, at, span_of(file, r), text);
   // Suggest a name the reference could have meant: among the instance's own nodes and terminals
   // inside a submodel, else among the model's.
-  std::vector<std::string> names;
-  if (inst) {
+  const bool suggested = suggest(d, text, [&] {
+    std::vector<std::string> names;
+    if (inst)
+      for (const auto& t : inst->submodel->stmt->terminals)
+        names.emplace_back(t.name);
+    for (const auto& n : m_.nodes())
+      if (!inst)
+        names.emplace_back(n.name);
+      else if (n.name.starts_with(inst->prefix))
+        names.emplace_back(n.name.substr(inst->prefix.size()));
+    return names;
+  });
+  if (!suggested && inst) {
+    std::vector<std::string> terminals;
     for (const auto& t : inst->submodel->stmt->terminals)
-      names.emplace_back(t.name);
-    for (const auto& n : m_.nodes())
-      if (n.name.starts_with(inst->prefix)) names.emplace_back(n.name.substr(inst->prefix.size()));
-  } else {
-    for (const auto& n : m_.nodes())
-      names.emplace_back(n.name);
-  }
-  if (auto s = closest_match(text, names))
-    d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
-  else if (inst)
+      terminals.emplace_back(t.name);
     d.notes.push_back(DiagnosticEngine::note(
         DiagId::note_text, std::nullopt,
-        fmt::format(
-            "inside submodel '{}', a node is one of its own or a terminal ({})",
-            inst->submodel->name,
-            list_names(std::vector<std::string>(
-                names.begin(), names.begin() + static_cast<std::ptrdiff_t>(
-                                                   inst->submodel->stmt->terminals.size()))))));
+        fmt::format("inside submodel '{}', a node is one of its own or a terminal ({})",
+                    inst->submodel->name, list_names(terminals))));
+  }
   report(std::move(d));
   return std::nullopt;
 }

@@ -88,9 +88,13 @@ public:
   /// False for a repetition: d arose in a loop or instance (`scope`, or d.generated) at a place
   /// seen before; true otherwise (every problem outside them).
   bool first(const Diagnostic& d, const Scope* scope);
+  /// True when a problem like d (its code at its mark, whatever its statement) arose in a loop
+  /// or instance before: d, not yet placed at its statement, most likely repeats it.
+  bool seen(const Diagnostic& d, const Scope* scope) const;
 
 private:
   std::set<std::tuple<std::string, FileId, std::uint32_t, std::uint32_t>> seen_;
+  std::set<std::tuple<std::string, FileId, std::uint32_t>> marks_; // the same, without statements
 };
 
 /// A submodel definition: its terminals, params, local consts and body.

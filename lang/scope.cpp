@@ -63,7 +63,14 @@ void add_scope_notes(Diagnostic& d, const Scope* scope) {
 bool GeneratedPlaces::first(const Diagnostic& d, const Scope* scope) {
   if (!scope && !d.generated) return true;
   const Span a = d.at.value_or(Span{}), mark = d.mark.value_or(a);
+  marks_.emplace(d.code, mark.file, mark.begin);
   return seen_.emplace(d.code, a.file, a.begin, mark.begin).second;
+}
+
+bool GeneratedPlaces::seen(const Diagnostic& d, const Scope* scope) const {
+  if (!scope && !d.generated) return false;
+  const Span mark = d.mark.value_or(d.at.value_or(Span{}));
+  return marks_.count({d.code, mark.file, mark.begin}) > 0;
 }
 
 int SubmodelDecl::value_index(std::string_view n) const {

@@ -354,13 +354,14 @@ Quantity Elaborator::referenced_key(const ast::Ref& ref, FileId f, const Scope* 
   const int decl = m_.element_index(object);
   if (decl < 0) {
     Diagnostic d = DiagnosticEngine::make(DiagId::unknown_element, mark, mark, object);
-    std::vector<std::string> names;
-    for (const auto& e : m_.elements())
-      names.emplace_back(e.name);
-    for (const auto& nd : m_.nodes())
-      if (nd.boundary) names.emplace_back(nd.name);
-    if (auto sug = closest_match(object, names))
-      d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *sug));
+    suggest(d, object, [&] {
+      std::vector<std::string> names;
+      for (const auto& e : m_.elements())
+        names.emplace_back(e.name);
+      for (const auto& nd : m_.nodes())
+        if (nd.boundary) names.emplace_back(nd.name);
+      return names;
+    });
     throw EvalError(std::move(d));
   }
   const int slot = element_slot_[static_cast<std::size_t>(decl)];
