@@ -1295,23 +1295,23 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
   const int decl = m_.element_index(obj);
   if (decl < 0 && m_.declared_by_unparsed(path.id.name)) return;
   if (decl < 0) {
-    for (const auto& sc : m_.scopes())
-      if (sc.kind == Scope::Kind::instance && sc.name == obj) {
-        report(DiagnosticEngine::make(
-            DiagId::override_fixed_only, at, span_of(f, a.target),
-            fmt::format("a case cannot set the params of instance '{}'; give the instance a "
-                        "fixed param of the model ('{} = NAME') and set that param in the case",
-                        obj, key)));
-        return;
-      }
+    if (m_.instance(obj)) {
+      report(DiagnosticEngine::make(
+          DiagId::override_fixed_only, at, span_of(f, a.target),
+          fmt::format("a case cannot set the params of instance '{}'; give the instance a "
+                      "fixed param of the model ('{} = NAME') and set that param in the case",
+                      obj, key)));
+      return;
+    }
     Diagnostic d = DiagnosticEngine::make(DiagId::unknown_element, at, object_span, obj);
-    std::vector<std::string> names;
-    for (const auto& e : m_.elements())
-      names.emplace_back(e.name);
-    for (const auto& nd : m_.nodes())
-      names.emplace_back(nd.name);
-    if (auto s = closest_match(obj, names))
-      d.notes.push_back(DiagnosticEngine::note(DiagId::did_you_mean, std::nullopt, *s));
+    suggest(d, obj, [&] {
+      std::vector<std::string> names;
+      for (const auto& e : m_.elements())
+        names.emplace_back(e.name);
+      for (const auto& nd : m_.nodes())
+        names.emplace_back(nd.name);
+      return names;
+    });
     report(std::move(d));
     return;
   }

@@ -317,6 +317,8 @@ public:
   const std::vector<RequirementDecl>& requirements() const { return requirements_; }
   /// Loop iterations and instances the declarations stand in.
   const std::deque<Scope>& scopes() const { return scopes_; }
+  /// The submodel instance of a full name (`u1`, `a.u[2]`), or nullptr.
+  const Scope* instance(std::string_view name) const;
   /// The submodel of a name, or nullptr.
   const SubmodelDecl* submodel(std::string_view name) const;
   /// Number of value slots the instances need (their params and consts), for elaboration.
@@ -388,6 +390,7 @@ private:
   NameIndex<std::deque<NodeDecl>> node_index_{nodes_};
   NameIndex<std::deque<ElementDecl>> element_index_{elements_};
   std::unordered_map<std::string_view, int> submodel_index_;
+  std::unordered_map<std::string_view, const Scope*> instance_index_; // names viewed in the scopes
   mutable TableCache tables_;
   // Networks of cases without param overrides, elaborated once per run and shared.
   mutable std::mutex cache_mutex_;

@@ -758,6 +758,7 @@ private:
       }
       check_arguments(s, sub, f, scope, inst.name);
       inst.kind = Scope::Kind::instance;
+      m_.instance_index_.emplace(inst.name, &inst);
       inst.parent = scope;
       inst.file = f;
       inst.where = span(f, s);
@@ -901,6 +902,11 @@ std::string Model::directory_of(FileId file) const {
 const SubmodelDecl* Model::submodel(std::string_view name) const {
   auto it = submodel_index_.find(name);
   return it == submodel_index_.end() ? nullptr : &submodels_[static_cast<std::size_t>(it->second)];
+}
+
+const Scope* Model::instance(std::string_view name) const {
+  auto it = instance_index_.find(name);
+  return it == instance_index_.end() ? nullptr : it->second;
 }
 
 const ast::File& Model::file(FileId id) const {

@@ -27,12 +27,11 @@ const KeySchema& Model::settable_key(std::string_view object, std::string_view k
     schema = d.schema;
     what = fmt::format("{} '{}'", schema->kind, object);
   } else {
-    for (const auto& sc : scopes_)
-      if (sc.kind == Scope::Kind::instance && sc.name == object)
-        throw OverrideError(fmt::format(
-            "{}: '{}' is an instance of submodel '{}': set a key of one of its elements "
-            "('{}.ELEMENT.KEY') or a param of the model it is given",
-            option, object, sc.submodel->name, object));
+    if (const Scope* sc = instance(object))
+      throw OverrideError(
+          fmt::format("{}: '{}' is an instance of submodel '{}': set a key of one of its elements "
+                      "('{}.ELEMENT.KEY') or a param of the model it is given",
+                      option, object, sc->submodel->name, object));
     std::vector<std::string> names;
     for (const auto& d : elements_)
       names.emplace_back(d.name);
