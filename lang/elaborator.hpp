@@ -171,9 +171,9 @@ private:
   void report_at(const EvalError& err, Span at);
   bool check_range(double v, const Place& p, Span at, Span mark);
   void report(Diagnostic d);
-  /// Adds to d a "did you mean" note naming the one of names() nearest `word`, if one is near;
-  /// false when none is. names() is not called for a repetition report() will drop (a loop of
-  /// 20,000 iterations would otherwise search every name 20,000 times).
+  /// Adds to d a "did you mean" note naming the one of names() nearest `word`; false when none
+  /// is near. A repetition report() will drop is not searched (true: a loop of 20,000
+  /// iterations would otherwise search every name 20,000 times).
   bool suggest(Diagnostic& d, const std::string& word,
                const std::function<std::vector<std::string>()>& names) const;
 
