@@ -600,8 +600,9 @@ private:
     return m_.name_text_.keep(name);
   }
 
-  /// Registers an element or instance name in the element namespace; false when taken.
-  bool element_name(std::string_view name, int index, bool instance, std::string_view base,
+  /// Registers an element's name (`index`) or an instance's (`instance`, its file and statement
+  /// set) in the element namespace; false when taken.
+  bool element_name(std::string_view name, int index, const Scope* instance, std::string_view base,
                     Span name_span, Span where, const Scope* scope) {
     // One hash lookup for the common case, a new element's name: it is entered at once and taken
     // out again if an instance has it.
@@ -615,15 +616,16 @@ private:
     } else {
       entered = true;
     }
-    if (!previous && !instance_index_.empty())
-      if (auto i = instance_index_.find(name); i != instance_index_.end()) previous = i->second;
+    if (!previous && !m_.instance_index_.empty())
+      if (const Scope* other = m_.instance(name))
+        previous = span(other->file, other->statement->name);
     check_name(instance ? "instance" : "element", base, name, name_span, where,
                previous ? &*previous : nullptr, scope);
     if (previous) {
       if (entered) m_.element_index_.erase(name);
       return false;
     }
-    if (instance) instance_index_.emplace(name, name_span);
+    if (instance) m_.instance_index_.emplace(name, instance);
     return true;
   }
 
@@ -674,7 +676,7 @@ private:
       d.schema = schema;
       d.file = f;
       d.valid = valid;
-      if (!element_name(d.name, index, false, name.id.name, span(f, name), at(f, s), scope))
+      if (!element_name(d.name, index, nullptr, name.id.name, span(f, name), at(f, s), scope))
         m_.elements_.pop_back();
     }
   }
@@ -751,19 +753,18 @@ private:
       Scope& inst = m_.scopes_.emplace_back();
       inst.prefix = name + '.';
       inst.name = std::move(name);
+      inst.file = f;
+      inst.statement = &s;
       // The instance's name is registered as a view of the scope's own copy, which stays put.
-      if (!element_name(inst.name, -1, true, s.name.id.name, span(f, s.name), at(f, s), scope)) {
+      if (!element_name(inst.name, -1, &inst, s.name.id.name, span(f, s.name), at(f, s), scope)) {
         m_.scopes_.pop_back();
         continue;
       }
       check_arguments(s, sub, f, scope, inst.name);
       inst.kind = Scope::Kind::instance;
-      m_.instance_index_.emplace(inst.name, &inst);
       inst.parent = scope;
-      inst.file = f;
       inst.where = span(f, s);
       inst.submodel = &sub;
-      inst.statement = &s;
       inst.terminals.assign(sub.stmt->terminals.size(), -1);
       inst.slot = m_.instance_slots_;
       m_.instance_slots_ += sub.values.size();
@@ -851,7 +852,6 @@ private:
   std::vector<FileId> open_ids_;
   std::map<std::string, Span> loaded_; // canonical path -> the include that read it
   std::unordered_map<std::string_view, Span> value_names_, case_names_, submodel_names_;
-  std::unordered_map<std::string_view, Span> instance_index_;
   std::vector<std::pair<const ast::Statement*, FileId>> structure_; // top-level, in order
   std::string_view last_kind_;                 // the kind kind_schema() found last
   const ElementSchema* last_schema_ = nullptr; // and its schema
