@@ -93,8 +93,8 @@ public:
   bool seen(const Diagnostic& d, const Scope* scope) const;
 
 private:
-  std::set<std::tuple<std::string, FileId, std::uint32_t, std::uint32_t>> seen_;
-  std::set<std::tuple<std::string, FileId, std::uint32_t>> marks_; // the same, without statements
+  // (code, mark's file and offset, statement's file and offset): seen() reads the first three
+  std::set<std::tuple<std::string, FileId, std::uint32_t, FileId, std::uint32_t>> seen_;
 };
 
 /// A submodel definition: its terminals, params, local consts and body.

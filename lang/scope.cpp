@@ -63,14 +63,15 @@ void add_scope_notes(Diagnostic& d, const Scope* scope) {
 bool GeneratedPlaces::first(const Diagnostic& d, const Scope* scope) {
   if (!scope && !d.generated) return true;
   const Span a = d.at.value_or(Span{}), mark = d.mark.value_or(a);
-  marks_.emplace(d.code, mark.file, mark.begin);
-  return seen_.emplace(d.code, a.file, a.begin, mark.begin).second;
+  return seen_.emplace(d.code, mark.file, mark.begin, a.file, a.begin).second;
 }
 
 bool GeneratedPlaces::seen(const Diagnostic& d, const Scope* scope) const {
   if (!scope && !d.generated) return false;
   const Span mark = d.mark.value_or(d.at.value_or(Span{}));
-  return marks_.count({d.code, mark.file, mark.begin}) > 0;
+  const auto it = seen_.lower_bound({d.code, mark.file, mark.begin, FileId{0}, 0u});
+  return it != seen_.end() && std::get<0>(*it) == d.code && std::get<1>(*it) == mark.file &&
+         std::get<2>(*it) == mark.begin;
 }
 
 int SubmodelDecl::value_index(std::string_view n) const {
