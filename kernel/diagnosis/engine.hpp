@@ -49,6 +49,7 @@ struct Entry {
   Candidate c;                       ///< candidate
   const Hypothesis* own_h = nullptr; ///< the candidate's own hypothesis (the Joint's inner)
   Candidate own;                     ///< the candidate with its own parameters only
+  std::string proxy; ///< a counterpart's: the site of the shortlisted candidate it stands beside
 };
 
 /// A refitted candidate: the finding and what the mechanism comparison needs.

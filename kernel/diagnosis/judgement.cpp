@@ -46,7 +46,7 @@ void Selection::judge(std::vector<Evaluated>& res, const Base& reference) const 
     if (f.values.empty()) return;
     f.holdout_z = 0.0;
     f.window_gain = std::numeric_limits<double>::infinity();
-    f.significant = !e.degenerate && f.delta_bic < -10.0 &&
+    f.significant = !e.degenerate && f.delta_bic < kSignificantBic &&
                     f.validation_rmse_after <= f.validation_rmse_before + 0.1 * nf &&
                     f.rmse_after < 0.97 * f.rmse_before;
     judge_against(e, compare_to(e, reference.holdout_r, reference.r), z_min);

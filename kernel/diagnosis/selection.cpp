@@ -61,7 +61,8 @@ std::size_t Selection::significant_recalibration() const {
   // is enough that it improves the fit on all data)
   for (std::size_t i = 0; i < chosen_.size(); ++i)
     if (chosen_[i].own_h->recalibrates())
-      return !res_[i].f.values.empty() && res_[i].f.delta_bic < -10.0 ? i : chosen_.size();
+      return !res_[i].f.values.empty() && res_[i].f.delta_bic < kSignificantBic ? i
+                                                                                : chosen_.size();
   return chosen_.size();
 }
 

@@ -16,6 +16,9 @@
 
 namespace thermnet::detail {
 
+/// ΔBIC below which a fit beats its reference (very strong evidence on the Kass-Raftery scale).
+constexpr double kSignificantBic = -10.0;
+
 /// Where a candidate acts (a link's two mechanisms are one site).
 std::string site(const Candidate& c);
 
@@ -75,6 +78,15 @@ private:
   void add_recalibrated_shortlist(const Base& recalibrated);
   void refit_jointly(std::size_t recal, const std::vector<double>& ranged, const Base* recalibrated,
                      DiagnosisReport& rep);
+  /// Refits chosen_[todo] jointly with the ranged params; each success replaces its result.
+  void refit_batch(const std::vector<std::size_t>& todo, std::size_t recal,
+                   const std::vector<double>& ranged, DiagnosisReport& rep);
+  /// The sites (`sites`, of chosen_[refitted] before their joint refits) whose joint refit beats
+  /// the recalibration alone by the information criterion, or failed: their counterparts are
+  /// refitted.
+  std::set<std::string> gaining_sites(const std::vector<std::size_t>& refitted,
+                                      const std::vector<std::string>& sites,
+                                      std::size_t recal) const;
   Entry joint_entry(const Entry& e, std::size_t recal, const std::vector<double>& ranged);
   void note_joint(Finding& f, std::size_t recal) const;
   void rank_first(std::size_t recal);

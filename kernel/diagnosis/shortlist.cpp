@@ -344,6 +344,7 @@ std::vector<Entry> Selection::shortlisted(const std::vector<Entry>& side, const 
   const std::vector<std::size_t> picked = shortlist(side, ev, sites);
   for (std::size_t i : picked)
     if (taken->insert(i).second) fresh.push_back(side[i]);
+  const std::vector<std::size_t> few = few_unobserved(side, opt_.refits); // sorted
   for (const auto& [j, seed] : counterparts(side, ev, picked)) {
     if (!taken->insert(j).second) continue;
     Entry e = side[j];
@@ -351,9 +352,11 @@ std::vector<Entry> Selection::shortlisted(const std::vector<Entry>& side, const 
       for (std::size_t k = 0; k < e.c.start.size() && k < side[seed].c.start.size(); ++k)
         e.c.start[k] = std::clamp(side[seed].c.start[k], e.c.lo[k], e.c.hi[k]);
     e.own.start = e.c.start;
+    // (one of a kind's few unobserved candidates is refitted whatever its proxy gives: below)
+    if (!std::binary_search(few.begin(), few.end(), j)) e.proxy = site(side[seed].c);
     fresh.push_back(std::move(e));
   }
-  for (std::size_t i : few_unobserved(side, opt_.refits))
+  for (std::size_t i : few)
     if (taken->insert(i).second) fresh.push_back(side[i]);
   return fresh;
 }
