@@ -118,15 +118,13 @@ std::set<std::string> Selection::gaining_sites(const std::vector<std::size_t>& r
   // criterion (as a finding must beat its reference) shows no effect there to look for beside it,
   // and its counterparts are not refitted (S19 of the scenario table: 73 of 389, and a quarter of
   // the joint refits' simulations). A proxy whose joint fit failed keeps its counterparts.
-  const double n = static_cast<double>(engine_.points());
-  const double recal_sse = res_[recal].f.rmse_after * res_[recal].f.rmse_after * n;
+  // Both ΔBICs are against the declared model, and the joint fit has the recalibration's params
+  // and its own: their difference is the proxy's ΔBIC against the recalibration.
+  const double recal_bic = res_[recal].f.delta_bic;
   std::set<std::string> out;
   for (std::size_t j = 0; j < refitted.size(); ++j) {
     const Finding& f = res_[refitted[j]].f;
-    const auto k = static_cast<double>(chosen_[refitted[j]].own.start.size());
-    if (f.values.empty() ||
-        engine_.delta_bic(f.rmse_after * f.rmse_after * n, recal_sse, k) < kSignificantBic)
-      out.insert(sites[j]);
+    if (f.values.empty() || f.delta_bic - recal_bic < kSignificantBic) out.insert(sites[j]);
   }
   return out;
 }
