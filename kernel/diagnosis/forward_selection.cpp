@@ -47,8 +47,7 @@ Base Selection::select_forward(DiagnosisReport& rep, Base& last) const {
     } catch (const std::exception&) {
       break;
     }
-    std::vector<Evaluated> nres = engine_.evaluate_all(next, base);
-    rep.refitted += next.size();
+    std::vector<Evaluated> nres = evaluate_next(next, base, rep);
     judge(nres, base);
     merge_mechanisms(next, nres);
     rep.refitted += rerank_jointly(applied, base, next, nres);
@@ -65,6 +64,33 @@ Base Selection::select_forward(DiagnosisReport& rep, Base& last) const {
   }
   last = base;
   return best;
+}
+
+std::vector<Evaluated> Selection::evaluate_next(const std::vector<Entry>& next, const Base& base,
+                                                DiagnosisReport& rep) const {
+  // As in the joint refits, a counterpart on unmeasured nodes is refitted only beside a proxy
+  // whose refit on top of the findings beats them by the information criterion (B72 of
+  // bench/diagnosis.md: most of the step's simulations went to counterparts beside proxies
+  // that gain nothing once the first finding is applied).
+  std::vector<std::size_t> first, beside;
+  for (std::size_t i = 0; i < next.size(); ++i)
+    (next[i].proxy.empty() ? first : beside).push_back(i);
+  std::vector<Evaluated> nres(next.size());
+  const auto refit = [&](const std::vector<std::size_t>& todo) {
+    std::vector<Entry> entries;
+    for (std::size_t i : todo)
+      entries.push_back(next[i]);
+    std::vector<Evaluated> r = engine_.evaluate_all(entries, base);
+    for (std::size_t k = 0; k < todo.size(); ++k)
+      nres[todo[k]] = std::move(r[k]);
+    rep.refitted += todo.size();
+  };
+  refit(first);
+  std::vector<std::string> sites;
+  for (std::size_t i : first)
+    sites.push_back(site(next[i].c));
+  refit(beside_gaining(next, beside, nres, first, sites, 0.0));
+  return nres;
 }
 
 std::size_t Selection::rerank_jointly(const std::vector<Applied>& applied, const Base& base,

@@ -6,7 +6,7 @@
 // recalibrated values) and compared on that footing: the joint result replaces any own-parameter
 // refit, and it must also beat the recalibration alone on held-out data (rank_first; otherwise the
 // recalibration explains it). The counterparts on unmeasured nodes are refitted after the others,
-// and only beside a proxy that gains (gaining_sites).
+// and only beside a proxy that gains (beside_gaining).
 
 #include "kernel/diagnosis/selection.hpp"
 
@@ -99,34 +99,11 @@ void Selection::refit_jointly(std::size_t recal, const std::vector<double>& rang
   for (std::size_t i : first)
     first_sites.push_back(site(chosen_[i].c));
   refit_batch(first, recal, ranged, rep);
-  const std::set<std::string> gaining = gaining_sites(first, first_sites, recal);
-  // (a counterpart whose proxy is not among them, which the shortlists do not make, is refitted)
-  const std::set<std::string> known(first_sites.begin(), first_sites.end());
-  std::vector<std::size_t> second;
-  for (std::size_t i : beside)
-    if (gaining.count(chosen_[i].proxy) != 0 || known.count(chosen_[i].proxy) == 0)
-      second.push_back(i);
-  refit_batch(second, recal, ranged, rep);
-}
-
-std::set<std::string> Selection::gaining_sites(const std::vector<std::size_t>& refitted,
-                                               const std::vector<std::string>& sites,
-                                               std::size_t recal) const {
-  // A counterpart on unmeasured nodes stands for an effect the screen sees only through the
-  // measured nodes near it, where its proxy sits: refitted jointly, the proxy takes up part of
-  // such an effect. A proxy that does not beat the recalibration alone by the information
-  // criterion (as a finding must beat its reference) shows no effect there to look for beside it,
-  // and its counterparts are not refitted (S19 of the scenario table: 73 of 389, and a quarter of
-  // the joint refits' simulations). A proxy whose joint fit failed keeps its counterparts.
   // Both ΔBICs are against the declared model, and the joint fit has the recalibration's params
   // and its own: their difference is the proxy's ΔBIC against the recalibration.
-  const double recal_bic = res_[recal].f.delta_bic;
-  std::set<std::string> out;
-  for (std::size_t j = 0; j < refitted.size(); ++j) {
-    const Finding& f = res_[refitted[j]].f;
-    if (f.values.empty() || f.delta_bic - recal_bic < kSignificantBic) out.insert(sites[j]);
-  }
-  return out;
+  const std::vector<std::size_t> second =
+      beside_gaining(chosen_, beside, res_, first, first_sites, res_[recal].f.delta_bic);
+  refit_batch(second, recal, ranged, rep);
 }
 
 void Selection::refit_batch(const std::vector<std::size_t>& todo, std::size_t recal,

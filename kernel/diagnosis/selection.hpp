@@ -38,6 +38,14 @@ std::vector<std::size_t> boundary_exchanges(const std::vector<Entry>& entries, c
 std::vector<std::size_t> tied_node_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
                                              const Candidate& c);
 
+/// The counterparts among entries[beside] to refit: those whose proxy (`Entry::proxy`) is one of
+/// `sites` (of res[refitted], in order) whose refit failed or has a ΔBIC below reference_bic +
+/// kSignificantBic, and those whose proxy is not among `sites`.
+std::vector<std::size_t>
+beside_gaining(const std::vector<Entry>& entries, const std::vector<std::size_t>& beside,
+               const std::vector<Evaluated>& res, const std::vector<std::size_t>& refitted,
+               const std::vector<std::string>& sites, double reference_bic);
+
 /// Records on `keep` how its mechanism compared with the other one (`drop`); `mechanisms` are its
 /// kind's, in order.
 void note_mechanism(Finding& keep, const Finding& drop, const FitComparison& cmp,
@@ -81,17 +89,15 @@ private:
   /// Refits chosen_[todo] jointly with the ranged params; each success replaces its result.
   void refit_batch(const std::vector<std::size_t>& todo, std::size_t recal,
                    const std::vector<double>& ranged, DiagnosisReport& rep);
-  /// The sites (`sites`, of chosen_[refitted] before their joint refits) whose joint refit beats
-  /// the recalibration alone by the information criterion, or failed: their counterparts are
-  /// refitted.
-  std::set<std::string> gaining_sites(const std::vector<std::size_t>& refitted,
-                                      const std::vector<std::string>& sites,
-                                      std::size_t recal) const;
   Entry joint_entry(const Entry& e, std::size_t recal, const std::vector<double>& ranged);
   void note_joint(Finding& f, std::size_t recal) const;
   void rank_first(std::size_t recal);
   bool refit_tied_variants(std::size_t recal, DiagnosisReport& rep);
   Base select_forward(DiagnosisReport& rep, Base& last) const;
+  /// The refits of `next` on `base`: every candidate but the counterparts, then the counterparts
+  /// beside a proxy that gains (beside_gaining); the others stay unfitted (no values).
+  std::vector<Evaluated> evaluate_next(const std::vector<Entry>& next, const Base& base,
+                                       DiagnosisReport& rep) const;
   std::vector<Entry> next_entries(const Base& base, const std::vector<Applied>& applied,
                                   bool params_applied) const;
   std::size_t rerank_jointly(const std::vector<Applied>& applied, const Base& base,
