@@ -2,6 +2,7 @@
 
 #include "kernel/diagnosis/statistics.hpp"
 
+#include <Eigen/Core>
 #include <boost/math/distributions/normal.hpp>
 
 #include <algorithm>
@@ -59,6 +60,14 @@ std::vector<std::size_t> runs_of(const std::vector<double>& values,
   return segments.empty() ? std::vector<std::size_t>{values.size()} : segments;
 }
 
+/// sum over k of x[k] x[k + lag] for the n values from x (lag < n). A dot product of the series
+/// with itself shifted, vectorised: the lagged sums over a 72-node panel's 115,200 held-out
+/// points at up to 1,000 lags were a tenth of its diagnosis's CPU time one product at a time.
+double lagged_dot(const double* x, std::size_t n, std::size_t lag) {
+  const auto m = static_cast<Eigen::Index>(n - lag);
+  return Eigen::Map<const Eigen::VectorXd>(x, m).dot(Eigen::Map<const Eigen::VectorXd>(x + lag, m));
+}
+
 } // namespace
 
 std::vector<double> positive_autocorrelation(const std::vector<double>& values,
@@ -87,8 +96,8 @@ std::vector<double> positive_autocorrelation(const std::vector<double>& values,
     double sum = 0.0;
     from = 0;
     for (std::size_t len : runs) {
-      for (std::size_t k = from; k + lag < from + len && k + lag < c.size(); ++k)
-        sum += c[k] * c[k + lag];
+      if (from + len > c.size()) break;
+      if (lag < len) sum += lagged_dot(c.data() + from, len, lag);
       from += len;
     }
     const double r = sum / lag0;
@@ -112,17 +121,18 @@ double holdout_gain_z(const std::vector<double>& reference, const std::vector<do
   if (reference.empty() || reference.size() != candidate.size() || !(noise > 0.0)) return 0.0;
   const std::vector<std::size_t> runs = runs_of(reference, segments);
   double gain = 0.0, cand2 = 0.0, dd = 0.0, cross = 0.0;
+  std::vector<double> d(reference.size());
   std::size_t from = 0;
   for (std::size_t len : runs) {
     if (from + len > reference.size()) break;
     for (std::size_t i = from; i < from + len; ++i) {
-      const double d = reference[i] - candidate[i];
-      dd += d * d;
-      for (std::size_t lag = 1; lag <= rho.size() && i + lag < from + len; ++lag)
-        cross += rho[lag - 1] * d * (reference[i + lag] - candidate[i + lag]);
+      d[i] = reference[i] - candidate[i];
+      dd += d[i] * d[i];
       gain += reference[i] * reference[i] - candidate[i] * candidate[i];
       cand2 += candidate[i] * candidate[i];
     }
+    for (std::size_t lag = 1; lag <= rho.size() && lag < len; ++lag)
+      cross += rho[lag - 1] * lagged_dot(d.data() + from, len, lag);
     from += len;
   }
   // (a truncated autocorrelation need not be positive definite: never below the white value)
