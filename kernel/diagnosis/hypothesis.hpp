@@ -59,9 +59,10 @@ struct Evidence {
   int threads = 1; ///< worker threads a hypothesis may screen its candidates on (0: all cores)
 
   /// Fits q ~ c * basis(case, node, k) over every screen row (rows weighted by 1/C, i.e. in K/s);
-  /// basis returning 0 contributes nothing.
-  ScreenFit
-  regress(const std::function<double(std::size_t c, int node, std::size_t k)>& basis) const;
+  /// basis returning 0 contributes nothing; with a `support`, basis is asked only at those nodes
+  /// (taken as 0 at the others).
+  ScreenFit regress(const std::function<double(std::size_t c, int node, std::size_t k)>& basis,
+                    const std::vector<int>& support = {}) const;
   /// Spec index of a node by name in the first case (-1 if absent).
   int node_index(const std::string& name) const;
   /// True when a spec node is measured (has q) in some case.

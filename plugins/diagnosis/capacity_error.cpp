@@ -34,11 +34,13 @@ public:
         out.push_back(std::move(c));
         continue;
       }
-      const ScreenFit f = ev.regress([&](std::size_t k_case, int node, std::size_t k) {
-        if (node != a) return 0.0;
-        return -ev.cases[k_case].spec.nodes[static_cast<std::size_t>(a)].C *
-               ev.cases[k_case].dTdt[k][static_cast<std::size_t>(a)];
-      });
+      const ScreenFit f = ev.regress(
+          [&](std::size_t k_case, int node, std::size_t k) {
+            if (node != a) return 0.0;
+            return -ev.cases[k_case].spec.nodes[static_cast<std::size_t>(a)].C *
+                   ev.cases[k_case].dTdt[k][static_cast<std::size_t>(a)];
+          },
+          {a});
       c.start = {std::clamp(1.0 + f.coefficient, 0.2, 5.0)};
       c.screen = f.reduction;
       c.evidence = fmt::format("the unexplained heat flow of {} follows C dT/dt (correlation "

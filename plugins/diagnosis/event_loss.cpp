@@ -32,12 +32,14 @@ public:
           const ScreenFit f =
               unobserved
                   ? ScreenFit{.coefficient = 1.0}
-                  : ev.regress([&](std::size_t c, int row, std::size_t k) {
-                      if (row != a) return 0.0;
-                      const auto& T = ev.cases[c].T[k];
-                      return on[c].at(ev.cases[c].times()[k]) *
-                             (T[static_cast<std::size_t>(b)] - T[static_cast<std::size_t>(a)]);
-                    });
+                  : ev.regress(
+                        [&](std::size_t c, int row, std::size_t k) {
+                          if (row != a) return 0.0;
+                          const auto& T = ev.cases[c].T[k];
+                          return on[c].at(ev.cases[c].times()[k]) *
+                                 (T[static_cast<std::size_t>(b)] - T[static_cast<std::size_t>(a)]);
+                        },
+                        {a});
           if (f.coefficient <= 0.0) continue; // heat would flow against the difference
           Candidate c;
           c.kind = "event_loss";

@@ -20,11 +20,15 @@ public:
       const int node = el.nodes()[0];
       const bool unobserved = ev.unobserved(node);
       const ScreenFit f =
-          unobserved ? ScreenFit{} : ev.regress([&](std::size_t c, int row, std::size_t k) {
-            if (row != node) return 0.0;
-            const auto& ce = ev.cases[c];
-            return ce.spec.elements[static_cast<std::size_t>(e)].values.at("P").at(ce.times()[k]);
-          });
+          unobserved ? ScreenFit{}
+                     : ev.regress(
+                           [&](std::size_t c, int row, std::size_t k) {
+                             if (row != node) return 0.0;
+                             const auto& ce = ev.cases[c];
+                             return ce.spec.elements[static_cast<std::size_t>(e)].values.at("P").at(
+                                 ce.times()[k]);
+                           },
+                           {node});
       Candidate c;
       c.unobserved = unobserved;
       c.kind = "heater_gain";

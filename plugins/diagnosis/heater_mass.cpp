@@ -70,7 +70,8 @@ public:
           term.push_back(std::move(lag));
         }
         const ScreenFit f = ev.regress(
-            [&](std::size_t c, int row, std::size_t k) { return row == node ? term[c][k] : 0.0; });
+            [&](std::size_t c, int row, std::size_t k) { return row == node ? term[c][k] : 0.0; },
+            {node});
         if (f.coefficient > 0.0 && f.reduction > best.reduction) {
           best = f;
           best_tau = tau;

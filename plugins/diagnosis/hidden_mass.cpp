@@ -60,7 +60,8 @@ public:
           term.push_back(std::move(lag));
         }
         const ScreenFit f = ev.regress(
-            [&](std::size_t ci, int row, std::size_t k) { return row == a ? term[ci][k] : 0.0; });
+            [&](std::size_t ci, int row, std::size_t k) { return row == a ? term[ci][k] : 0.0; },
+            {a});
         if (f.coefficient > 0.0 && f.reduction > best.reduction) best = f, best_tau = tau;
       }
       if (!(best.reduction > 0.0)) continue; // no mass gives heat back to it

@@ -129,11 +129,13 @@ private:
                                unscreened_words(ev, b), heater);
       return c;
     }
-    const ScreenFit f = ev.regress([&](std::size_t ci, int row, std::size_t k) {
-      if (row == a) return -P[ci][k];
-      if (row == b) return P[ci][k];
-      return 0.0;
-    });
+    const ScreenFit f = ev.regress(
+        [&](std::size_t ci, int row, std::size_t k) {
+          if (row == a) return -P[ci][k];
+          if (row == b) return P[ci][k];
+          return 0.0;
+        },
+        {a, b});
     if (!(f.coefficient > 0.0)) return std::nullopt;
     c.start = {std::clamp(f.coefficient, 0.01, 0.99)};
     c.screen = f.reduction;
@@ -182,7 +184,8 @@ private:
         term.push_back(std::move(lag));
       }
       const ScreenFit f = ev.regress(
-          [&](std::size_t ci, int row, std::size_t k) { return row == a ? term[ci][k] : 0.0; });
+          [&](std::size_t ci, int row, std::size_t k) { return row == a ? term[ci][k] : 0.0; },
+          {a});
       if (f.coefficient > 0.0 && f.reduction > best.reduction) best = f, best_tau = tau;
     }
     if (!(best.reduction > 0.0)) return std::nullopt;

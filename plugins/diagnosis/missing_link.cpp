@@ -76,14 +76,16 @@ private:
       return;
     }
     for (bool rad : {false, true}) {
-      const ScreenFit f = ev.regress([&](std::size_t c, int node, std::size_t k) {
-        const auto& T = ev.cases[c].T[k];
-        if (node == a)
-          return drive(rad, T[static_cast<std::size_t>(a)], T[static_cast<std::size_t>(b)]);
-        if (node == b)
-          return drive(rad, T[static_cast<std::size_t>(b)], T[static_cast<std::size_t>(a)]);
-        return 0.0;
-      });
+      const ScreenFit f = ev.regress(
+          [&](std::size_t c, int node, std::size_t k) {
+            const auto& T = ev.cases[c].T[k];
+            if (node == a)
+              return drive(rad, T[static_cast<std::size_t>(a)], T[static_cast<std::size_t>(b)]);
+            if (node == b)
+              return drive(rad, T[static_cast<std::size_t>(b)], T[static_cast<std::size_t>(a)]);
+            return 0.0;
+          },
+          {a, b});
       if (f.coefficient <= 0.0) continue; // heat would flow against the difference
       Candidate c = link(nodes, a, b, rad);
       c.start = {std::clamp(f.coefficient, c.lo[0] * 10, c.hi[0] / 10)};

@@ -31,8 +31,8 @@ public:
         continue;
       }
       if (!ev.measured(a)) continue;
-      const ScreenFit f =
-          ev.regress([&](std::size_t, int node, std::size_t) { return node == a ? 1.0 : 0.0; });
+      const ScreenFit f = ev.regress(
+          [&](std::size_t, int node, std::size_t) { return node == a ? 1.0 : 0.0; }, {a});
       c.start = {f.coefficient};
       c.screen = f.reduction;
       c.evidence = fmt::format("{} has a steady unexplained heat {} of about {:.3g} W", c.nodes[0],

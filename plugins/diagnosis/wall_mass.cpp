@@ -182,11 +182,13 @@ private:
             y[k] -= eq[k];
           term.push_back(std::move(y));
         }
-        const ScreenFit s = ev.regress([&](std::size_t ci, int row, std::size_t k) {
-          if (row == a) return term[ci][k] / f;
-          if (row == b) return term[ci][k] / (1.0 - f);
-          return 0.0;
-        });
+        const ScreenFit s = ev.regress(
+            [&](std::size_t ci, int row, std::size_t k) {
+              if (row == a) return term[ci][k] / f;
+              if (row == b) return term[ci][k] / (1.0 - f);
+              return 0.0;
+            },
+            {a, b});
         if (s.coefficient > 0.0 && s.reduction > best.reduction)
           best = s, best_tau = tau, best_f = f;
       }
