@@ -70,7 +70,7 @@ std::vector<Evaluated> Selection::evaluate_next(const std::vector<Entry>& next, 
                                                 DiagnosisReport& rep) const {
   // As in the joint refits, a counterpart on unmeasured nodes is refitted only beside a proxy
   // whose refit on top of the findings beats them by the information criterion (B72 of
-  // bench/diagnosis.md: most of the step's simulations went to counterparts beside proxies
+  // bench/diagnosis.md: two fifths of the step's simulations went to counterparts beside proxies
   // that gain nothing once the first finding is applied).
   std::vector<std::size_t> first, beside;
   for (std::size_t i = 0; i < next.size(); ++i)

@@ -16,7 +16,6 @@
 #include <algorithm>
 #include <limits>
 #include <optional>
-#include <set>
 
 namespace thermnet::detail {
 
