@@ -86,10 +86,7 @@ std::vector<Evaluated> Selection::evaluate_next(const std::vector<Entry>& next, 
     rep.refitted += todo.size();
   };
   refit(first);
-  std::vector<std::string> sites;
-  for (std::size_t i : first)
-    sites.push_back(site(next[i].c));
-  refit(beside_gaining(next, beside, nres, first, sites, 0.0));
+  refit(beside_gaining(next, beside, nres, first, 0.0));
   return nres;
 }
 

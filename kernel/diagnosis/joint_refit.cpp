@@ -94,14 +94,11 @@ void Selection::refit_jointly(std::size_t recal, const std::vector<double>& rang
     if (!model_side(chosen_[i]) && std::find(meas.begin(), meas.end(), i) == meas.end()) continue;
     (chosen_[i].proxy.empty() ? first : beside).push_back(i);
   }
-  std::vector<std::string> first_sites;
-  for (std::size_t i : first)
-    first_sites.push_back(site(chosen_[i].c));
   refit_batch(first, recal, ranged, rep);
   // Both ΔBICs are against the declared model, and the joint fit has the recalibration's params
   // and its own: their difference is the proxy's ΔBIC against the recalibration.
   const std::vector<std::size_t> second =
-      beside_gaining(chosen_, beside, res_, first, first_sites, res_[recal].f.delta_bic);
+      beside_gaining(chosen_, beside, res_, first, res_[recal].f.delta_bic);
   refit_batch(second, recal, ranged, rep);
 }
 

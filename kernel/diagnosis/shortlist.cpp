@@ -361,10 +361,11 @@ std::vector<Entry> Selection::shortlisted(const std::vector<Entry>& side, const 
   return fresh;
 }
 
-std::vector<std::size_t>
-beside_gaining(const std::vector<Entry>& entries, const std::vector<std::size_t>& beside,
-               const std::vector<Evaluated>& res, const std::vector<std::size_t>& refitted,
-               const std::vector<std::string>& sites, double reference_bic) {
+std::vector<std::size_t> beside_gaining(const std::vector<Entry>& entries,
+                                        const std::vector<std::size_t>& beside,
+                                        const std::vector<Evaluated>& res,
+                                        const std::vector<std::size_t>& refitted,
+                                        double reference_bic) {
   // A counterpart on unmeasured nodes stands for an effect the screen sees only through the
   // measured nodes near it, where its proxy sits: refitted, the proxy takes up part of such an
   // effect. A proxy that does not beat its reference by the information criterion (as a finding
@@ -372,12 +373,14 @@ beside_gaining(const std::vector<Entry>& entries, const std::vector<std::size_t>
   // of the scenario table: 73 of 389 in the joint refits, and a quarter of their simulations). A
   // proxy whose fit failed keeps its counterparts, and so does one not refitted here (which the
   // shortlists as built do not make).
-  std::set<std::string> gaining;
-  for (std::size_t k = 0; k < refitted.size(); ++k) {
-    const Finding& f = res[refitted[k]].f;
-    if (f.values.empty() || f.delta_bic - reference_bic < kSignificantBic) gaining.insert(sites[k]);
+  // (a joint refit's candidate keeps its inner one's kind, nodes and element: the same site)
+  std::set<std::string> gaining, known;
+  for (std::size_t i : refitted) {
+    const Finding& f = res[i].f;
+    known.insert(site(entries[i].c));
+    if (f.values.empty() || f.delta_bic - reference_bic < kSignificantBic)
+      gaining.insert(site(entries[i].c));
   }
-  const std::set<std::string> known(sites.begin(), sites.end());
   std::vector<std::size_t> out;
   for (std::size_t i : beside)
     if (gaining.count(entries[i].proxy) != 0 || known.count(entries[i].proxy) == 0)

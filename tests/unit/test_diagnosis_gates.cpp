@@ -51,14 +51,15 @@ double gain_z_direct(const std::vector<double>& ref, const std::vector<double>& 
 } // namespace
 
 TEST_CASE("diagnosis gates: counterparts only beside a proxy that gains, fails or is unknown") {
-  // entries 0-2 are proxies (sites p1, p2, p3), 3-6 counterparts beside p1, p2, p3 and p4.
-  const std::vector<Entry> entries = {
-      counterpart({"a", "b"}, ""),    counterpart({"c", "d"}, ""),
-      counterpart({"e", "f"}, ""),    counterpart({"a", "u1"}, "p1"),
-      counterpart({"c", "u2"}, "p2"), counterpart({"e", "u3"}, "p3"),
-      counterpart({"g", "u4"}, "p4")};
+  // entries 0-2 are proxies p1, p2, p3; 3-6 counterparts beside p1, p2, p3 and p4 (not refitted).
+  const std::string p1 = "missing_link|a,b|", p2 = "missing_link|c,d|", p3 = "missing_link|e,f|",
+                    p4 = "missing_link|g,h|";
+  const std::vector<Entry> entries = {counterpart({"a", "b"}, ""),  counterpart({"c", "d"}, ""),
+                                      counterpart({"e", "f"}, ""),  counterpart({"a", "u1"}, p1),
+                                      counterpart({"c", "u2"}, p2), counterpart({"e", "u3"}, p3),
+                                      counterpart({"g", "u4"}, p4)};
+  REQUIRE(site(entries[0].c) == p1); // the proxies' sites as the shortlist writes them
   const std::vector<std::size_t> refitted = {0, 1, 2}, beside = {3, 4, 5, 6};
-  const std::vector<std::string> sites = {"p1", "p2", "p3"};
   std::vector<Evaluated> res(entries.size());
   res[0] = refit(-25.0);     // gains against the declared model
   res[1] = refit(-4.0);      // does not
@@ -66,13 +67,11 @@ TEST_CASE("diagnosis gates: counterparts only beside a proxy that gains, fails o
 
   SUBCASE("against the model the findings extend (reference ΔBIC 0)") {
     // p1 gains, p3 failed, p4 was not refitted: their counterparts; p2's is left out.
-    CHECK(beside_gaining(entries, beside, res, refitted, sites, 0.0) ==
-          std::vector<std::size_t>{3, 5, 6});
+    CHECK(beside_gaining(entries, beside, res, refitted, 0.0) == std::vector<std::size_t>{3, 5, 6});
   }
   SUBCASE("against a recalibration that already gains as much") {
     // ΔBICs are against the declared model: p1's -25 is only -5 against a recalibration at -20.
-    CHECK(beside_gaining(entries, beside, res, refitted, sites, -20.0) ==
-          std::vector<std::size_t>{5, 6});
+    CHECK(beside_gaining(entries, beside, res, refitted, -20.0) == std::vector<std::size_t>{5, 6});
   }
 }
 
