@@ -301,11 +301,11 @@ TEST_CASE("sensitivities match the analytic derivative and rank the dominant par
 TEST_CASE("uncertainty bands contain the nominal run and are deterministic") {
   TempDir dir("unc");
   Loaded loaded(dir.write("one.tnet", kOneNode));
-  cli::UncertaintyOptions opt;
+  UncertaintyOptions opt;
   opt.samples = 40;
   opt.seed = 3;
   opt.threads = 2;
-  cli::UncertaintyBands b = cli::run_uncertainty(*loaded.model, "", opt);
+  UncertaintyBands b = run_uncertainty(*loaded.model, "", opt);
   CHECK(b.failed == 0);
   CHECK(b.params == std::vector<std::string>{"Gp", "Pp"});
   const std::size_t n = 1; // amb, n
@@ -325,14 +325,14 @@ TEST_CASE("uncertainty bands contain the nominal run and are deterministic") {
   CHECK(csv.substr(0, csv.find('\n')) ==
         "time,amb_min,amb_p5,amb_p50,amb_p95,amb_max,n_min,n_p5,n_p50,n_p95,n_max");
   opt.threads = 1;
-  CHECK(cli::format_bands_csv(cli::run_uncertainty(*loaded.model, "", opt)) == csv);
+  CHECK(cli::format_bands_csv(run_uncertainty(*loaded.model, "", opt)) == csv);
   CHECK(cli::plot_bands_svg(b, {"n"}, "bands").find("<svg") != std::string::npos);
 }
 
 TEST_CASE("percentiles interpolate between order statistics") {
   const std::vector<double> v{1, 2, 3, 4, 5};
-  CHECK(cli::percentile_of_sorted(v, 50) == 3.0);
-  CHECK(cli::percentile_of_sorted(v, 25) == 2.0);
-  CHECK(cli::percentile_of_sorted(v, 10) == doctest::Approx(1.4));
+  CHECK(percentile_of_sorted(v, 50) == 3.0);
+  CHECK(percentile_of_sorted(v, 25) == 2.0);
+  CHECK(percentile_of_sorted(v, 10) == doctest::Approx(1.4));
   CHECK(cli::percentile_label(2.5) == "p2.5");
 }

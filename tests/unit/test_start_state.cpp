@@ -3,9 +3,9 @@
 // calibrate, diagnose, sensitivity, uncertainty and estimate all begin at that state (18 degC,
 // heater on), not at the boundary temperature with the heater off.
 
-#include "cli/uncertainty.hpp"
 #include "kernel/calibration/calibration_problem.hpp"
 #include "kernel/calibration/sensitivity.hpp"
+#include "kernel/calibration/uncertainty_bands.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/simulation.hpp"
@@ -89,10 +89,10 @@ TEST_CASE("start state: every command starts a thermostat case at its consistent
     // A thermostat switched on at the start: dT/dG at the steady state is -P/G^2 = -18 K per W/K,
     // over the range 1.5 W/K; reached only if the runs start heater-on.
     CHECK(std::abs(s.matrix.at(0).at(0)) > 1.0);
-    cli::UncertaintyOptions u;
+    UncertaintyOptions u;
     u.samples = 4;
     u.threads = 1;
-    cli::UncertaintyBands b = cli::run_uncertainty(model, "c", u);
+    UncertaintyBands b = run_uncertainty(model, "c", u);
     CHECK(b.nominal.temps.front()[box] == doctest::Approx(kSteadyBox).epsilon(1e-9));
   }
   SUBCASE("estimate (ekf): its prior is the start state") {
