@@ -90,19 +90,21 @@ UncertaintyBands run_uncertainty(const lang::Model& model, const std::string& ca
   // Per output time: each sample's row of that time is read in one pass (contiguous), so the
   // gather never strides across the samples' arrays (read node by node, every value was on
   // another page: 620 s of CPU instead of 19 s for 200 samples of 1,000 nodes on one thread).
+  // A task holds one time's slice in floats, as the runs do.
   b.stats.assign(nn, std::vector<std::vector<double>>(nt));
   const std::size_t ns = ok.size();
   parallel_for(nt, o.threads, [&](std::size_t k) {
-    std::vector<double> at_k(nn * ns); // node n's samples at [n ns, (n + 1) ns)
+    // node n's deviations at [n ns, (n + 1) ns): one time's slice of the runs, transposed
+    std::vector<float> at_k(nn * ns);
     for (std::size_t s = 0; s < ns; ++s) {
       const float* row = runs[ok[s]].data() + k * nn;
       for (std::size_t n = 0; n < nn; ++n)
-        at_k[n * ns + s] = b.nominal.temps[k][n] + static_cast<double>(row[n]);
+        at_k[n * ns + s] = row[n];
     }
     std::vector<double> v(ns);
     for (std::size_t n = 0; n < nn; ++n) {
-      v.assign(at_k.begin() + static_cast<std::ptrdiff_t>(n * ns),
-               at_k.begin() + static_cast<std::ptrdiff_t>((n + 1) * ns));
+      for (std::size_t s = 0; s < ns; ++s)
+        v[s] = b.nominal.temps[k][n] + static_cast<double>(at_k[n * ns + s]);
       std::sort(v.begin(), v.end());
       std::vector<double>& stats = b.stats[n][k];
       stats.push_back(v.front());
