@@ -123,7 +123,7 @@ Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vect
   LeastSquaresStart from;
   from.u = coords.to_u(start);
   if (warm && warm->J.rows() == static_cast<long>(warm->r.size()) && warm->J.cols() == np) {
-    const std::vector<char> in = rows_in(part);
+    const std::vector<char>& in = rows_in(part);
     long rows = 0;
     for (char x : in)
       rows += x;

@@ -58,18 +58,24 @@ double parameter_size(const Candidate& c, const std::vector<double>& p, std::siz
   return size > 0.0 && std::isfinite(size) ? size : 1.0;
 }
 
-/// Simulates a case at the measured times: temperatures of every node (spec order), K.
-std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
-                                               const std::vector<double>& times,
-                                               const MeasuredData* measured,
-                                               std::vector<Series>* series) {
-  std::vector<std::vector<double>> out;
-  if (times.empty()) return out;
+namespace {
+
+/// Integrates a case to the measured times: every node's temperature into `nodes` and the
+/// series' simulated values into `series`, each when given.
+void run_case(lang::NetworkSpec spec, const std::vector<double>& times,
+              const MeasuredData* measured, std::vector<Series>* series,
+              std::vector<std::vector<double>>* nodes) {
+  if (times.empty()) return;
   Network net(std::move(spec));
   const SolverOptions solver = diagnosis_solver();
   std::vector<double> T = start_state(net, solver);
   std::vector<double> all(net.spec().nodes.size());
-  if (series) series->assign(measured->series.size(), {});
+  if (series) {
+    series->assign(measured->series.size(), {});
+    for (Series& s : *series)
+      s.reserve(times.size());
+  }
+  std::size_t outputs = 0;
   integrate(
       net, T, 0.0, times.back(), times,
       [&](double t, const std::vector<double>& x) {
@@ -78,12 +84,31 @@ std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
           for (std::size_t s = 0; s < measured->series.size(); ++s)
             (*series)[s].push_back(
                 simulated_value(net, measured->series[s], t, x.data(), all.data()));
-        out.push_back(all);
+        if (nodes) nodes->push_back(all);
+        ++outputs;
       },
       solver);
-  if (out.size() != times.size())
+  if (outputs != times.size())
     throw std::runtime_error(
-        fmt::format("the simulation gave {} of the {} measured times", out.size(), times.size()));
+        fmt::format("the simulation gave {} of the {} measured times", outputs, times.size()));
+}
+
+} // namespace
+
+/// Simulates a case at the measured times: temperatures of every node (spec order), K.
+std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
+                                               const std::vector<double>& times,
+                                               const MeasuredData* measured,
+                                               std::vector<Series>* series) {
+  std::vector<std::vector<double>> out;
+  out.reserve(times.size());
+  run_case(std::move(spec), times, measured, series, &out);
+  return out;
+}
+
+std::vector<Series> simulate_series(lang::NetworkSpec spec, const MeasuredData& measured) {
+  std::vector<Series> out;
+  run_case(std::move(spec), measured.times, &measured, &out, nullptr);
   return out;
 }
 
@@ -127,6 +152,7 @@ void Engine::make_folds() {
     }
     group_[c] = f;
   }
+  index_parts();
 }
 
 std::string Engine::validation() const {
@@ -195,10 +221,8 @@ CaseSims Engine::model_sims(const Hypothesis* h, const Candidate* c, const std::
       const lang::ParamValues ov = h->overrides(*c, p);
       lang::NetworkSpec spec = ov.empty() ? ce.spec : model_.instantiate(ce.name, ov);
       h->extend(*c, p, spec);
-      std::vector<Series> cs;
-      simulate_case(std::move(spec), ce.times(), &ce.measured, &cs);
+      sims.push_back(simulate_series(std::move(spec), ce.measured));
       simulations_.fetch_add(1, std::memory_order_relaxed);
-      sims.push_back(std::move(cs));
     }
   }
   return sims;
@@ -362,16 +386,22 @@ void Engine::part_values(const CaseSims& sims, Part part, std::vector<double>& o
 
 void Engine::gather(const CaseSims& sims, Part part, bool minus_measured,
                     std::vector<double>& out) const {
+  const PartRows& rows = part_rows(part);
   out.clear();
+  out.reserve(rows.count);
   for (std::size_t c = 0; c < ev_.cases.size(); ++c) {
     if (!case_used(c, part)) continue;
     const auto& m = ev_.cases[c].measured;
-    for (std::size_t s = 0; s < m.series.size(); ++s)
-      for (std::size_t k = 0; k < m.times.size(); ++k) {
-        const double v = m.series[s].values[k];
-        if (std::isnan(v) || !in_part(c, k, part)) continue;
-        out.push_back(minus_measured ? sims[c][s][k] - v : sims[c][s][k]);
+    std::size_t row = case_row_[c];
+    for (std::size_t s = 0; s < m.series.size(); ++s) {
+      const std::vector<double>& values = m.series[s].values;
+      const std::vector<double>& sim = sims[c][s];
+      for (std::size_t k = 0; k < values.size(); ++k) {
+        const double v = values[k];
+        if (std::isnan(v) || !rows.in[row++]) continue;
+        out.push_back(minus_measured ? sim[k] - v : sim[k]);
       }
+    }
   }
 }
 
@@ -382,31 +412,56 @@ bool Engine::covers(const CaseSims& sims, Part part) const {
   return true;
 }
 
-std::vector<char> Engine::rows_in(Part part) const {
-  std::vector<char> in;
-  for (std::size_t c = 0; c < ev_.cases.size(); ++c) {
-    const auto& m = ev_.cases[c].measured;
-    for (const auto& s : m.series)
-      for (std::size_t k = 0; k < m.times.size(); ++k)
-        if (!std::isnan(s.values[k])) in.push_back(in_part(c, k, part) ? 1 : 0);
+void Engine::index_parts() {
+  case_row_.clear();
+  std::size_t rows = 0;
+  for (const auto& ce : ev_.cases) {
+    case_row_.push_back(rows);
+    for (const auto& s : ce.measured.series)
+      rows += static_cast<std::size_t>(
+          std::count_if(s.values.begin(), s.values.end(), [](double v) { return !std::isnan(v); }));
   }
-  return in;
+  case_row_.push_back(rows);
+  const auto index = [&](Part part) {
+    PartRows p;
+    p.in.reserve(rows);
+    double sum = 0.0;
+    for (std::size_t c = 0; c < ev_.cases.size(); ++c)
+      for (const auto& s : ev_.cases[c].measured.series)
+        for (std::size_t k = 0; k < s.values.size(); ++k) {
+          if (std::isnan(s.values[k])) continue;
+          const bool in = in_part(c, k, part);
+          p.in.push_back(in ? 1 : 0);
+          if (in) sum += s.values[k], ++p.count;
+        }
+    const double mean = p.count ? sum / static_cast<double>(p.count) : 0.0;
+    std::size_t row = 0;
+    for (const auto& ce : ev_.cases)
+      for (const auto& s : ce.measured.series)
+        for (double v : s.values)
+          if (!std::isnan(v) && p.in[row++]) p.sst += (v - mean) * (v - mean);
+    return p;
+  };
+  all_rows_ = index(Part{});
+  test_rows_.clear();
+  train_rows_.clear();
+  for (std::size_t f = 0; f < folds_.size(); ++f) {
+    test_rows_.push_back(index(Part{Part::test, f}));
+    train_rows_.push_back(index(Part{Part::train, f}));
+  }
+}
+
+const Engine::PartRows& Engine::part_rows(Part part) const {
+  if (part.what == Part::all) return all_rows_;
+  return part.what == Part::test ? test_rows_.at(part.fold) : train_rows_.at(part.fold);
+}
+
+const std::vector<char>& Engine::rows_in(Part part) const {
+  return part_rows(part).in;
 }
 
 double Engine::sst(Part part) const {
-  double sum = 0.0, s2 = 0.0;
-  std::size_t n = 0;
-  for (std::size_t c = 0; c < ev_.cases.size(); ++c)
-    for (const auto& s : ev_.cases[c].measured.series)
-      for (std::size_t k = 0; k < s.values.size(); ++k)
-        if (!std::isnan(s.values[k]) && in_part(c, k, part)) sum += s.values[k], ++n;
-  const double mean = n ? sum / static_cast<double>(n) : 0.0;
-  for (std::size_t c = 0; c < ev_.cases.size(); ++c)
-    for (const auto& s : ev_.cases[c].measured.series)
-      for (std::size_t k = 0; k < s.values.size(); ++k)
-        if (!std::isnan(s.values[k]) && in_part(c, k, part))
-          s2 += (s.values[k] - mean) * (s.values[k] - mean);
-  return s2;
+  return part_rows(part).sst;
 }
 
 } // namespace thermnet::detail

@@ -79,7 +79,7 @@ void mark_bounds(Finding& f, const Candidate& c, const std::vector<double>& p) {
       f.at_bounds[c.names[j]] = "upper";
 }
 
-Base Engine::make_base(std::vector<Applied> applied) const {
+Base Engine::make_base(std::vector<Applied> applied, bool measured) const {
   Base b;
   b.applied = std::move(applied);
   for (const auto& ce : ev_.cases)
@@ -103,6 +103,7 @@ Base Engine::make_base(std::vector<Applied> applied) const {
     b.holdout_r.insert(b.holdout_r.end(), r.begin(), r.end());
   }
   b.r = series_residuals(b.sims);
+  if (!measured) return b;
   b.metrics = metrics(b.sims);
   b.at_floor = at_floor(b.metrics);
   return b;
@@ -224,7 +225,7 @@ bool Engine::validate(const Hypothesis& h, const Candidate& c, const Fit& all, c
 bool Engine::determined_in(const Fit& all, Part part) const {
   // Every column of the all-data Jacobian has an effect on the part's points.
   if (all.J.rows() != static_cast<long>(all.r.size())) return true; // no Jacobian: unknown
-  const std::vector<char> in = rows_in(part);
+  const std::vector<char>& in = rows_in(part);
   for (long j = 0; j < all.J.cols(); ++j) {
     bool effect = false;
     for (long i = 0; i < all.J.rows() && !effect; ++i)

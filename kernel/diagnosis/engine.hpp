@@ -115,8 +115,9 @@ public:
   /// Residuals on all data per measured series (the order of Evaluated::r).
   std::vector<std::vector<double>> series_residuals(const CaseSims& sims) const;
 
-  /// The declared model with findings applied at their values.
-  Base make_base(std::vector<Applied> applied) const;
+  /// The declared model with findings applied at their values; `measured`: with its fit metrics
+  /// and floor test too (a comparison that reads only the residuals goes without).
+  Base make_base(std::vector<Applied> applied, bool measured = true) const;
   /// The screen's evidence on top of a base (a sensor found faulty is screened with its simulated
   /// temperature).
   Evidence evidence_at(const Base& base) const;
@@ -158,9 +159,10 @@ private:
   void place_known_events();
   void simulate_baseline();
   void build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all,
-                    double& screen_total, const std::set<int>& distrusted = {}) const;
+                    const std::set<int>& distrusted = {}) const;
   // case_simulation.cpp
   void make_folds();
+  void index_parts();
   bool case_used(std::size_t c, Part part) const;
   bool in_part(std::size_t c, std::size_t k, Part part) const;
   std::size_t stretch_of(std::size_t c, std::size_t k) const;
@@ -183,7 +185,9 @@ private:
   bool jacobian_residuals(const Hypothesis& h, const Candidate& c, const std::vector<double>& p,
                           Part part, const Base& base, std::vector<double>& r,
                           Eigen::MatrixXd& J) const;
-  std::vector<char> rows_in(Part part) const;
+  /// Whether each measured point (the order of Part{}'s residuals) is in the part.
+  const std::vector<char>& rows_in(Part part) const;
+  /// The total sum of squares of the part's measured values about their mean, K^2.
   double sst(Part part) const;
   // candidate_fit.cpp
   Fit fit(const Hypothesis& h, const Candidate& c, const std::vector<double>& start, Part part,
@@ -213,6 +217,16 @@ private:
   };
   std::vector<Fold> folds_;
   std::vector<std::size_t> group_; // per case held out whole: its group's fold (split: none)
+  /// A part's measured points, found once (every residual gathers them).
+  struct PartRows {
+    std::vector<char> in;  ///< per measured point (Part{}'s order): in the part
+    std::size_t count = 0; ///< points in the part
+    double sst = 0.0;      ///< sum of squares of their values about their mean
+  };
+  PartRows all_rows_;                            // Part{}
+  std::vector<PartRows> test_rows_, train_rows_; // per fold
+  std::vector<std::size_t> case_row_;            // per case, its first point; then the total
+  const PartRows& part_rows(Part part) const;
   std::size_t n_all_ = 0, n_test_ = 0;
   std::vector<std::size_t> segments_;                    // held-out runs, per fold and series
   Base base0_;                                           // the declared model
@@ -228,6 +242,10 @@ std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
                                                const std::vector<double>& times,
                                                const MeasuredData* measured = nullptr,
                                                std::vector<Series>* series = nullptr);
+
+/// Simulates a case at the measured times: the simulated value of each of the data's series only
+/// (what a refit compares; the other nodes' temperatures are not kept).
+std::vector<Series> simulate_series(lang::NetworkSpec spec, const MeasuredData& measured);
 
 /// The signature of the error a model leaves (sims: its series at the measured times, rmse its
 /// RMSE): residual_signature.cpp; `remains` is left for the caller to decide.

@@ -79,10 +79,11 @@ void Engine::simulate_baseline() {
       const auto& node = ce.spec.nodes[static_cast<std::size_t>(ce.measured.series[s].node_index)];
       if (!node.boundary) sigmas.push_back(estimate_noise(ce.measured.series[s].values));
     }
-    build_screen(ce, all_nodes, ev_.screen_total);
+    build_screen(ce, all_nodes);
     const auto& t = ce.times();
     span_.emplace_back(t.front(), t.back() - t.front());
   }
+  ev_.sum_screen();
   double s2 = 0.0;
   for (double s : sigmas)
     s2 += s * s;
@@ -113,7 +114,7 @@ std::vector<double> jumps(const lang::NetworkSpec& spec, double t0, double t1) {
 } // namespace
 
 void Engine::build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all,
-                          double& screen_total, const std::set<int>& distrusted) const {
+                          const std::set<int>& distrusted) const {
   const auto& t = ce.times();
   const std::size_t nk = t.size(), nn = ce.spec.nodes.size();
   constexpr int half = 4;
@@ -155,17 +156,15 @@ void Engine::build_screen(CaseEvidence& ce, const std::vector<std::vector<double
     net.heat_balance(t[k], Tu.data(), F.data());
     for (int node : ce.rows) {
       const auto i = static_cast<std::size_t>(node);
-      const double C = ce.spec.nodes[i].C;
-      const double v = C * ce.dTdt[k][i] - F[static_cast<std::size_t>(unknown_of[i])];
+      const double v =
+          ce.spec.nodes[i].C * ce.dTdt[k][i] - F[static_cast<std::size_t>(unknown_of[i])];
       ce.q[k][i] = std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN();
-      if (std::isfinite(v)) screen_total += v * v / (C * C);
     }
   }
 }
 
 Evidence Engine::evidence_at(const Base& base) const {
   Evidence ev = ev_;
-  ev.screen_total = 0.0;
   std::set<int> distrusted;
   for (const auto& a : base.applied)
     if (a.c.measurement_side)
@@ -179,8 +178,9 @@ Evidence Engine::evidence_at(const Base& base) const {
     ce.spec = ov.empty() ? ev_.cases[c].spec : model_.instantiate(ce.name, ov);
     stack.extend(none, {}, ce.spec);
     ce.simulated = base.sims[c];
-    build_screen(ce, simulate_case(ce.spec, ce.times()), ev.screen_total, distrusted);
+    build_screen(ce, simulate_case(ce.spec, ce.times()), distrusted);
   }
+  ev.sum_screen();
   return ev;
 }
 

@@ -236,32 +236,44 @@ std::string param_statement(const std::string& name, double value, double lo, do
                      netlist_number(lo), u, netlist_number(hi), u, doc);
 }
 
+void Evidence::sum_screen() {
+  // (in regress()'s order of the rows: its correlations are the same numbers to the bit as when
+  // it summed q itself for every candidate)
+  screen_total = 0.0;
+  for (const CaseEvidence& ce : cases)
+    for (int node : ce.rows) {
+      const double C = ce.spec.nodes[static_cast<std::size_t>(node)].C;
+      for (const auto& qk : ce.q) {
+        const double q = qk[static_cast<std::size_t>(node)];
+        if (!std::isnan(q)) screen_total += q * q / (C * C);
+      }
+    }
+}
+
 ScreenFit
 Evidence::regress(const std::function<double(std::size_t c, int node, std::size_t k)>& basis,
                   const std::vector<int>& support) const {
-  // (the basis is asked only on its support: the other nodes' terms are 0, and a 72-node panel's
-  // thousands of screened candidates asked it at every measured node and sample)
-  double qb = 0.0, bb = 0.0, qq = 0.0;
+  // (only the basis's support is visited: the other rows' terms are 0, and a 72-node panel's
+  // thousands of screened candidates visited every measured node and sample; the rows' sum of
+  // squares is screen_total)
+  double qb = 0.0, bb = 0.0;
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const CaseEvidence& ce = cases[c];
     for (int node : ce.rows) {
+      if (!support.empty() && std::find(support.begin(), support.end(), node) == support.end())
+        continue;
       const double C = ce.spec.nodes[static_cast<std::size_t>(node)].C;
-      const bool asked =
-          support.empty() || std::find(support.begin(), support.end(), node) != support.end();
       for (std::size_t k = 0; k < ce.q.size(); ++k) {
         const double q = ce.q[k][static_cast<std::size_t>(node)];
         if (std::isnan(q)) continue;
-        const double b = asked ? basis(c, node, k) : 0.0;
-        if (!std::isfinite(b) || b == 0.0) {
-          qq += q * q / (C * C);
-          continue;
-        }
+        const double b = basis(c, node, k);
+        if (!std::isfinite(b) || b == 0.0) continue;
         qb += q * b / (C * C);
         bb += b * b / (C * C);
-        qq += q * q / (C * C);
       }
     }
   }
+  const double qq = screen_total;
   ScreenFit f;
   if (bb <= 0.0) return f;
   f.coefficient = qb / bb;

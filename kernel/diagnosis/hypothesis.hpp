@@ -49,18 +49,20 @@ struct DeclaredSpec {
 
 /// Everything the hypotheses see: per-case evidence and the noise floor.
 struct Evidence {
-  const lang::Model* model = nullptr;       ///< the model under diagnosis
-  std::vector<CaseEvidence> cases;          ///< cases with data
-  double noise_floor = 0.0;                 ///< estimated measurement noise, K
-  double screen_total = 0.0;                ///< weighted sum of squares of q over every row
-  DeclaredSpec declared;                    ///< the declarations without any case
+  const lang::Model* model = nullptr; ///< the model under diagnosis
+  std::vector<CaseEvidence> cases;    ///< cases with data
+  double noise_floor = 0.0;           ///< estimated measurement noise, K
+  double screen_total = 0.0; ///< weighted sum of squares of q over every row (sum_screen())
+  DeclaredSpec declared;     ///< the declarations without any case
   std::vector<DeclaredSpec> declared_cases; ///< every declared case block, with data or not
   std::vector<EventWindow> events;          ///< known events (`--events`), for event_loss
   int threads = 1; ///< worker threads a hypothesis may screen its candidates on (0: all cores)
 
+  /// Sets screen_total from q (once the cases' q are filled; regress() reads it).
+  void sum_screen();
   /// Fits q ~ c * basis(case, node, k) over every screen row (rows weighted by 1/C, i.e. in K/s);
   /// basis returning 0 contributes nothing; with a `support`, basis is asked only at those nodes
-  /// (taken as 0 at the others).
+  /// (taken as 0 at the others). Needs screen_total (sum_screen()).
   ScreenFit regress(const std::function<double(std::size_t c, int node, std::size_t k)>& basis,
                     const std::vector<int>& support = {}) const;
   /// Spec index of a node by name in the first case (-1 if absent).

@@ -136,7 +136,8 @@ void Selection::against_own_params(const std::vector<std::size_t>& passed, std::
     if (e.f.values.size() != own + res_[recal].f.values.size()) return; // not refitted jointly
     const std::vector<double> params(e.f.values.begin() + static_cast<long>(own), e.f.values.end());
     try {
-      const Base alone = engine_.make_base({Applied{chosen_[recal].h, chosen_[recal].c, params}});
+      const Base alone =
+          engine_.make_base({Applied{chosen_[recal].h, chosen_[recal].c, params}}, false);
       tests[k].cmp = compare_to(e, alone.holdout_r, alone.r);
     } catch (const std::exception&) {
       // the params alone cannot be simulated: the comparison with the recalibration stands

@@ -90,6 +90,7 @@ TEST_CASE("diagnosis gates: a screen basis asked only on its support fits the sa
   for (int k = 0; k < 50; ++k)
     ce.q.push_back(
         {std::sin(0.1 * k) + 0.3, 0.5 * std::cos(0.2 * k), nan, k % 7 == 0 ? nan : 0.01 * k});
+  ev.sum_screen();
   std::size_t asked = 0;
   const auto basis = [&](std::size_t, int node, std::size_t k) {
     ++asked;
@@ -108,6 +109,20 @@ TEST_CASE("diagnosis gates: a screen basis asked only on its support fits the sa
   CHECK(everywhere.reduction > 0.0);
   CHECK(asked_everywhere == 50 + 50 + 42);
   CHECK(asked == 50 + 42); // node 0 is not asked; node 3's missing samples neither
+  // the weighted least-squares fit and correlation written out over every row (q in K/s)
+  double qb = 0.0, bb = 0.0, qq = 0.0;
+  for (int node : ce.rows)
+    for (std::size_t k = 0; k < ce.q.size(); ++k) {
+      const double C = ce.spec.nodes[static_cast<std::size_t>(node)].C;
+      const double q = ce.q[k][static_cast<std::size_t>(node)];
+      if (std::isnan(q)) continue;
+      const double b = basis(0, node, k);
+      qb += q * b / (C * C), bb += b * b / (C * C), qq += q * q / (C * C);
+    }
+  CHECK(everywhere.coefficient == doctest::Approx(qb / bb).epsilon(1e-12));
+  CHECK(everywhere.reduction == doctest::Approx(qb * qb / bb).epsilon(1e-12));
+  CHECK(everywhere.correlation == doctest::Approx(qb / std::sqrt(bb * qq)).epsilon(1e-12));
+  CHECK(std::abs(everywhere.correlation) < 1.0);
 }
 
 TEST_CASE("diagnosis gates: the held-out test's lagged sums match the point-by-point formula") {
