@@ -136,7 +136,7 @@ TEST_CASE("diagnosis Jacobian: sensitivities agree with central differences for 
     for (const Candidate& c : h->propose(engine.evidence())) {
       if (c.start.empty() || mechanisms.count(c.mechanism)) continue;
       mechanisms.insert(c.mechanism);
-      entries.push_back(Entry{h, c, h, c});
+      entries.push_back(Entry{h, c, h, c, {}});
       if (h->recalibrates()) param_h = h, param_c = c;
     }
     kinds.insert(name);
@@ -157,7 +157,7 @@ TEST_CASE("diagnosis Jacobian: sensitivities agree with central differences for 
       if (e.h->recalibrates()) continue;
       joints.push_back(std::make_unique<Joint>(e.h, e.c, param_h, param_c));
       const Candidate jc = joints.back()->candidate(param_c.start);
-      check_entry(engine, Entry{joints.back().get(), jc, e.h, e.c}, engine.declared(),
+      check_entry(engine, Entry{joints.back().get(), jc, e.h, e.c, {}}, engine.declared(),
                   fmt::format("joint {} {}", e.c.kind, e.c.mechanism));
     }
     // a sensor offset applied; a link and a lag on top of it
@@ -175,7 +175,7 @@ TEST_CASE("diagnosis Jacobian: sensitivities agree with central differences for 
     // composite, whose offset only its correction moves
     const Entry link = find("missing_link");
     const Compose both({Applied{link.h, link.c, link.c.start}, Applied{offset.h, offset.c, {0.4}}});
-    check_entry(engine, Entry{&both, both.candidate(), link.h, link.c}, engine.declared(),
+    check_entry(engine, Entry{&both, both.candidate(), link.h, link.c, {}}, engine.declared(),
                 "a link and an offset composed");
   }
 }
@@ -187,7 +187,7 @@ TEST_CASE("diagnosis Jacobian: no sensitivities through a thermostat or a sensor
       HypothesisRegistry::global().find("missing_link")->create();
   const auto first_candidate = [&](const Engine& engine) {
     for (const Candidate& c : link->propose(engine.evidence()))
-      if (!c.start.empty()) return Entry{link.get(), c, link.get(), c};
+      if (!c.start.empty()) return Entry{link.get(), c, link.get(), c, {}};
     FAIL("no missing_link candidate");
     return Entry{};
   };
@@ -238,7 +238,7 @@ TEST_CASE("diagnosis Jacobian: heaters driven by a table of measured inputs") {
     const Hypothesis* h = owned.back().get();
     for (const Candidate& c : h->propose(engine.evidence())) {
       if (c.start.empty()) continue;
-      check_entry(engine, Entry{h, c, h, c}, engine.declared(),
+      check_entry(engine, Entry{h, c, h, c, {}}, engine.declared(),
                   fmt::format("{} [{}] {}", c.kind, fmt::join(c.nodes, ", "), c.element));
       ++checked;
     }
@@ -252,6 +252,6 @@ TEST_CASE("diagnosis Jacobian: heaters driven by a table of measured inputs") {
   const Base base = engine.make_base({Applied{gain, gains.front(), {0.6}}});
   for (const Hypothesis* h : {split, gain})
     for (const Candidate& c : h->propose(engine.evidence()))
-      check_entry(engine, Entry{h, c, h, c}, base,
+      check_entry(engine, Entry{h, c, h, c, {}}, base,
                   fmt::format("{} {} on a gain of {}", c.kind, c.element, gains.front().element));
 }
