@@ -443,11 +443,27 @@ void Engine::index_parts() {
     return p;
   };
   all_rows_ = index(Part{});
+  n_all_ = all_rows_.count;
   test_rows_.clear();
   train_rows_.clear();
+  n_test_ = 0;
+  segments_.clear();
   for (std::size_t f = 0; f < folds_.size(); ++f) {
     test_rows_.push_back(index(Part{Part::test, f}));
     train_rows_.push_back(index(Part{Part::train, f}));
+    n_test_ += test_rows_.back().count;
+    // the fold's held-out points per series, in the order residuals() lists them
+    const std::vector<char>& held = test_rows_.back().in;
+    for (std::size_t c = 0; c < ev_.cases.size(); ++c) {
+      if (!case_used(c, Part{Part::test, f})) continue;
+      std::size_t row = case_row_[c];
+      for (const auto& se : ev_.cases[c].measured.series) {
+        std::size_t run = 0;
+        for (double v : se.values)
+          if (!std::isnan(v) && held[row++]) ++run;
+        if (run) segments_.push_back(run);
+      }
+    }
   }
 }
 

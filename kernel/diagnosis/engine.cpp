@@ -22,24 +22,6 @@ Engine::Engine(const lang::Model& model, const DiagnosisOptions& options)
   simulate_baseline();
   make_folds();
   base0_ = make_base({});
-  std::vector<double> r;
-  residuals(base0_.sims, Part{}, r);
-  n_all_ = r.size();
-  for (std::size_t f = 0; f < folds(); ++f) {
-    residuals(base0_.sims, Part{Part::test, f}, r);
-    n_test_ += r.size();
-    // (residuals() lists a fold's held-out points series by series)
-    for (std::size_t c = 0; c < ev_.cases.size(); ++c) {
-      if (!case_used(c, Part{Part::test, f})) continue;
-      const auto& m = ev_.cases[c].measured;
-      for (const auto& se : m.series) {
-        std::size_t run = 0;
-        for (std::size_t k = 0; k < m.times.size(); ++k)
-          if (!std::isnan(se.values[k]) && in_part(c, k, Part{Part::test, f})) ++run;
-        if (run) segments_.push_back(run);
-      }
-    }
-  }
 }
 
 std::vector<std::vector<double>> Engine::series_residuals(const CaseSims& sims) const {

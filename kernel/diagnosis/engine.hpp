@@ -162,6 +162,7 @@ private:
                     const std::set<int>& distrusted = {}) const;
   // case_simulation.cpp
   void make_folds();
+  /// Indexes each part's points (mask, count, sum of squares) and the held-out runs.
   void index_parts();
   bool case_used(std::size_t c, Part part) const;
   bool in_part(std::size_t c, std::size_t k, Part part) const;
