@@ -18,10 +18,11 @@ too, and agrees to the tolerances: the same network.
 import argparse
 import csv
 import os
-import subprocess
 import sys
 import tempfile
-import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import process_time  # noqa: E402
 
 PY = "/usr/bin/python3"
 DURATION, OUTPUT = 20000.0, 10.0
@@ -68,16 +69,11 @@ def chain_model(n):
 
 
 def timed(cmd):
-    """(stdout, stderr, wall s, CPU s) of a process run under /usr/bin/time."""
-    with tempfile.NamedTemporaryFile("r", suffix=".time.txt") as tf:
-        t0 = time.perf_counter()
-        p = subprocess.run(["/usr/bin/time", "-f", "%U %S", "-o", tf.name] + cmd,
-                           capture_output=True, text=True)
-        wall = time.perf_counter() - t0
-        user, sys_s = (float(x) for x in tf.read().split()[-2:])
-    if p.returncode != 0:
-        raise RuntimeError(f"{cmd[0]} failed (rc {p.returncode}): {p.stderr[-2000:]}")
-    return p.stdout, p.stderr, wall, user + sys_s
+    """(stdout, stderr, wall s, CPU s) of a process that must succeed."""
+    t = process_time.timed(cmd)
+    if t.rc != 0:
+        raise RuntimeError(f"{cmd[0]} failed (rc {t.rc}): {t.stderr[-2000:]}")
+    return t.stdout, t.stderr, t.wall_s, t.cpu_s
 
 
 def far_median(path, n):
@@ -96,9 +92,9 @@ def main():
     a = ap.parse_args()
     work = a.workdir or tempfile.mkdtemp(prefix="thermnet_bands_")
     os.makedirs(work, exist_ok=True)
-    print(f"| N | samples | thermnet 1 thread: wall s / CPU s | thermnet 2 threads: wall s / CPU s"
-          f" | SciPy loop wall s (imports excluded) | SciPy / thermnet 1 thread (wall) | far-end median degC "
-          f"thermnet / SciPy | nominal far end degC thermnet / SciPy |")
+    print("| N | samples | thermnet 1 thread: wall s / CPU s | thermnet 2 threads: wall s / CPU s"
+          " | SciPy loop wall s (imports excluded) | SciPy / thermnet 1 thread (wall) | far-end median degC "
+          "thermnet / SciPy | nominal far end degC thermnet / SciPy |")
     print("|---|---|---|---|---|---|---|---|")
     for n in (int(x) for x in a.sizes.split(",")):
         model = os.path.join(work, f"chain_{n}.tnet")

@@ -23,14 +23,13 @@ import csv
 import math
 import os
 import re
-import subprocess
 import sys
-import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import plate  # noqa: E402
+from process_time import timed  # noqa: E402
 
 PY = "/usr/bin/python3"
 TOL_K = 0.01
@@ -39,21 +38,6 @@ TN_LADDER = [(1e-4, 1e-4), (1e-5, 1e-5), (1e-6, 1e-6), (1e-7, 1e-7), (1e-8, 1e-8
 SCIPY_LADDER = [(1e-3, 1e-6), (1e-4, 1e-6), (1e-5, 1e-6), (1e-6, 1e-6), (1e-7, 1e-7)]  # solve_ivp defaults first
 SPICE_LADDER = [1e-3, 1e-4, 1e-5, 1e-6]                                    # ngspice default first
 csv.field_size_limit(1 << 30)
-
-
-def timed(cmd, cwd=None):
-    """Runs cmd under /usr/bin/time -v; returns (rc, stdout, stderr, process wall s, max RSS MiB)."""
-    # GNU time's report goes to a private temp file, never into the caller's directory.
-    with tempfile.NamedTemporaryFile("r", suffix=".time.txt") as tf:
-        t0 = time.perf_counter()
-        p = subprocess.run(["/usr/bin/time", "-v", "-o", tf.name] + cmd, cwd=cwd,
-                           capture_output=True, text=True)
-        wall = time.perf_counter() - t0
-        rss = float("nan")
-        for line in tf:
-            if "Maximum resident set size" in line:
-                rss = int(line.split(":")[1]) / 1024.0
-    return p.returncode, p.stdout, p.stderr, wall, rss
 
 
 def read_final_csv(path):
@@ -72,7 +56,7 @@ def run_thermnet(exe, base, rtol, atol, duration):
     out = base + f".tn_{rtol:g}.csv"
     cmd = [exe, "simulate", base + ".tnet", "--output", f"{duration:g}", "-o", out, "--stats",
            "--rtol", f"{rtol:g}", "--atol", f"{atol:g}"]
-    rc, so, se, wall, rss = timed(cmd)
+    rc, so, se, wall, rss, _ = timed(cmd)
     m = re.search(r"([0-9.]+) s wall", se)
     if not m or not os.path.exists(out):
         raise RuntimeError(f"thermnet failed (rc {rc}): {se[-2000:]}")
@@ -89,7 +73,7 @@ def run_scipy(base, rtol=None, atol=None, reference=False):
     out = base + ".scipy_final.txt"
     cmd = [PY, os.path.join(HERE, "scipy_reference.py"), base + ".json", "--out", out]
     cmd += ["--reference"] if reference else ["--rtol", f"{rtol:g}", "--atol", f"{atol:g}"]
-    rc, so, se, wall, rss = timed(cmd)
+    rc, so, se, wall, rss, _ = timed(cmd)
     if rc != 0:
         raise RuntimeError(f"scipy failed: {se[-2000:]}")
     w = float(re.search(r"wall_s ([0-9.eE+-]+)", so).group(1))
@@ -105,7 +89,7 @@ def run_spice(net, rows, cols, outdir, tag, reltol, duration):
     out = base + ".spice.out"
     if os.path.exists(out):
         os.remove(out)
-    rc, so, se, wall, rss = timed(["ngspice", "-b", base + ".cir"], cwd=outdir)
+    rc, so, se, wall, rss, _ = timed(["ngspice", "-b", base + ".cir"], cwd=outdir)
     if rc != 0 or not os.path.exists(out):
         raise RuntimeError(f"ngspice failed (rc {rc}): {(so + se)[-2000:]}")
     with open(out) as f:
