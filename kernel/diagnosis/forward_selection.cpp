@@ -69,9 +69,9 @@ Base Selection::select_forward(DiagnosisReport& rep, Base& last) const {
 std::vector<Evaluated> Selection::evaluate_next(const std::vector<Entry>& next, const Base& base,
                                                 DiagnosisReport& rep) const {
   // As in the joint refits, a counterpart on unmeasured nodes is refitted only beside a proxy
-  // whose refit on top of the findings beats them by the information criterion (B72 of
-  // bench/diagnosis.md: two fifths of the step's simulations went to counterparts beside proxies
-  // that gain nothing once the first finding is applied).
+  // whose refit on top of the findings beats them by the information criterion, among the best of
+  // its kind (B72 of bench/diagnosis.md: two fifths of the step's simulations went to counterparts
+  // beside proxies that gain nothing once the first finding is applied).
   std::vector<std::size_t> first, beside;
   for (std::size_t i = 0; i < next.size(); ++i)
     (next[i].proxy.empty() ? first : beside).push_back(i);
@@ -86,7 +86,7 @@ std::vector<Evaluated> Selection::evaluate_next(const std::vector<Entry>& next, 
     rep.refitted += todo.size();
   };
   refit(first);
-  refit(beside_gaining(next, beside, nres, first, 0.0));
+  refit(beside_gaining(next, beside, nres, first, 0.0, opt_.refits));
   return nres;
 }
 

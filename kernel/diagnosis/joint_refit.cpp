@@ -6,7 +6,7 @@
 // recalibrated values) and compared on that footing: the joint result replaces any own-parameter
 // refit, and it must also beat the recalibration alone on held-out data (rank_first; otherwise the
 // recalibration explains it). The counterparts on unmeasured nodes are refitted after the others,
-// and only beside a proxy that gains (beside_gaining).
+// and only beside a proxy that gains, among the best of its kind (beside_gaining).
 
 #include "kernel/diagnosis/selection.hpp"
 
@@ -98,7 +98,7 @@ void Selection::refit_jointly(std::size_t recal, const std::vector<double>& rang
   // Both ΔBICs are against the declared model, and the joint fit has the recalibration's params
   // and its own: their difference is the proxy's ΔBIC against the recalibration.
   const std::vector<std::size_t> second =
-      beside_gaining(chosen_, beside, res_, first, res_[recal].f.delta_bic);
+      beside_gaining(chosen_, beside, res_, first, res_[recal].f.delta_bic, opt_.refits);
   refit_batch(second, recal, ranged, rep);
 }
 

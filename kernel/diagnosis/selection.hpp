@@ -39,13 +39,14 @@ std::vector<std::size_t> tied_node_exchanges(const std::vector<Entry>& entries, 
                                              const Candidate& c);
 
 /// The counterparts among entries[beside] to refit: those whose proxy (`Entry::proxy`) is the site
-/// of an entries[refitted] whose refit (res, same indices) failed or has a ΔBIC below
-/// reference_bic + kSignificantBic, and those whose proxy is none of their sites.
+/// of an entries[refitted] whose refit (res, same indices) failed, or has a ΔBIC below
+/// reference_bic + kSignificantBic and an RMSE among the `best` sites of its kind that do, and
+/// those whose proxy is none of their sites.
 std::vector<std::size_t> beside_gaining(const std::vector<Entry>& entries,
                                         const std::vector<std::size_t>& beside,
                                         const std::vector<Evaluated>& res,
                                         const std::vector<std::size_t>& refitted,
-                                        double reference_bic);
+                                        double reference_bic, std::size_t best);
 
 /// Records on `keep` how its mechanism compared with the other one (`drop`); `mechanisms` are its
 /// kind's, in order.

@@ -1,7 +1,7 @@
 // What the diagnosis leaves out without changing its answers: counterparts on unmeasured nodes
-// beside a proxy that gains nothing (beside_gaining), a screen basis asked only where it acts
-// (Evidence::regress with a support), and the lagged sums of the held-out test (against the sums
-// written out point by point).
+// beside a proxy that gains nothing or less than the best of its kind (beside_gaining), a screen
+// basis asked only where it acts (Evidence::regress with a support), and the lagged sums of the
+// held-out test (against the sums written out point by point).
 
 #include "kernel/diagnosis/selection.hpp"
 #include "kernel/diagnosis/statistics.hpp"
@@ -15,20 +15,22 @@
 namespace thermnet::detail {
 namespace {
 
-/// An entry on `nodes` standing beside the proxy site `proxy` (empty: none).
-Entry counterpart(std::vector<std::string> nodes, std::string proxy) {
+/// An entry of `kind` on `nodes` standing beside the proxy site `proxy` (empty: none).
+Entry counterpart(std::vector<std::string> nodes, std::string proxy,
+                  std::string kind = "missing_link") {
   Entry e;
-  e.c.kind = "missing_link";
+  e.c.kind = std::move(kind);
   e.c.nodes = std::move(nodes);
   e.proxy = std::move(proxy);
   return e;
 }
 
-/// A refit with ΔBIC `bic` (failed: no values).
-Evaluated refit(double bic, bool failed = false) {
+/// A refit with ΔBIC `bic` and RMSE `rmse` (failed: no values).
+Evaluated refit(double bic, bool failed = false, double rmse = 0.5) {
   Evaluated e;
   if (!failed) e.f.values = {1.0};
   e.f.delta_bic = bic;
+  e.f.rmse_after = rmse;
   return e;
 }
 
@@ -67,12 +69,48 @@ TEST_CASE("diagnosis gates: counterparts only beside a proxy that gains, fails o
 
   SUBCASE("against the model the findings extend (reference ΔBIC 0)") {
     // p1 gains, p3 failed, p4 was not refitted: their counterparts; p2's is left out.
-    CHECK(beside_gaining(entries, beside, res, refitted, 0.0) == std::vector<std::size_t>{3, 5, 6});
+    CHECK(beside_gaining(entries, beside, res, refitted, 0.0, 6) ==
+          std::vector<std::size_t>{3, 5, 6});
   }
   SUBCASE("against a recalibration that already gains as much") {
     // ΔBICs are against the declared model: p1's -25 is only -5 against a recalibration at -20.
-    CHECK(beside_gaining(entries, beside, res, refitted, -20.0) == std::vector<std::size_t>{5, 6});
+    CHECK(beside_gaining(entries, beside, res, refitted, -20.0, 6) ==
+          std::vector<std::size_t>{5, 6});
   }
+}
+
+TEST_CASE("diagnosis gates: counterparts only beside the best gaining proxies of their kind") {
+  // Proxies 0-3 all gain: links p1 (RMSE 0.5, both mechanisms), p2 (0.4), p3 (0.6), and a hidden
+  // mass h1 (0.7), ranked apart from the links; 4-8 are counterparts beside p1, p2, p3, h1 and a
+  // proxy p4 not refitted.
+  const std::string p1 = "missing_link|a,b|", p2 = "missing_link|c,d|", p3 = "missing_link|e,f|",
+                    p4 = "missing_link|g,h|", h1 = "hidden_mass|a|";
+  const std::vector<Entry> entries = {counterpart({"a", "b"}, ""),
+                                      counterpart({"c", "d"}, ""),
+                                      counterpart({"e", "f"}, ""),
+                                      counterpart({"a"}, "", "hidden_mass"),
+                                      counterpart({"a", "b"}, ""),
+                                      counterpart({"a", "u1"}, p1),
+                                      counterpart({"c", "u2"}, p2),
+                                      counterpart({"e", "u3"}, p3),
+                                      counterpart({"u4"}, h1, "hidden_mass"),
+                                      counterpart({"g", "u5"}, p4)};
+  REQUIRE(site(entries[3].c) == h1);
+  const std::vector<std::size_t> refitted = {0, 1, 2, 3, 4}, beside = {5, 6, 7, 8, 9};
+  std::vector<Evaluated> res(entries.size());
+  res[0] = refit(-25.0, false, 0.5);
+  res[1] = refit(-40.0, false, 0.4);
+  res[2] = refit(-30.0, false, 0.6);
+  res[3] = refit(-15.0, false, 0.7);
+  res[4] = refit(-24.0, false, 0.55); // p1's other mechanism: the same site, counted once
+  // The best two links (p2, p1) and the best hidden mass keep theirs; p3's is left out; p4's
+  // proxy was not refitted.
+  CHECK(beside_gaining(entries, beside, res, refitted, 0.0, 2) ==
+        std::vector<std::size_t>{5, 6, 8, 9});
+  CHECK(beside_gaining(entries, beside, res, refitted, 0.0, 3) ==
+        std::vector<std::size_t>{5, 6, 7, 8, 9});
+  // Only the gaining proxies are ranked: against a reference at -28, p2 (and h1's none).
+  CHECK(beside_gaining(entries, beside, res, refitted, -28.0, 2) == std::vector<std::size_t>{6, 9});
 }
 
 TEST_CASE("diagnosis gates: a screen basis asked only on its support fits the same") {
