@@ -443,7 +443,6 @@ void Engine::index_parts() {
     return p;
   };
   all_rows_ = index(Part{});
-  n_all_ = all_rows_.count;
   test_rows_.clear();
   train_rows_.clear();
   n_test_ = 0;

@@ -218,7 +218,7 @@ bool Engine::determined_in(const Fit& all, Part part) const {
 }
 
 void Engine::measure_gain(Finding& f, const Base& base, double sse, double holdout_sse) const {
-  const double na = static_cast<double>(n_all_), nt = std::max(1.0, static_cast<double>(n_test_));
+  const double na = static_cast<double>(points()), nt = std::max(1.0, static_cast<double>(n_test_));
   const double k = static_cast<double>(f.candidate.start.size());
   f.rmse_before = std::sqrt(base.sse_all / na);
   f.rmse_after = std::sqrt(sse / na);
@@ -278,7 +278,7 @@ Refit unpack_refit(std::string_view bytes) {
 }
 
 double Engine::delta_bic(double sse_after, double sse_before, double k) const {
-  const double na = static_cast<double>(n_all_);
+  const double na = static_cast<double>(points());
   const double floor2 = std::max(ev_.noise_floor * ev_.noise_floor, 1e-12) * 1e-4;
   return na * std::log((sse_after + floor2 * na) / (sse_before + floor2 * na)) + k * std::log(na);
 }

@@ -106,7 +106,7 @@ public:
   /// The cases of each fold that holds out several whole cases (empty when each is alone).
   std::vector<std::vector<std::string>> case_folds() const;
   /// Measured points, all data.
-  std::size_t points() const { return n_all_; }
+  std::size_t points() const { return all_rows_.count; }
   /// Measured points held out over every fold.
   std::size_t held_out_points() const { return n_test_; }
   /// The held-out points (in the order of a base's or refit's holdout_r) as runs of consecutive
@@ -228,7 +228,7 @@ private:
   std::vector<PartRows> test_rows_, train_rows_; // per fold
   std::vector<std::size_t> case_row_;            // per case, its first point; then the total
   const PartRows& part_rows(Part part) const;
-  std::size_t n_all_ = 0, n_test_ = 0;
+  std::size_t n_test_ = 0;                               // held-out points over every fold
   std::vector<std::size_t> segments_;                    // held-out runs, per fold and series
   Base base0_;                                           // the declared model
   mutable std::atomic<std::size_t> simulations_{0};      // case simulations run (every thread)

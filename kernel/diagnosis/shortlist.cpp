@@ -392,7 +392,7 @@ std::vector<std::size_t> beside_gaining(const std::vector<Entry>& entries,
     std::sort(proxies.begin(), proxies.end());
     std::set<std::string> kept;
     for (const auto& [rmse, s] : proxies)
-      if (kept.size() < best || kept.count(s) != 0) kept.insert(s);
+      if (kept.size() < best) kept.insert(s);
     gaining.insert(kept.begin(), kept.end());
   }
   std::vector<std::size_t> out;
