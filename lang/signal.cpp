@@ -56,6 +56,10 @@ double Signal::at(double time) const {
   return v[k - 1] + w * (v[k] - v[k - 1]);
 }
 
+bool Signal::piecewise_linear() const {
+  return kind() != Kind::expression || shape_->program->piecewise_linear();
+}
+
 std::string Signal::text() const {
   switch (kind()) {
   case Kind::constant:

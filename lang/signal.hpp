@@ -55,6 +55,9 @@ struct Signal {
   double at(double time) const;
   /// True for a constant.
   bool is_constant() const { return kind() == Kind::constant; }
+  /// True when the value is linear in the time between its corners (every kind but an expression
+  /// that multiplies varying terms or takes a function of one).
+  bool piecewise_linear() const;
   /// The shape: constant unless corners or an expression were made.
   Kind kind() const { return shape_ ? shape_->kind : Kind::constant; }
   /// Corner times, increasing (empty for a constant; for an expression, those of the signals it

@@ -163,6 +163,70 @@ std::vector<double> TimeProgram::corners() const {
   return out;
 }
 
+bool TimeProgram::piecewise_linear() const {
+  // The degree of each stack entry in the time: 0 constant, 1 linear between corners; anything
+  // else (a product of two varying terms, a function of a varying term) is not piecewise linear.
+  std::vector<int> degree;
+  degree.reserve(max_depth);
+  for (const Op& op : ops) {
+    switch (op.code) {
+    case Code::constant:
+      degree.push_back(0);
+      break;
+    case Code::time:
+      degree.push_back(1);
+      break;
+    case Code::signal: {
+      const Signal& s = signals[op.count];
+      if (!s.piecewise_linear()) return false;
+      degree.push_back(s.is_constant() ? 0 : 1);
+      break;
+    }
+    case Code::negate:
+      break;
+    case Code::add:
+    case Code::subtract: {
+      const int b = degree.back();
+      degree.pop_back();
+      degree.back() = std::max(degree.back(), b);
+      break;
+    }
+    case Code::multiply: {
+      const int b = degree.back();
+      degree.pop_back();
+      degree.back() += b;
+      if (degree.back() > 1) return false;
+      break;
+    }
+    case Code::divide: {
+      const int b = degree.back();
+      degree.pop_back();
+      if (b != 0) return false;
+      break;
+    }
+    case Code::min:
+    case Code::max: {
+      const std::size_t first = degree.size() - op.count;
+      if (std::any_of(degree.begin() + static_cast<std::ptrdiff_t>(first), degree.end(),
+                      [](int d) { return d != 0; }))
+        return false;
+      degree.resize(first + 1);
+      break;
+    }
+    case Code::power: {
+      const int b = degree.back();
+      degree.pop_back();
+      if (b != 0 || degree.back() != 0) return false;
+      break;
+    }
+    default: // exp, log, log10, sin, cos, tan, sqrt, abs: of a constant only
+      if (degree.back() != 0) return false;
+      break;
+    }
+  }
+  return true;
+}
+
 std::string TimeProgram::text() const {
   std::vector<std::string> stack;
   auto unary = [&](const char* f) { stack.back() = fmt::format("{}({})", f, stack.back()); };

@@ -57,6 +57,10 @@ public:
   std::vector<Signal> signals; ///< the signals the program reads (Code::signal)
   /// The times where one of its signals jumps or bends, sorted, without repeats.
   std::vector<double> corners() const;
+  /// True when its value is linear in the time between its corners (sums, differences and
+  /// constant multiples of the time and of step, pwl and table signals), so that two readings
+  /// inside an interval between corners give it everywhere there.
+  bool piecewise_linear() const;
 };
 
 /// Compiles the expression rooted at `root` of `file`: `time` stays the time, every other name is

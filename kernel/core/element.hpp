@@ -59,6 +59,13 @@ public:
   virtual double power_in(double /*t*/, const double* /*T*/) const { return 0.0; }
   /// Heat flowing from its first terminal to its second, W (two-terminal links).
   virtual double flow(double /*t*/, const double* /*T*/) const { return 0.0; }
+  /// True when its heat flows (and its states' rates) are affine in the unknowns with a constant
+  /// Jacobian: a linear, time-invariant coupling, or a prescribed input that does not depend on
+  /// the unknowns (default: false, which is always safe).
+  virtual bool affine() const { return false; }
+  /// For an affine element: true when its time-varying part is linear between its breakpoints
+  /// (a constant, step, pwl or table input, or a sum of constant multiples of them).
+  virtual bool piecewise_linear_inputs() const { return true; }
   /// What it reads, K, for a sensor (an element whose schema `observes`); nothing otherwise.
   virtual std::optional<double> sensor_reading(const double* /*T*/) const { return std::nullopt; }
   /// Adds into dF how its heat flows change per unit of a parameter at (t, T) when its keys
@@ -79,6 +86,7 @@ public:
   LinearLink(int a, int b, double G) : a_(a), b_(b), G_(G) {}
   /// The conductance, W/K.
   double conductance() const { return G_; }
+  bool affine() const override { return true; }
   /// First terminal (spec node index).
   int a() const { return a_; }
   /// Second terminal (spec node index).

@@ -3,6 +3,8 @@
 
 #include "kernel/core/integrator.hpp"
 
+#include "kernel/core/exact_linear.hpp"
+
 #include "kernel/core/absolute_zero.hpp"
 #include "kernel/core/linear_solver_choice.hpp"
 #include "kernel/core/system_evaluator.hpp"
@@ -427,6 +429,8 @@ SolverStats run_transient(ThermalSystem& sys, std::vector<double>& T, double t0,
 SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, double t1,
                       const std::vector<double>& output_times, const OutputCallback& out,
                       const SolverOptions& opt) {
+  if (opt.exact_linear_max > 0 && sys.size() <= opt.exact_linear_max && sys.piecewise_linear())
+    return integrate_exact(sys, T, t0, t1, output_times, out);
   return run_transient(sys, T, t0, t1, output_times, out, opt, nullptr);
 }
 

@@ -378,4 +378,19 @@ void Network::element_heat(double t, const double* T, std::vector<std::vector<do
             0.0);
 }
 
+bool Network::affine() const {
+  if (event_count_ > 0) return false;
+  return std::all_of(elements_.begin(), elements_.end(),
+                     [](const std::unique_ptr<Element>& e) { return e->affine(); });
+}
+
+bool Network::piecewise_linear() const {
+  if (!affine()) return false;
+  for (const auto& e : elements_)
+    if (!e->piecewise_linear_inputs()) return false;
+  for (const auto& node : spec_.nodes)
+    if (node.boundary && !node.T.piecewise_linear()) return false;
+  return std::all_of(capacities_.begin(), capacities_.end(), [](double c) { return c > 0.0; });
+}
+
 } // namespace thermnet

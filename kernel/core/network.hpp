@@ -71,6 +71,13 @@ public:
   double sensor_reading(std::size_t e, double t, const double* T);
   /// The spec elements that are sensors, in spec order.
   std::vector<int> sensor_elements() const;
+  /// True when the heat balance is affine in the unknowns with a constant Jacobian (linear,
+  /// time-invariant couplings; inputs may vary in time) and nothing switches by events: then
+  /// dT/dt = A T + b(t) with A constant.
+  bool affine() const;
+  /// affine(), every input linear between breakpoints (no expression of the time), and every
+  /// unknown with a capacity (no arithmetic node): what integrate_exact() solves.
+  bool piecewise_linear() const override;
 
 private:
   friend class NetworkDerivatives; // differentiates the pieces along parameters

@@ -30,6 +30,9 @@ struct SolverOptions {
   /// typical size, absolute) accuracy when it is looser than rtol/atol; their error does not
   /// control the steps, which are the state's.
   double sensitivity_tolerance = 1e-4;
+  /// Solve a piecewise-linear system (ThermalSystem::piecewise_linear()) of at most this many
+  /// unknowns by its exact discretisation instead of CVODE (0: never; exact_linear.hpp).
+  int exact_linear_max = 0;
 };
 
 /// Counters of a solve (printed by --stats).

@@ -52,6 +52,9 @@ public:
 
   /// Times strictly inside (t0, t1] where inputs are discontinuous; the integrator restarts there.
   virtual std::vector<double> breakpoints(double /*t0*/, double /*t1*/) const { return {}; }
+  /// True when F(t, T) = J T + f(t) with J constant, f linear between breakpoints and no events
+  /// (integrate() may then solve it exactly: exact_linear.hpp). Default: false.
+  virtual bool piecewise_linear() const { return false; }
 
   /// Name of an unknown for messages (the node name).
   virtual std::string unknown_name(int i) const { return "#" + std::to_string(i); }

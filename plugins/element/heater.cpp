@@ -10,6 +10,8 @@ public:
   Heater(int node, lang::Signal P) : node_(node), P_(std::move(P)) {}
   void declare(JacobianLayout&) override {}
   void stamp(double t, const double*, double* F, double*) const override { F[node_] += P_.at(t); }
+  bool affine() const override { return true; }
+  bool piecewise_linear_inputs() const override { return P_.piecewise_linear(); }
   void breakpoints(std::vector<double>& out) const override {
     out.insert(out.end(), P_.corners().begin(), P_.corners().end());
   }

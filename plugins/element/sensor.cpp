@@ -22,6 +22,7 @@ public:
   /// The lagged reading starts in equilibrium with its nodes.
   void initial_states(const double* T, double* x) const override { x[0] = mean(T); }
   std::string state_name(int) const override { return "reading"; }
+  bool affine() const override { return true; }
   void declare(JacobianLayout& layout) override {
     if (tau_ <= 0.0) return;
     self_slot_ = layout.slot(state_, state_);
