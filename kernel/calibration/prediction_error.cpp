@@ -4,7 +4,11 @@
 
 #include "kernel/calibration/prediction_error.hpp"
 
+#include "kernel/core/exact_linear.hpp"
+
 #include "kernel/calibration/quasi_newton.hpp"
+#include "kernel/core/integrator.hpp"
+#include "kernel/core/measured_data.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/network_state_space.hpp"
 #include "kernel/core/simulation.hpp"
@@ -15,6 +19,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <stdexcept>
 
 namespace thermnet {
@@ -169,6 +174,77 @@ std::size_t PredictionProblem::points() const {
   return n;
 }
 
+namespace {
+
+/// A measured series as the filter sees it: y = H x + offset (a node's temperature, or a
+/// sensor's reading through its lag, offset and gain: affine in the unknowns).
+struct Observation {
+  std::size_t series = 0; ///< index into the case's data
+  std::size_t node = 0;   ///< index into the measured nodes (its noise)
+  Eigen::RowVectorXd H;   ///< d reading / d unknowns
+  double offset = 0.0;    ///< the reading at zero unknowns
+  double variance = 0.0;  ///< measurement noise, K^2
+};
+
+/// The sensor element a series is read through in `net`: the data's own, else the only sensor of
+/// the network reading its node alone (a sensor a diagnosis candidate added), else none (-1).
+int reading_sensor(const Network& net, const MeasuredSeries& s) {
+  if (s.sensor >= 0) return s.sensor;
+  int found = -1;
+  const auto& elements = net.spec().elements;
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    const auto& el = elements[e];
+    if (!el.schema || !el.schema->observes || el.nodes().size() != 1 ||
+        el.nodes()[0] != s.node_index)
+      continue;
+    if (found >= 0) return s.sensor; // two sensors on the node: the data say which, or none
+    found = static_cast<int>(e);
+  }
+  return found;
+}
+
+/// The row of an affine observation of series s at the unknowns x0 (exact: a reading is affine).
+void observe(Network& net, MeasuredSeries s, const std::vector<double>& x0, Observation& o) {
+  s.sensor = reading_sensor(net, s);
+  const auto n = x0.size();
+  std::vector<double> x = x0, all(net.spec().nodes.size());
+  const auto value = [&] {
+    net.expand(0.0, x.data(), all.data());
+    return simulated_value(net, s, 0.0, x.data(), all.data());
+  };
+  const double h0 = value();
+  o.H = Eigen::RowVectorXd::Zero(static_cast<Eigen::Index>(n));
+  for (std::size_t j = 0; j < n; ++j) {
+    x[j] = x0[j] + 1.0;
+    o.H(static_cast<Eigen::Index>(j)) = value() - h0;
+    x[j] = x0[j];
+  }
+  double hx = 0.0;
+  for (std::size_t j = 0; j < n; ++j)
+    hx += o.H(static_cast<Eigen::Index>(j)) * x0[j];
+  o.offset = h0 - hx;
+}
+
+/// The discretisations of a constant system matrix, by sampling interval (a uniformly sampled
+/// record needs one).
+class Discretisations {
+public:
+  Discretisations(const Eigen::MatrixXd& A, const Eigen::MatrixXd& Qc) : A_(A), Qc_(Qc) {}
+  const Discretised& over(double h) {
+    for (const auto& [step, d] : cache_)
+      if (std::abs(step - h) <= 1e-9 * h) return d;
+    if (cache_.size() >= 16) cache_.erase(cache_.begin());
+    cache_.emplace_back(h, discretise(A_, Qc_, h));
+    return cache_.back().second;
+  }
+
+private:
+  Eigen::MatrixXd A_, Qc_;
+  std::vector<std::pair<double, Discretised>> cache_;
+};
+
+} // namespace
+
 CaseInnovations PredictionProblem::filter_case(std::size_t c,
                                                const std::vector<double>& theta) const {
   if (theta.size() != params_.size())
@@ -182,26 +258,6 @@ CaseInnovations PredictionProblem::filter_case(std::size_t c,
   CaseInnovations out;
   out.case_name = cases_[c];
   out.times = data.times;
-  struct Obs {
-    std::size_t series;
-    int state;
-    double variance;
-  };
-  std::vector<Obs> obs;
-  for (std::size_t s = 0; s < data.series.size(); ++s) {
-    const auto& ser = data.series[s];
-    const auto it = std::find(measured_nodes_.begin(), measured_nodes_.end(), ser.node);
-    if (it == measured_nodes_.end()) continue;
-    const int state = unknown[static_cast<std::size_t>(ser.node_index)];
-    if (state < 0) continue;
-    const double sv = theta[structural_ + process_nodes_.size() +
-                            static_cast<std::size_t>(it - measured_nodes_.begin())];
-    obs.push_back({s, state, sv * sv});
-    out.nodes.push_back(ser.node);
-    out.measured.push_back(ser.values);
-    out.predicted.emplace_back(data.times.size(), kNaN);
-    out.sd.emplace_back(data.times.size(), kNaN);
-  }
   const int m = ss.size();
   Eigen::MatrixXd Qc = Eigen::MatrixXd::Zero(m, m);
   for (int i = 0; i < net.temperature_count(); ++i) {
@@ -213,32 +269,94 @@ CaseInnovations PredictionProblem::filter_case(std::size_t c,
     Qc(i, i) = sw * sw;
   }
   const std::vector<double> T0 = start_state(net, settings_.solver);
+  std::vector<Observation> obs;
+  for (std::size_t s = 0; s < data.series.size(); ++s) {
+    const auto& ser = data.series[s];
+    const auto it = std::find(measured_nodes_.begin(), measured_nodes_.end(), ser.node);
+    if (it == measured_nodes_.end()) continue;
+    if (unknown[static_cast<std::size_t>(ser.node_index)] < 0) continue;
+    Observation o;
+    o.series = s;
+    o.node = static_cast<std::size_t>(it - measured_nodes_.begin());
+    const double sv = theta[structural_ + process_nodes_.size() + o.node];
+    o.variance = sv * sv;
+    observe(net, ser, T0, o);
+    obs.push_back(std::move(o));
+    out.nodes.push_back(ser.node);
+    out.measured.push_back(ser.values);
+    out.predicted.emplace_back(data.times.size(), kNaN);
+    out.sd.emplace_back(data.times.size(), kNaN);
+  }
   Eigen::VectorXd x0(m);
   for (int i = 0; i < m; ++i)
     x0(i) = T0[static_cast<std::size_t>(i)];
   const double sd0 = settings_.initial_sd;
   KalmanFilter filter(x0, Eigen::MatrixXd::Identity(m, m) * (sd0 * sd0));
+  // An affine network (linear, time-invariant couplings) is x' = A x + b(t): the mean of every
+  // prediction step follows the deterministic trajectory z, x(k+1|k) = z(k+1) + Phi (x(k|k) -
+  // z(k)), so that one integration of the whole case replaces one per sample, and Phi and Qd of
+  // a sampling interval are computed once. Otherwise each step integrates the network from the
+  // filtered mean (an extended Kalman filter).
+  // A nonlinear network without events (radiation, temperature-dependent links) is linearised at
+  // the filtered mean for each step (local linearisation, as CTSM-R does): no integrator restarts.
+  const bool affine = net.affine();
+  const bool local_linear = !affine && net.event_count() == 0 && m == net.size();
+  std::vector<Eigen::VectorXd> z;
+  std::optional<Discretisations> disc;
+  if (affine && !data.times.empty()) {
+    SolverOptions exact = settings_.solver;
+    exact.exact_linear_max = 64;
+    z.reserve(data.times.size());
+    std::vector<double> T = T0;
+    std::size_t k = 0;
+    for (; k < data.times.size() && data.times[k] <= 0.0; ++k)
+      z.push_back(x0);
+    if (k < data.times.size())
+      integrate(
+          net, T, 0.0, data.times.back(),
+          std::vector<double>(data.times.begin() + static_cast<long>(k), data.times.end()),
+          [&](double, const std::vector<double>& X) {
+            z.push_back(Eigen::Map<const Eigen::VectorXd>(X.data(), m));
+          },
+          exact);
+    if (z.size() != data.times.size())
+      throw std::runtime_error("the deterministic trajectory misses sample times");
+    disc.emplace(ss.system_matrix(0.0, x0), Qc);
+  }
   double t = 0.0;
-  std::vector<int> states;
+  Eigen::VectorXd z_prev = x0;
+  std::vector<std::size_t> which;
   for (std::size_t k = 0; k < data.times.size(); ++k) {
-    if (data.times[k] > t) ss.predict(filter, t, data.times[k], Qc, settings_.solver);
-    t = data.times[k];
-    states.clear();
-    std::vector<std::size_t> which;
-    for (std::size_t o = 0; o < obs.size(); ++o)
-      if (!std::isnan(data.series[obs[o].series].values[k])) {
-        states.push_back(obs[o].state);
-        which.push_back(o);
+    if (data.times[k] > t) {
+      if (affine) {
+        const Discretised& d = disc->over(data.times[k] - t);
+        filter.x() = z[k] + d.Phi * (filter.x() - z_prev);
+        filter.predict_covariance(d);
+      } else if (local_linear) {
+        Eigen::MatrixXd A;
+        filter.x() = local_linear_step(net, filter.x(), t, data.times[k], A);
+        filter.predict_covariance(discretise(A, Qc, data.times[k] - t));
+      } else {
+        ss.predict(filter, t, data.times[k], Qc, settings_.solver);
       }
-    if (states.empty()) continue;
-    const auto p = static_cast<Eigen::Index>(states.size());
-    Eigen::VectorXd y(p), var(p);
+    }
+    t = data.times[k];
+    if (affine) z_prev = z[k];
+    which.clear();
+    for (std::size_t o = 0; o < obs.size(); ++o)
+      if (!std::isnan(data.series[obs[o].series].values[k])) which.push_back(o);
+    if (which.empty()) continue;
+    const auto p = static_cast<Eigen::Index>(which.size());
+    Eigen::MatrixXd H(p, m);
+    Eigen::VectorXd y(p), var(p), offset(p);
     for (Eigen::Index r = 0; r < p; ++r) {
-      const Obs& o = obs[which[static_cast<std::size_t>(r)]];
+      const Observation& o = obs[which[static_cast<std::size_t>(r)]];
+      H.row(r) = o.H;
+      offset(r) = o.offset;
       y(r) = data.series[o.series].values[k];
       var(r) = o.variance;
     }
-    const Innovation in = filter.update(states, y, var);
+    const Innovation in = filter.update(H, offset, y, var);
     for (Eigen::Index r = 0; r < p; ++r) {
       const std::size_t o = which[static_cast<std::size_t>(r)];
       out.predicted[o][k] = in.predicted(r);

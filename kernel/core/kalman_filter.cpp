@@ -37,12 +37,22 @@ Innovation KalmanFilter::update(const std::vector<int>& states, const Eigen::Vec
   const Eigen::Index m = x_.size();
   if (y.size() != p || variance.size() != p)
     throw std::invalid_argument("a Kalman update needs one value and one variance per state");
-  Innovation in;
-  if (p == 0) return in;
+  if (p == 0) return {};
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(p, m);
   for (Eigen::Index r = 0; r < p; ++r)
     H(r, states[static_cast<std::size_t>(r)]) = 1.0;
-  in.predicted = H * x_;
+  return update(H, Eigen::VectorXd::Zero(p), y, variance);
+}
+
+Innovation KalmanFilter::update(const Eigen::MatrixXd& H, const Eigen::VectorXd& offset,
+                                const Eigen::VectorXd& y, const Eigen::VectorXd& variance) {
+  const Eigen::Index p = H.rows(), m = x_.size();
+  if (y.size() != p || variance.size() != p || offset.size() != p || H.cols() != m)
+    throw std::invalid_argument("a Kalman update needs one row, value and variance per "
+                                "measurement");
+  Innovation in;
+  if (p == 0) return in;
+  in.predicted = H * x_ + offset;
   in.innovation = y - in.predicted;
   in.S = H * P_ * H.transpose();
   in.S.diagonal() += variance;

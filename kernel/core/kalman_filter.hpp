@@ -47,6 +47,10 @@ public:
   /// `variance`; Joseph form. Returns the innovation seen (empty when no state is measured).
   Innovation update(const std::vector<int>& states, const Eigen::VectorXd& y,
                     const Eigen::VectorXd& variance);
+  /// Updates with affine measurements y = H x + offset (a sensor's reading through its lag,
+  /// offset and gain) with variances `variance`; Joseph form.
+  Innovation update(const Eigen::MatrixXd& H, const Eigen::VectorXd& offset,
+                    const Eigen::VectorXd& y, const Eigen::VectorXd& variance);
 
 private:
   Eigen::VectorXd x_;

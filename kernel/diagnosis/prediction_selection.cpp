@@ -18,7 +18,8 @@
 namespace thermnet::detail {
 namespace {
 
-constexpr double kAlpha = 0.05; // significance level of a step's tests (before Bonferroni)
+constexpr double kAlpha = 0.05;         // significance level of a step's tests (before Bonferroni)
+constexpr double kResolvedError = 1e-3; // K: a simulation error no thermal test resolves
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// A structure of the selection: the declared model, the findings applied so far and optionally a
@@ -50,7 +51,16 @@ public:
                            "filter fails at the declared values)");
     sum.declared = base.summary;
     sum.whiteness_before = base.whiteness;
-    for (std::size_t step = 0; step < opt_.top; ++step) {
+    // A model that already simulates the data within their noise, or within a millikelvin (what
+    // no thermal test resolves: the data's own integration or rounding error), has nothing left
+    // to explain, however sharp a likelihood-ratio test on such tiny residuals would be.
+    const double declared_rmse = engine_.declared().metrics.rmse;
+    const bool nothing_to_explain = engine_.declared().at_floor || declared_rmse <= kResolvedError;
+    if (nothing_to_explain)
+      sum.notes.push_back(fmt::format(
+          "the declared model simulates the data within {:.3g} K ({}): no structure was tested",
+          declared_rmse, engine_.declared().at_floor ? "their measurement noise" : "below 1 mK"));
+    for (std::size_t step = 0; step < opt_.top && !nothing_to_explain; ++step) {
       const std::size_t offset = calib_.dimension() + applied_count(applied);
       const Evidence ev = step == 0 ? ev_ : engine_.evidence_at(engine_.make_base(applied));
       const std::vector<std::pair<const Hypothesis*, Candidate>> cands = shortlist(ev, applied);
@@ -107,8 +117,9 @@ public:
     }
     sum.final_fit = base.summary;
     sum.whiteness_after = base.whiteness;
-    sum.notes.push_back("measurement-side kinds (sensor offset, sensor lag) are not tested: the "
-                        "Kalman filter's measurement model is the node's temperature");
+    sum.notes.push_back(
+        "sensor offsets and gains are not tested by the likelihood (the output-error "
+        "criterion tests them); a sensor's lag is");
     sum.notes.push_back("the ranged params are refitted with every structure (no separate "
                         "`parameter` finding)");
     rep.prediction = std::move(sum);
@@ -269,7 +280,10 @@ private:
     for (const auto& h : hyps_) {
       if (h->recalibrates()) continue;
       for (auto& c : h->propose(ev)) {
-        if (c.measurement_side) continue;
+        // A sensor's lag is a state the filter observes through the sensor; an offset or a gain
+        // is left to the output-error criterion.
+        if (c.measurement_side && c.kind != "sensor_lag") continue;
+        if (!c.start_T.empty()) c = with_start_share(c);
         bool taken = false;
         for (const auto& a : applied)
           taken |= same_candidate(a.c, c);
