@@ -164,6 +164,7 @@ Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vect
   Fit f;
   if (!res.ok) return f;
   f.ok = true;
+  f.moved = res.accepted > 0;
   f.p = res.x;
   f.sse = res.sse;
   f.r = res.r;

@@ -30,6 +30,9 @@ SolverOptions diagnosis_solver() {
   // A candidate's network is sparse (a handful of links per node): above this size sparse LU (KLU)
   // factors and solves faster than dense LU, which took 65 % of a 150-node diagnosis's CPU time.
   s.dense_threshold = kDiagnosisDenseThreshold;
+  // A linear network with tabulated inputs (a building and its weather) is solved exactly from
+  // sample to sample instead of restarting BDF at every row of its tables.
+  s.exact_linear_max = kDiagnosisDenseThreshold;
   return s;
 }
 
@@ -447,10 +450,12 @@ void Engine::index_parts() {
   train_rows_.clear();
   n_test_ = 0;
   segments_.clear();
+  fold_points_.clear();
   for (std::size_t f = 0; f < folds_.size(); ++f) {
     test_rows_.push_back(index(Part{Part::test, f}));
     train_rows_.push_back(index(Part{Part::train, f}));
     n_test_ += test_rows_.back().count;
+    fold_points_.push_back(test_rows_.back().count);
     // the fold's held-out points per series, in the order residuals() lists them
     const std::vector<char>& held = test_rows_.back().in;
     for (std::size_t c = 0; c < ev_.cases.size(); ++c) {

@@ -153,6 +153,14 @@ lang::ParamValues Joint::overrides(const Candidate&, const std::vector<double>& 
   return v;
 }
 
+std::vector<std::vector<double>> Joint::restarts(const Candidate& c) const {
+  std::vector<std::vector<double>> out = inner_->restarts(ic_);
+  const std::vector<double> ranged = tail(c.start);
+  for (auto& s : out)
+    s.insert(s.end(), ranged.begin(), ranged.end());
+  return out;
+}
+
 void Joint::extend(const Candidate&, const std::vector<double>& p, lang::NetworkSpec& spec) const {
   inner_->extend(ic_, head(p), spec);
 }

@@ -39,6 +39,9 @@ public:
   bool degenerate(const Candidate&, const std::vector<double>& p) const override {
     return free_ && free_->degenerate(*fc_, p);
   }
+  std::vector<std::vector<double>> restarts(const Candidate&) const override {
+    return free_ ? free_->restarts(*fc_) : std::vector<std::vector<double>>{};
+  }
 
 private:
   const std::vector<Applied>* applied_;
@@ -62,6 +65,8 @@ public:
   bool degenerate(const Candidate&, const std::vector<double>& p) const override {
     return inner_->degenerate(ic_, head(p));
   }
+  /// The inner candidate's restarts, the ranged params at c's start.
+  std::vector<std::vector<double>> restarts(const Candidate& c) const override;
   lang::ParamValues overrides(const Candidate&, const std::vector<double>& p) const override;
   void extend(const Candidate&, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override;

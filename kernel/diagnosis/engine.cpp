@@ -55,7 +55,9 @@ void write_extension(Finding& f, const Hypothesis& h, const Candidate& c,
 void mark_bounds(Finding& f, const Candidate& c, const std::vector<double>& p) {
   f.at_bounds.clear();
   for (std::size_t j = 0; j < p.size() && j < c.names.size(); ++j)
-    if (on_bound(c, p, j, false))
+    if (c.names[j] == kStartShare) // both ends are starts of their own, not limits
+      continue;
+    else if (on_bound(c, p, j, false))
       f.at_bounds[c.names[j]] = "lower";
     else if (on_bound(c, p, j, true))
       f.at_bounds[c.names[j]] = "upper";
@@ -133,8 +135,9 @@ Refit Engine::refit(const Entry& e, const Base& base, bool joint) const {
   const int max_iter = joint ? 12 : 30, fold_iter = joint ? 1 : 3;
   const double rtol = joint ? 1e-5 : 1e-7;
   // 1. Fit on all data: the reported values.
-  Fit b = fit(h, e.c, e.c.start, Part{}, base, max_iter, rtol);
+  Fit b = fit_all_data(h, e.c, base, max_iter, rtol);
   if (!b.ok) return out;
+  out.moved = b.moved;
   // 2. Validation: refit without each fold's held-out points, score on them.
   if (!validate(h, e.c, b, base, fold_iter, rtol, out.holdout_r)) return out;
   out.ok = true;
@@ -166,6 +169,8 @@ Evaluated Engine::evaluated(const Entry& e, const Base& base, Refit refit) const
         if (!std::isnan(v)) out.r.back().push_back(refit.r[row++]);
     }
   f.values = refit.p;
+  f.fit_failed = !refit.moved;
+  if (!e.c.start_T.empty()) f.start = "the node it adds " + start_words(e.c, refit.p);
   f.std_errors = std::move(refit.se);
   out.degenerate = e.h->degenerate(e.c, refit.p);
   measure_gain(f, base, refit.sse, out.holdout_sse);
@@ -173,18 +178,47 @@ Evaluated Engine::evaluated(const Entry& e, const Base& base, Refit refit) const
   return out;
 }
 
+Engine::Fit Engine::fit_all_data(const Hypothesis& h, const Candidate& c, const Base& base,
+                                 int max_iter, double rtol) const {
+  // From the candidate's start, then from each of its kind's other starts (a mass's place and
+  // time constant: from one start a refit can stay where it began, the building envelope's wall
+  // at its first guess); the lowest SSE is kept. A restart that beats the fits so far within a
+  // third of the iterations goes on from there with the full count.
+  Fit best = fit(h, c, c.start, Part{}, base, max_iter, rtol);
+  bool moved = best.ok && best.moved;
+  for (const auto& s : h.restarts(c)) {
+    Fit a = fit(h, c, s, Part{}, base, std::max(3, max_iter / 3), rtol);
+    if (!a.ok) continue;
+    moved = moved || a.moved;
+    if (best.ok && !(a.sse < best.sse)) continue;
+    Fit more = fit(h, c, a.p, Part{}, base, max_iter, rtol);
+    best = more.ok && more.sse <= a.sse ? std::move(more) : std::move(a);
+  }
+  best.moved = moved;
+  return best;
+}
+
 bool Engine::validate(const Hypothesis& h, const Candidate& c, const Fit& all, const Base& base,
                       int max_iter, double rtol, std::vector<double>& holdout_r) const {
   std::vector<double> r;
+  // Where the node a candidate adds starts (its start share) is held at the all-data fit in the
+  // folds, as the measured starts are: a fold without the case's first stretch cannot tell it,
+  // and a fit free to move it there moves it anywhere.
+  Candidate held = c;
+  for (std::size_t j = 0; j < held.names.size() && j < all.p.size(); ++j)
+    if (held.names[j] == kStartShare) {
+      held.lo[j] = all.p[j] - 1e-9;
+      held.hi[j] = all.p[j] + 1e-9;
+    }
   for (std::size_t k = 0; k < folds(); ++k) {
     try {
-      if (!determined_in(all, Part{Part::train, k})) {
+      if (!determined_in(held, all, Part{Part::train, k})) {
         // The fold's fitted data cannot tell some parameter (an event none of them holds): the
         // candidate cannot predict its held-out data, which are scored as the base predicts them
         // (no gain there; a refit would keep the all-data value, fitted on those very data).
         residuals(base.sims, Part{Part::test, k}, r);
       } else {
-        const Fit a = fit(h, c, all.p, Part{Part::train, k}, base, max_iter, rtol, &all, false);
+        const Fit a = fit(h, held, all.p, Part{Part::train, k}, base, max_iter, rtol, &all, false);
         if (!a.ok) return false;
         // The held-out points from the fit's own simulation at its optimum where it holds them
         // (a split case's other stretches), or the all-data fit's when the fold did not move.
@@ -204,11 +238,14 @@ bool Engine::validate(const Hypothesis& h, const Candidate& c, const Fit& all, c
   return true;
 }
 
-bool Engine::determined_in(const Fit& all, Part part) const {
+bool Engine::determined_in(const Candidate& c, const Fit& all, Part part) const {
   // Every column of the all-data Jacobian has an effect on the part's points.
   if (all.J.rows() != static_cast<long>(all.r.size())) return true; // no Jacobian: unknown
   const std::vector<char>& in = rows_in(part);
   for (long j = 0; j < all.J.cols(); ++j) {
+    if (static_cast<std::size_t>(j) < c.names.size() &&
+        c.names[static_cast<std::size_t>(j)] == kStartShare)
+      continue; // held in the folds
     bool effect = false;
     for (long i = 0; i < all.J.rows() && !effect; ++i)
       effect = in[static_cast<std::size_t>(i)] && all.J(i, j) != 0.0;
@@ -256,6 +293,7 @@ std::vector<Evaluated> Engine::evaluate_all(const std::vector<Entry>& entries, c
 std::string pack_refit(const Refit& refit) {
   std::string out;
   append_bytes(out, refit.ok);
+  append_bytes(out, refit.moved);
   append_values(out, refit.p);
   append_values(out, refit.se);
   append_bytes(out, refit.sse);
@@ -268,6 +306,7 @@ std::string pack_refit(const Refit& refit) {
 Refit unpack_refit(std::string_view bytes) {
   Refit refit;
   refit.ok = take_bytes<bool>(bytes);
+  refit.moved = take_bytes<bool>(bytes);
   refit.p = take_values<double>(bytes);
   refit.se = take_values<double>(bytes);
   refit.sse = take_bytes<double>(bytes);

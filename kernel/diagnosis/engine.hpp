@@ -66,6 +66,7 @@ struct Evaluated {
 /// exchange when the refits are spread over them, the finding being made from it everywhere.
 struct Refit {
   bool ok = false;                 ///< the fit and every validation fold succeeded
+  bool moved = true;               ///< the all-data fit left its start (from some start)
   std::vector<double> p;           ///< fitted parameters (all data)
   std::vector<double> se;          ///< their standard errors (NaN when unknown)
   double sse = 0.0;                ///< SSE on all data, K^2
@@ -109,6 +110,8 @@ public:
   std::size_t points() const { return all_rows_.count; }
   /// Measured points held out over every fold.
   std::size_t held_out_points() const { return n_test_; }
+  /// Each fold's held-out points (the blocks of a base's or refit's holdout_r, in order).
+  const std::vector<std::size_t>& fold_points() const { return fold_points_; }
   /// The held-out points (in the order of a base's or refit's holdout_r) as runs of consecutive
   /// samples of one series, their lengths.
   const std::vector<std::size_t>& holdout_segments() const { return segments_; }
@@ -146,6 +149,7 @@ public:
 private:
   struct Fit {
     bool ok = false;
+    bool moved = false; // some step was accepted
     std::vector<double> p;
     std::vector<double> se;
     double sse = 0.0;
@@ -196,10 +200,12 @@ private:
           bool std_errors = true) const;
   // engine.cpp
   Refit refit(const Entry& e, const Base& base, bool joint) const;
+  Fit fit_all_data(const Hypothesis& h, const Candidate& c, const Base& base, int max_iter,
+                   double rtol) const;
   Evaluated evaluated(const Entry& e, const Base& base, Refit refit) const;
   bool validate(const Hypothesis& h, const Candidate& c, const Fit& all, const Base& base,
                 int max_iter, double rtol, std::vector<double>& holdout_r) const;
-  bool determined_in(const Fit& all, Part part) const;
+  bool determined_in(const Candidate& c, const Fit& all, Part part) const;
   void measure_gain(Finding& f, const Base& base, double sse, double holdout_sse) const;
   template <class Work>
   void timed(const Base& base, bool joint, std::size_t refits, Work&& work) const;
@@ -229,6 +235,7 @@ private:
   std::vector<std::size_t> case_row_;            // per case, its first point; then the total
   const PartRows& part_rows(Part part) const;
   std::size_t n_test_ = 0;                               // held-out points over every fold
+  std::vector<std::size_t> fold_points_;                 // held-out points of each fold
   std::vector<std::size_t> segments_;                    // held-out runs, per fold and series
   Base base0_;                                           // the declared model
   mutable std::atomic<std::size_t> simulations_{0};      // case simulations run (every thread)

@@ -111,6 +111,17 @@ double longest_span(const Evidence& ev) {
   return span;
 }
 
+std::vector<std::vector<double>> mass_restarts(const Candidate& c, std::size_t k) {
+  std::vector<std::vector<double>> out;
+  if (c.start.size() < k + 2) return out;
+  for (auto [j, factor] : {std::pair{k + 1, 4.0}, {k + 1, 0.25}, {k, 4.0}, {k, 0.25}}) {
+    std::vector<double> s = c.start;
+    s[j] = std::clamp(s[j] * factor, c.lo[j], c.hi[j]);
+    if (s[j] != c.start[j]) out.push_back(std::move(s));
+  }
+  return out;
+}
+
 std::vector<double> screen_taus(const Evidence& ev) {
   std::vector<double> out;
   const double dt = sampling_interval(ev), span = longest_span(ev);
@@ -143,32 +154,127 @@ std::map<std::string, double> start_temperatures(const Evidence& ev, int node) {
   return out;
 }
 
-std::optional<double> start_in(const Candidate& c, const lang::NetworkSpec& spec, int fallback) {
-  if (auto it = c.start_T.find(spec.settings.name); it != c.start_T.end()) return it->second;
-  return spec.nodes.at(static_cast<std::size_t>(fallback)).T0;
+std::optional<double> steady_start(const lang::NetworkSpec& spec, int node,
+                                   const std::map<int, double>& known) {
+  const auto start_of = [&](int i) {
+    if (auto it = known.find(i); it != known.end()) return it->second;
+    const lang::NodeSpec& n = spec.nodes.at(static_cast<std::size_t>(i));
+    if (n.boundary) return n.T.at(0.0);
+    return n.T0 ? *n.T0 : spec.default_initial();
+  };
+  double g_sum = 0.0, flow = 0.0;
+  for (const auto& e : spec.elements) {
+    const auto nodes = e.nodes();
+    if (std::find(nodes.begin(), nodes.end(), node) == nodes.end() || !e.schema) continue;
+    if (e.schema->kind == "heater" && nodes.size() == 1 && e.has("P")) {
+      flow += e.values.at("P").at(0.0);
+      continue;
+    }
+    if (!e.schema->conductance || nodes.size() != 2 || e.composite() != lang::Composite::none)
+      continue;
+    bool constant = true;
+    for (const auto& [k, v] : e.values)
+      constant = constant && v.is_constant();
+    if (!constant) continue;
+    const double G = e.schema->conductance(e.key_values());
+    if (!(std::isfinite(G) && G > 0.0)) continue;
+    const int other = nodes[0] == node ? nodes[1] : nodes[0];
+    g_sum += G;
+    flow += G * start_of(other);
+  }
+  if (!(g_sum > 0.0)) return std::nullopt;
+  const double T = flow / g_sum;
+  return std::isfinite(T) && T > 0.0 ? std::optional<double>(T) : std::nullopt;
+}
+
+Candidate with_start_share(const Candidate& c) {
+  Candidate out = c;
+  out.names.emplace_back(kStartShare);
+  out.start.push_back(0.0);
+  out.lo.push_back(0.0);
+  out.hi.push_back(1.0);
+  return out;
+}
+
+std::optional<double> start_share(const Candidate& c, const std::vector<double>& p) {
+  for (std::size_t j = 0; j < c.names.size() && j < p.size(); ++j)
+    if (c.names[j] == kStartShare) return std::clamp(p[j], 0.0, 1.0);
+  return std::nullopt;
+}
+
+std::vector<std::vector<double>> start_restarts(const Candidate& c) {
+  for (std::size_t j = 0; j < c.names.size() && j < c.start.size(); ++j)
+    if (c.names[j] == kStartShare) {
+      std::vector<double> s = c.start;
+      s[j] = s[j] < 0.5 ? 1.0 : 0.0;
+      return {s};
+    }
+  return {};
+}
+
+void place_start(const Candidate& c, const std::vector<double>& p, lang::NetworkSpec& spec,
+                 int mass, int anchor) {
+  std::map<int, double> known;
+  if (auto it = c.start_T.find(spec.settings.name); it != c.start_T.end())
+    known[anchor] = it->second;
+  const std::optional<double> own = known.count(anchor)
+                                        ? std::optional<double>(known[anchor])
+                                        : spec.nodes.at(static_cast<std::size_t>(anchor)).T0;
+  std::optional<double> T0 = steady_start(spec, mass, known);
+  if (!T0) T0 = own;
+  if (const auto share = start_share(c, p); share && T0 && own)
+    *T0 = (1.0 - *share) * *T0 + *share * *own;
+  spec.nodes.at(static_cast<std::size_t>(mass)).T0 = T0;
+}
+
+std::map<std::string, double> added_starts(const Hypothesis& h, const Candidate& c,
+                                           const std::vector<double>& p, const Evidence& ev) {
+  std::map<std::string, double> out;
+  for (const auto& ce : ev.cases) {
+    try {
+      lang::NetworkSpec spec = ce.spec;
+      const std::size_t before = spec.nodes.size();
+      h.extend(c, p, spec);
+      if (spec.nodes.size() > before && spec.nodes.back().T0) out[ce.name] = *spec.nodes.back().T0;
+    } catch (const std::exception&) {
+      return {};
+    }
+  }
+  return out;
+}
+
+std::string start_words(const Candidate& c, const std::vector<double>& p) {
+  const auto share = start_share(c, p);
+  if (!share || *share < 0.005) return "starts at the steady state around it at the first sample";
+  if (*share > 0.995)
+    return "starts at the temperature of the node it hangs off at the first sample";
+  return fmt::format("starts {:.0f} % of the way from the steady state around it to the "
+                     "temperature of the node it hangs off at the first sample",
+                     100.0 * *share);
 }
 
 namespace {
-/// The start written at the node's declaration: that of the first case (by name) in start_T, K.
-std::optional<double> first_start(const Candidate& c) {
-  if (c.start_T.empty()) return std::nullopt;
-  return c.start_T.begin()->second;
+/// The start written at the node's declaration: that of the first case (by name), K.
+std::optional<double> first_start(const std::map<std::string, double>& starts) {
+  if (starts.empty()) return std::nullopt;
+  return starts.begin()->second;
 }
 } // namespace
 
-std::string start_text(const Candidate& c) {
-  const auto t = first_start(c);
+std::string start_text(const std::map<std::string, double>& starts) {
+  const auto t = first_start(starts);
   return t ? " T0 = " + netlist_number(*t - lang::kZeroCelsius) : "";
 }
 
-CaseLines start_case_lines(const Candidate& c, const std::string& node, const Evidence& ev) {
+CaseLines start_case_lines(const std::map<std::string, double>& starts, const std::string& node,
+                           const Evidence& ev) {
   CaseLines out;
-  const auto first = first_start(c);
+  const auto first = first_start(starts);
   if (!first) return out;
   const std::string declared = netlist_number(*first - lang::kZeroCelsius);
   for (const auto& d : ev.declared_cases) {
-    auto it = c.start_T.find(d.case_name);
-    if (it == c.start_T.end()) continue;
+    auto it = starts.find(d.case_name);
+    if (it == starts.end()) continue;
     const std::string t0 = netlist_number(it->second - lang::kZeroCelsius);
     if (t0 != declared) out[d.case_name] = fmt::format("{}.T0 = {}", node, t0);
   }
@@ -204,14 +310,15 @@ int add_tied_mass(lang::NetworkSpec& spec, const std::string& base, double C,
 
 std::string tied_mass_statements(const Evidence& ev, const Candidate& c, std::size_t k,
                                  const std::vector<double>& p, const std::string& base,
-                                 const std::string& node, const std::string& doc) {
+                                 const std::string& node, const std::string& doc,
+                                 const std::string& start) {
   const std::string m = unique_model_name(ev, base);
   const std::string pc = unique_model_name(ev, m + "_C"), pg = unique_model_name(ev, m + "_G");
   return fmt::format("{}\n{}\nnode {} C = {}{} \"{}\"\nconductance {} {} {} G = {}",
                      param_statement(pc, p[k], c.lo[k], c.hi[k], "J/K", "capacity of the mass"),
                      param_statement(pg, p[k] / p[k + 1], c.lo[k] / c.hi[k + 1],
                                      c.hi[k] / c.lo[k + 1], "W/K", "its conductance to " + node),
-                     m, pc, start_text(c), doc, unique_model_name(ev, m + "_g"), m, node, pg);
+                     m, pc, start, doc, unique_model_name(ev, m + "_g"), m, node, pg);
 }
 
 bool sensed(const Evidence& ev, int node) {

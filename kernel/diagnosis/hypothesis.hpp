@@ -129,6 +129,10 @@ public:
   /// mass, a link split around one): once such a finding is applied, no other one of this sort
   /// names the same element (default: false).
   virtual bool reroutes() const { return false; }
+  /// Other starting points of a candidate's parameters, tried beside c.start where its fit has
+  /// local minima (a mass's time constant and place: a refit from one start can stay where it
+  /// began); each as long as c.start (default: none).
+  virtual std::vector<std::vector<double>> restarts(const Candidate&) const { return {}; }
   /// Param overrides for Model::instantiate at parameters p (default: none).
   virtual lang::ParamValues overrides(const Candidate&, const std::vector<double>&) const {
     return {};
@@ -210,6 +214,10 @@ double sampling_interval(const Evidence& ev);
 /// The longest time span of a case, s.
 double longest_span(const Evidence& ev);
 
+/// Restarts of a mass's (C, tau) parameters k and k + 1 (restarts()): tau four times longer and
+/// shorter, and C four times larger and smaller, each within the candidate's box.
+std::vector<std::vector<double>> mass_restarts(const Candidate& c, std::size_t k);
+
 /// The time constants a hidden mass's screen tries: from three sampling intervals to half the
 /// longest case, a factor of two apart.
 std::vector<double> screen_taus(const Evidence& ev);
@@ -219,23 +227,59 @@ std::vector<double> screen_taus(const Evidence& ev);
 std::vector<double> lowpass(const std::vector<double>& times, const std::vector<double>& u,
                             double tau, double y0);
 
-/// Where a node a finding adds next to `node` starts in each case (case name -> K): the
-/// temperature of `node` at the first sample as the data say (the smoothed measurement; the
-/// simulated start where it is not measured). A test rarely starts in a steady state: the mass
-/// shares the history of the node it is in contact with, which the local steady state against a
-/// boundary ignores.
+/// The temperature of `node` at the first sample of each case as the data say (case name -> K):
+/// the smoothed measurement, the simulated start where it is not measured.
 std::map<std::string, double> start_temperatures(const Evidence& ev, int node);
 
-/// The start of a node a finding adds in the case of `spec` (start_T, else the T0 of `fallback`,
-/// a spec node), K; nullopt where neither is known (the case's initial applies).
-std::optional<double> start_in(const Candidate& c, const lang::NetworkSpec& spec, int fallback);
+/// The steady state at t = 0 of spec node `node` with its neighbours at their starts: the sum
+/// over its linear links of constant conductance of G times the other end's start, plus the power
+/// of its heaters at t = 0, over the sum of the G's, K (nullopt without such a link). A neighbour
+/// starts at `known` where it names it (spec index -> K), else at its T0, a boundary at its
+/// temperature at t = 0, else at the case's initial.
+std::optional<double> steady_start(const lang::NetworkSpec& spec, int node,
+                                   const std::map<int, double>& known);
+
+/// The name of the parameter that places an added node's start between the steady state around
+/// it (0) and the temperature of the node it hangs off at the first sample (1).
+inline constexpr const char* kStartShare = "start_share";
+
+/// The candidate with a free start for the node it adds: the parameter kStartShare appended,
+/// within [0, 1], from 0 (the steady state). One share for every case: a start fitted per case
+/// would be fitted on a left-out case's own data when cases are held out in turn.
+Candidate with_start_share(const Candidate& c);
+
+/// The share of a fit p where the candidate carries one (with_start_share); nullopt otherwise.
+std::optional<double> start_share(const Candidate& c, const std::vector<double>& p);
+
+/// The restart at the other end of the start share (the node's own temperature), or nothing.
+std::vector<std::vector<double>> start_restarts(const Candidate& c);
+
+/// Sets where node `mass`, which a candidate's extension has just added to `spec` with its links
+/// and heaters, starts in the spec's case: at the steady state around it at t = 0 (steady_start,
+/// with `anchor` at the data's start of the case from start_T), moved by the candidate's fitted
+/// start share towards the anchor's start. A test rarely starts in a steady state: the local
+/// steady state puts a wall between a warm room and the cold outdoors where the two ends hold it,
+/// a wall that shared the room's heated history starts nearer the room; the share lets the data
+/// say which.
+void place_start(const Candidate& c, const std::vector<double>& p, lang::NetworkSpec& spec,
+                 int mass, int anchor);
+
+/// Where the node that `h` adds last starts in each case of the evidence at p (case name -> K):
+/// h.extend on each case's network. Empty where the extension cannot be made on them.
+std::map<std::string, double> added_starts(const Hypothesis& h, const Candidate& c,
+                                           const std::vector<double>& p, const Evidence& ev);
 
 /// ` T0 = X` (degC) for the declaration of a node a finding adds: its start in the first case
-/// (by name) of start_T; empty when unknown.
-std::string start_text(const Candidate& c);
+/// (by name) of `starts`; empty when unknown.
+std::string start_text(const std::map<std::string, double>& starts);
 
 /// `NODE.T0 = X` for every declared case block with data whose start differs from start_text's.
-CaseLines start_case_lines(const Candidate& c, const std::string& node, const Evidence& ev);
+CaseLines start_case_lines(const std::map<std::string, double>& starts, const std::string& node,
+                           const Evidence& ev);
+
+/// How the node a finding adds starts at the fit p, in words (the steady state around it, the
+/// temperature of its node, or the fitted share between the two).
+std::string start_words(const Candidate& c, const std::vector<double>& p);
 
 /// True when parameter j of a candidate's fit p ended on its lower (or upper) bound: within 1e-3
 /// of its box (of the logarithm's for a positive range), where a least-squares fit pressed
@@ -254,11 +298,12 @@ int add_tied_mass(lang::NetworkSpec& spec, const std::string& base, double C,
 
 /// The statements declaring a mass a finding adds, tied to `node`: ranged params MASS_C and
 /// MASS_G (their ranges from the candidate's box for C and tau = C / G, its parameters k and
-/// k + 1, p their values), the node MASS (its start_text, `doc`) and the conductance MASS_g. MASS
-/// is `base` or a free variant of it in the model.
+/// k + 1, p their values), the node MASS (`start`: its start_text, `doc`) and the conductance
+/// MASS_g. MASS is `base` or a free variant of it in the model.
 std::string tied_mass_statements(const Evidence& ev, const Candidate& c, std::size_t k,
                                  const std::vector<double>& p, const std::string& base,
-                                 const std::string& node, const std::string& doc);
+                                 const std::string& node, const std::string& doc,
+                                 const std::string& start);
 
 /// Why the screen has no unexplained heat flow for a node of a candidate, in words: it is not
 /// measured, or its sensor was found faulty by an applied finding (screened with its simulated

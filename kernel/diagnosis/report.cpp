@@ -67,6 +67,7 @@ nlohmann::json finding_json(const Finding& f) {
   for (std::size_t k = 0; k < f.std_errors.size() && k < f.candidate.names.size(); ++k)
     if (std::isfinite(f.std_errors[k])) se[f.candidate.names[k]] = f.std_errors[k];
   x["std_errors"] = se;
+  if (!f.start.empty()) x["start"] = f.start;
   x["statement"] = f.statement;
   if (!f.retired.empty()) x["retired"] = f.retired;
   x["case_statements"] = f.case_statements;
@@ -81,6 +82,7 @@ nlohmann::json finding_json(const Finding& f) {
   x["validation_r2_after"] = f.validation_r2_after;
   x["delta_bic"] = f.delta_bic;
   x["holdout_z"] = f.holdout_z;
+  if (std::isfinite(f.block_gain)) x["block_gain"] = f.block_gain;
   if (std::isfinite(f.window_gain)) x["window_gain"] = f.window_gain;
   if (f.given > 0) x["given"] = f.given;
   if (!f.rivals.empty()) {
@@ -176,6 +178,7 @@ nlohmann::json diagnosis_json(const DiagnosisReport& r) {
     if (!f.candidate.mechanism.empty()) x["mechanism"] = f.candidate.mechanism;
     if (std::isfinite(f.window_gain)) x["window_gain"] = f.window_gain;
     if (f.given > 0) x["given"] = f.given;
+    if (f.fit_failed) x["fit_failed"] = true;
     j["rejected"].push_back(std::move(x));
   }
   j["validation"] = {{"method", r.validation}, {"folds", r.folds}};
@@ -328,6 +331,7 @@ std::string diagnosis_text(const DiagnosisReport& r) {
             fmt::join(r.candidate.nodes, ", "), r.rmse_after, r.validation_rmse_after, r.z);
       s += fmt::format("     to separate them: {}\n", f.separate_by);
     }
+    if (!f.start.empty()) s += fmt::format("     start: {}\n", f.start);
     s += "     extension:\n";
     if (!f.retired.empty())
       s += fmt::format("       (replacing {}: --write comments out its declaration)\n",
@@ -337,6 +341,16 @@ std::string diagnosis_text(const DiagnosisReport& r) {
       s += fmt::format("       in case {}:\n", name) + indent_lines(lines, "         ");
   }
   if (r.structural.remains) s += structural_text(r);
+  std::vector<std::string> failed;
+  for (const auto& f : r.rejected)
+    if (f.fit_failed)
+      failed.push_back(fmt::format("{}{} [{}]", f.candidate.kind,
+                                   f.candidate.element.empty() ? "" : " " + f.candidate.element,
+                                   fmt::join(f.candidate.nodes, ", ")));
+  if (!failed.empty())
+    s += fmt::format("\nRefits that failed (no step from any of their starts lowered the error; "
+                     "not a measure of their gain): {}\n",
+                     fmt::join(failed, "; "));
   if (!r.alternatives.empty()) {
     s += "\nAlso significant alone, explained by the findings above:\n";
     for (const auto& f : r.alternatives)

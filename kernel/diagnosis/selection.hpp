@@ -53,10 +53,21 @@ std::vector<std::size_t> beside_gaining(const std::vector<Entry>& entries,
 void note_mechanism(Finding& keep, const Finding& drop, const FitComparison& cmp,
                     const std::vector<std::string>& mechanisms);
 
+/// The held-out RMS error a candidate must cut in every validation block (each fold's held-out
+/// data), as a fraction, for its gain to count as confirmed whatever the residuals' correlation.
+constexpr double kConfirmingBlockGain = 0.3;
+
+/// Validation blocks a confirmation needs at least (with fewer, the z test alone decides).
+constexpr std::size_t kConfirmingBlocks = 3;
+
 /// A candidate's test against one reference fit: the held-out gain's z and the largest local gain.
 struct Comparison {
   double z = 0.0;    ///< held-out gain over its spread (holdout_gain_z)
   double gain = 0.0; ///< largest gain over a window (largest_window_gain), K
+  /// The smallest drop of the held-out RMS error over the validation blocks (worst_block_gain)
+  double block_gain = 0.0;
+  /// Every block (at least kConfirmingBlocks) gains kConfirmingBlockGain or more
+  bool confirmed = false;
 };
 
 /// The screen's candidates: model-side ones by falling screen score, and the others (always

@@ -266,6 +266,7 @@ std::vector<Entry> Selection::propose(const Evidence& ev) const {
       if (std::any_of(c.nodes.begin(), c.nodes.end(),
                       [&](const std::string& n) { return declared.node_index(n) < 0; }))
         continue;
+      if (!c.start_T.empty()) c = with_start_share(c);
       Entry e;
       e.h = e.own_h = hyps_[i].get();
       e.own = c;

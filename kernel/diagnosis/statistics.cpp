@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace thermnet {
 
@@ -166,6 +167,28 @@ double largest_window_gain(const std::vector<std::vector<double>>& reference,
     }
   }
   return best;
+}
+
+double worst_block_gain(const std::vector<double>& reference, const std::vector<double>& candidate,
+                        const std::vector<std::size_t>& blocks) {
+  std::size_t total = 0;
+  for (std::size_t n : blocks)
+    total += n;
+  if (blocks.empty() || total != reference.size() || total != candidate.size())
+    return -std::numeric_limits<double>::infinity();
+  double worst = std::numeric_limits<double>::infinity();
+  std::size_t at = 0;
+  for (std::size_t n : blocks) {
+    double ref = 0.0, cand = 0.0;
+    for (std::size_t k = at; k < at + n; ++k) {
+      ref += reference[k] * reference[k];
+      cand += candidate[k] * candidate[k];
+    }
+    at += n;
+    if (n == 0) continue;
+    worst = std::min(worst, ref > 0.0 ? 1.0 - std::sqrt(cand / ref) : -1.0);
+  }
+  return std::isfinite(worst) ? worst : -std::numeric_limits<double>::infinity();
 }
 
 } // namespace thermnet

@@ -101,14 +101,23 @@ public:
     return out;
   }
 
+  std::vector<std::vector<double>> restarts(const Candidate& c) const override {
+    auto out = start_restarts(c);
+    for (auto& s : mass_restarts(c, 0))
+      out.push_back(std::move(s));
+    return out;
+  }
+
   // The heater moves onto a new node of capacity C, linked to its node by G; the new node starts
-  // where its node starts as the data say (start_temperatures).
+  // at the steady state around it, its node's start as the data say plus the heater's power at
+  // t = 0 over G (place_start).
   void extend(const Candidate& c, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override {
     const int node = c.index[1];
-    const int mass = add_tied_mass(spec, mass_name(c), p[0], start_in(c, spec, node),
+    const int mass = add_tied_mass(spec, mass_name(c), p[0], std::nullopt,
                                    "the heater's own mass (thermnet diagnose)", node, p[0] / p[1]);
     spec.elements.at(static_cast<std::size_t>(c.index[0])).set_nodes(std::array{mass});
+    place_start(c, p, spec, mass, node);
   }
 
   // A new node and its conductance; the heater's power is rerouted by two heaters (its power into
@@ -119,23 +128,24 @@ public:
     const auto& spec = ev.declared.spec;
     const auto& node = spec.nodes.at(static_cast<std::size_t>(spec.node_index(c.nodes[0])));
     const std::string m = name(ev, mass_name(c));
+    const auto starts = added_starts(*this, c, p, ev);
     return fmt::format("node {} C = {} [J/K]{}\n"
                        "conductance {} {} {} G = {} [W/K]\n"
                        "heater {} {} P = {}.P\n"
                        "heater {} {} P = -{}.P",
                        m, netlist_number(p[0]),
-                       c.start_T.empty() && node.T0
+                       starts.empty() && node.T0
                            ? " T0 = " + netlist_number(*node.T0 - lang::kZeroCelsius)
-                           : start_text(c),
+                           : start_text(starts),
                        name(ev, mass_name(c) + "_g"), m, c.nodes[0], netlist_number(p[0] / p[1]),
                        name(ev, mass_name(c) + "_in"), m, c.element,
                        name(ev, mass_name(c) + "_out"), c.nodes[0], c.element);
   }
 
   // The mass's start in every case block whose data start elsewhere; the power needs no line.
-  CaseLines case_statements(const Candidate& c, const std::vector<double>&,
+  CaseLines case_statements(const Candidate& c, const std::vector<double>& p,
                             const Evidence& ev) const override {
-    return start_case_lines(c, name(ev, mass_name(c)), ev);
+    return start_case_lines(added_starts(*this, c, p, ev), name(ev, mass_name(c)), ev);
   }
 
 private:

@@ -84,13 +84,21 @@ public:
     return on_bound(c, p, 1, true);
   }
 
-  // A new node of capacity C, tied to the node by G = C / tau, starting where the node starts as
-  // the data say.
+  std::vector<std::vector<double>> restarts(const Candidate& c) const override {
+    auto out = start_restarts(c);
+    for (auto& s : mass_restarts(c, 0))
+      out.push_back(std::move(s));
+    return out;
+  }
+
+  // A new node of capacity C, tied to the node by G = C / tau, starting at the steady state
+  // around it (where the node starts as the data say; place_start).
   void extend(const Candidate& c, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override {
     const int node = c.index[0];
-    add_tied_mass(spec, mass_name(c), p[0], start_in(c, spec, node),
-                  "a hidden mass (thermnet diagnose)", node, p[0] / p[1]);
+    const int mass = add_tied_mass(spec, mass_name(c), p[0], std::nullopt,
+                                   "a hidden mass (thermnet diagnose)", node, p[0] / p[1]);
+    place_start(c, p, spec, mass, node);
   }
 
   // Ranged params for its capacity and conductance, so the written model is calibrated like any
@@ -99,12 +107,13 @@ public:
                         const Evidence& ev) const override {
     return tied_mass_statements(ev, c, 0, p, mass_name(c), c.nodes[0],
                                 "a mass tied to " + c.nodes[0] +
-                                    " (thermnet diagnose: hidden_mass)");
+                                    " (thermnet diagnose: hidden_mass)",
+                                start_text(added_starts(*this, c, p, ev)));
   }
 
-  CaseLines case_statements(const Candidate& c, const std::vector<double>&,
+  CaseLines case_statements(const Candidate& c, const std::vector<double>& p,
                             const Evidence& ev) const override {
-    return start_case_lines(c, unique_model_name(ev, mass_name(c)), ev);
+    return start_case_lines(added_starts(*this, c, p, ev), unique_model_name(ev, mass_name(c)), ev);
   }
 
 private:

@@ -51,6 +51,14 @@ public:
     return into_mass(c) && on_bound(c, p, 0, true);
   }
 
+  std::vector<std::vector<double>> restarts(const Candidate& c) const override {
+    if (!into_mass(c)) return {};
+    auto out = start_restarts(c);
+    for (auto& s : mass_restarts(c, 1))
+      out.push_back(std::move(s));
+    return out;
+  }
+
   // The heater keeps (1 - share) of its power; the share heats the other node, or a new mass of
   // capacity C tied to the heater's node by G = C / tau (starting where that node starts).
   void extend(const Candidate& c, const std::vector<double>& p,
@@ -60,7 +68,7 @@ public:
     const int a = c.index[1];
     int to = 0;
     if (into_mass(c)) {
-      to = add_tied_mass(spec, mass_name(c), p[1], start_in(c, spec, a),
+      to = add_tied_mass(spec, mass_name(c), p[1], std::nullopt,
                          "a mass a share of a heater's power heats (thermnet diagnose)", a,
                          p[1] / p[2]);
     } else {
@@ -71,6 +79,7 @@ public:
         make_element("heater", unique_name(spec, heater_name(c) + "_in"), {to}, {});
     share.set("P", P.scaled(p[0]));
     spec.elements.push_back(std::move(share));
+    if (into_mass(c)) place_start(c, p, spec, to, a);
   }
 
   // The heater's declaration stays as written: the share is moved by two heaters (into the other
@@ -83,7 +92,8 @@ public:
     if (into_mass(c)) {
       s = tied_mass_statements(ev, c, 1, p, mass_name(c), c.nodes[0],
                                "a mass " + netlist_number(100.0 * p[0]) + " % of the power of " +
-                                   c.element + " heats (thermnet diagnose: input_split)") +
+                                   c.element + " heats (thermnet diagnose: input_split)",
+                               start_text(added_starts(*this, c, p, ev))) +
           "\n";
       target = unique_model_name(ev, mass_name(c));
     }
@@ -95,9 +105,10 @@ public:
   }
 
   // The mass's start in every case block whose data start elsewhere; the power needs no line.
-  CaseLines case_statements(const Candidate& c, const std::vector<double>&,
+  CaseLines case_statements(const Candidate& c, const std::vector<double>& p,
                             const Evidence& ev) const override {
-    return into_mass(c) ? start_case_lines(c, unique_model_name(ev, mass_name(c)), ev)
+    return into_mass(c) ? start_case_lines(added_starts(*this, c, p, ev),
+                                           unique_model_name(ev, mass_name(c)), ev)
                         : CaseLines{};
   }
 

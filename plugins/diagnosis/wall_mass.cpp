@@ -73,18 +73,42 @@ public:
     return on_bound(c, p, 1, false) || on_bound(c, p, 1, true);
   }
 
+  // The other places of the mass along the link (a fifth, half and four fifths of its resistance
+  // on the side of the first end), each with the start's time constant C f (1 - f) / G, and the
+  // start's place with a time constant four times longer and shorter.
+  std::vector<std::vector<double>> restarts(const Candidate& c) const override {
+    std::vector<std::vector<double>> out = start_restarts(c);
+    const double f0 = c.start[1], tau_G = c.start[0] * f0 * (1.0 - f0);
+    for (double f : {0.2, 0.5, 0.8})
+      if (std::abs(f - f0) > 0.1) {
+        std::vector<double> s = c.start;
+        s[0] = std::clamp(tau_G / (f * (1.0 - f)), c.lo[0], c.hi[0]);
+        s[1] = f;
+        out.push_back(std::move(s));
+      }
+    for (double factor : {4.0, 0.25}) {
+      std::vector<double> s = c.start;
+      s[0] = std::clamp(s[0] * factor, c.lo[0], c.hi[0]);
+      if (s[0] != c.start[0]) out.push_back(std::move(s));
+    }
+    return out;
+  }
+
   // The link becomes a-m of G / f (it keeps its name) and m-b of G / (1 - f), G its conductance
-  // in this case; the mass starts where its first end starts as the data say.
+  // in this case; the mass starts at the steady state between its ends, (1 - f) T_a + f T_b at
+  // the first sample (place_start).
   void extend(const Candidate& c, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override {
     auto& el = spec.elements.at(static_cast<std::size_t>(c.index[0]));
     const double G = link_conductance(el);
     const int a = c.index[1], b = c.index[2];
-    const int mass = add_node(spec, mass_name(c), p[0], start_in(c, spec, a),
+    const int mass = add_node(spec, mass_name(c), p[0], std::nullopt,
                               "a mass inside a link (thermnet diagnose)");
-    el = make_element("conductance", el.name, {a, mass}, {{"G", G / p[1]}});
-    spec.elements.push_back(make_element("conductance", unique_name(spec, el.name + "_out"),
+    auto& link = spec.elements.at(static_cast<std::size_t>(c.index[0]));
+    link = make_element("conductance", link.name, {a, mass}, {{"G", G / p[1]}});
+    spec.elements.push_back(make_element("conductance", unique_name(spec, link.name + "_out"),
                                          {mass, b}, {{"G", G / (1.0 - p[1])}}));
+    place_start(c, p, spec, mass, a);
   }
 
   // Ranged params for the capacity and the share; the link's declaration is retired and written
@@ -101,7 +125,7 @@ public:
         param_statement(pf, p[1], c.lo[1], c.hi[1], "",
                         "share of " + c.element + "'s resistance between " + c.nodes[0] +
                             " and the mass"),
-        m, pc, start_text(c), c.element);
+        m, pc, start_text(added_starts(*this, c, p, ev)), c.element);
     const std::string in = half(ev, c, c.element, c.nodes[0], m, pf, false);
     const std::string out =
         half(ev, c, unique_model_name(ev, c.element + "_out"), m, c.nodes[1], pf, true);
@@ -116,10 +140,10 @@ public:
     return head + in + "\n" + out;
   }
 
-  CaseLines case_statements(const Candidate& c, const std::vector<double>&,
+  CaseLines case_statements(const Candidate& c, const std::vector<double>& p,
                             const Evidence& ev) const override {
     if (!declaration(ev, c.element)) return {};
-    return start_case_lines(c, unique_model_name(ev, mass_name(c)), ev);
+    return start_case_lines(added_starts(*this, c, p, ev), unique_model_name(ev, mass_name(c)), ev);
   }
 
   std::vector<std::string> retires(const Candidate& c, const Evidence& ev) const override {
