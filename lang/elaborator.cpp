@@ -460,7 +460,10 @@ std::optional<double> Elaborator::to_place(const Quantity& q, const Place& p, Sp
                                   describe(*q.dim)));
     return std::nullopt;
   }
-  const double v = q.value + bare_temperature_offset(q, p.absolute_temperature);
+  // A temperature difference drops what degC/degF added (0.4 [degC] is 0.4 K).
+  const double v = p.key && p.key->temperature_difference
+                       ? q.value - q.zero
+                       : q.value + bare_temperature_offset(q, p.absolute_temperature);
   if (!check_range(v, p, at, mark)) return std::nullopt;
   return v;
 }
@@ -904,8 +907,33 @@ void Elaborator::elaborate_declarations(NetworkSpec& net, const ElaborationRecor
 void Elaborator::finish(NetworkSpec& net) {
   if (case_) apply_case(net);
   apply_key_settings(net);
+  drop_unresolved_lags(net);
   resolve_references(net);
   add_requirements(net);
+}
+
+// A lag far shorter than the run is invisible in every output, and the integrators cannot resolve
+// it (IDA's consistent start fails on the derivative of so stiff a state): it is taken as none,
+// with a warning, as the element itself would take it.
+void Elaborator::drop_unresolved_lags(NetworkSpec& net) {
+  for (ElementSpec& e : net.elements) {
+    if (!e.schema) continue;
+    for (const KeySchema& k : e.schema->keys) {
+      if (!k.lag) continue;
+      auto it = e.values.find(k.name);
+      if (it == e.values.end() || !it->second.is_constant()) continue;
+      const double lag = it->second.constant;
+      if (!unresolved_lag(lag, net.settings.duration)) continue;
+      const Span at{e.where.file, e.where.begin, e.where.begin};
+      const bool by_duration = std::isfinite(1.0 / lag) && net.settings.duration;
+      report(DiagnosticEngine::make(
+          DiagId::lag_unresolved, at, e.where, e.kind(), e.name, k.name, fmt::format("{:g}", lag),
+          by_duration ? fmt::format("shorter than 1e-7 of the {:g} s of case '{}'",
+                                    *net.settings.duration, net.settings.name)
+                      : std::string("too short for any run")));
+      it->second = Signal::of(0.0);
+    }
+  }
 }
 
 // Keys set from outside the model come last, over the model's and the case's values; the objects

@@ -193,6 +193,7 @@ private:
   std::optional<ElementSpec> elaborate_composite(const ElementDecl& d);
   void apply_param_overrides();
   void apply_key_settings(NetworkSpec& net);
+  void drop_unresolved_lags(NetworkSpec& net);
   void finish(NetworkSpec& net);
   void apply_case(NetworkSpec& net);
   void apply_case_items(NetworkSpec& net, const std::vector<ast::CaseItem>& items,

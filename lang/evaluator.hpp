@@ -16,6 +16,9 @@ namespace thermnet::lang {
 struct Quantity {
   double value = 0.0;           ///< SI value
   std::optional<Dimension> dim; ///< dimension, or none for a bare number
+  /// What lone degC/degF units added to the value (273.15 for `20 [degC]`, 0 for `30 [degC] - 20
+  /// [degC]`): value - zero is the value as a temperature difference.
+  double zero = 0.0;
 };
 
 /// What a quantity adds where an absolute temperature is expected: kZeroCelsius for a bare number

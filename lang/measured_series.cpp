@@ -40,6 +40,30 @@ void check_celsius_columns(const CsvTable& t) {
   }
 }
 
+std::vector<int> sensors_of_series(const NetworkSpec& spec, const std::string& target) {
+  const int node = spec.node_index(target);
+  std::vector<int> found;
+  for (std::size_t e = 0; e < spec.elements.size(); ++e) {
+    const auto& el = spec.elements[e];
+    if (!el.schema || !el.schema->observes) continue;
+    if (el.name == target) return {static_cast<int>(e)};
+    if (node >= 0 && el.nodes().size() == 1 && el.nodes()[0] == node)
+      found.push_back(static_cast<int>(e));
+  }
+  return found;
+}
+
+std::string several_sensors_message(const NetworkSpec& spec, const std::string& node,
+                                    const std::vector<int>& sensors) {
+  std::string names;
+  for (int e : sensors)
+    names += fmt::format("{}'{}'", names.empty() ? "" : ", ",
+                         spec.elements[static_cast<std::size_t>(e)].name);
+  return fmt::format("node '{}' is read by the sensors {}: name the sensor the series is compared "
+                     "with (data \"FILE\" {{ SENSOR = COLUMN }})",
+                     node, names);
+}
+
 std::vector<double> case_times(const CsvTable& t, const CaseSettings& s) {
   std::vector<double> times = t.time();
   if (t.absolute_time)

@@ -29,6 +29,16 @@ std::vector<double> case_times(const CsvTable& t, const CaseSettings& s);
 std::vector<SeriesValues> measured_series(const CsvTable& t, const CaseSettings& s,
                                           const std::function<bool(const std::string&)>& known);
 
+/// The sensors (indices in spec.elements) a series of `target` may be compared with: the sensor
+/// so named, else every sensor that reads node `target` alone. One: the series is that sensor's
+/// reading; several: the series must name the sensor (an error); none: the node itself.
+std::vector<int> sensors_of_series(const NetworkSpec& spec, const std::string& target);
+
+/// Why a series of node `node` read by several `sensors` (sensors_of_series()) cannot be compared:
+/// their names, and how to name the one it comes from.
+std::string several_sensors_message(const NetworkSpec& spec, const std::string& node,
+                                    const std::vector<int>& sensors);
+
 /// Checks a table whose every column after the time holds temperatures in degC (the data of
 /// `thermnet estimate` and `invert`): numbers or missing cells only, none below absolute zero;
 /// throws CsvError at the first bad cell's row and column.
