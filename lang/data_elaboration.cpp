@@ -186,6 +186,11 @@ bool Elaborator::column_map(NetworkSpec& net, const ast::CaseData& data) {
       total += w;
     }
     if (d.columns.empty()) continue; // every column refused (reported above): no series
+    // Normalised by the largest weight first: the sum of weights near 1e308 would overflow.
+    const double largest = *std::max_element(d.weights.begin(), d.weights.end());
+    total = 0.0;
+    for (double& w : d.weights)
+      total += w /= largest;
     for (double& w : d.weights)
       w /= total;
     d.scale = s.data_scale;

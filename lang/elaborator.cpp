@@ -1000,7 +1000,7 @@ void Elaborator::apply_case(NetworkSpec& net) {
   case_loops_cut_ = false;
   failed_case_loops_.clear();
   apply_case_items(net, case_->stmt->items, nullptr, seen);
-  if (!seen.count("duration"))
+  if (!seen.count("duration") && !case_->stmt->unparsed_duration) // (else its syntax error)
     report(DiagnosticEngine::make(DiagId::missing_duration,
                                   Span{case_->file, s.where.begin, s.where.begin}, case_->name_span,
                                   s.name));

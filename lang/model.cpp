@@ -214,8 +214,16 @@ void Model::lint(DiagnosticEngine& diags) const {
 
 bool Model::reads_case_data() const {
   for (const auto& f : files_)
-    for (const auto& s : f->signals)
-      if (const auto* t = std::get_if<ast::TableSignal>(&s); t && t->case_data) return true;
+    for (const auto& s : f->signals) {
+      const auto* t = std::get_if<ast::TableSignal>(&s);
+      if (!t) continue;
+      if (t->case_data) return true;
+      // A table of absolute times is placed on the case's clock (its data file's first row).
+      CsvLayout layout;
+      if (t->options.time && t->options.time->unit &&
+          !parse_time_format(t->options.time->unit->text, layout) && layout.absolute())
+        return true;
+    }
   return false;
 }
 

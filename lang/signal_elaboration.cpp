@@ -479,7 +479,11 @@ std::optional<Elaborator::TableValues> Elaborator::table_values(const ast::Table
   Span file_mark = span_of(f, ts.case_data ? static_cast<const ast::Tagged&>(ts) : ts.file);
   double epoch = 0.0;
   if (ts.case_data) {
-    if (ts.options.time || ts.options.separator || !ts.options.misplaced.empty()) {
+    if (!ts.options.time && !ts.options.separator && !ts.options.misplaced.empty()) {
+      layout_of(ts.options, f, at, true); // `hold` or `before` twice: "'hold' is given twice"
+      return std::nullopt;
+    }
+    if (ts.options.time || ts.options.separator) {
       report(DiagnosticEngine::make(
           DiagId::bad_signal, at, file_mark,
           "table(data, ...) reads the case's data file in the layout its data statement gives; "
@@ -489,7 +493,8 @@ std::optional<Elaborator::TableValues> Elaborator::table_values(const ast::Table
     const CaseDataFile* d = case_data_file();
     if (!d) {
       if (!case_ && !m_.cases().empty()) return TableValues{Signal::of(0.0), dim};
-      if (first_data_statement()) return std::nullopt; // its problem is reported there
+      if (first_data_statement()) return std::nullopt;              // its problem is reported there
+      if (case_ && case_->stmt->unparsed_data) return std::nullopt; // its syntax error is
       report(DiagnosticEngine::make(
           DiagId::bad_signal, at, file_mark,
           case_ ? fmt::format("table(data, ...) reads the case's data file, but case '{}' has no "
@@ -524,7 +529,12 @@ std::optional<Elaborator::TableValues> Elaborator::table_values(const ast::Table
       report(std::move(d));
       return std::nullopt;
     }
-    table->check_column(static_cast<std::size_t>(col));
+    try {
+      table->check_column(static_cast<std::size_t>(col));
+    } catch (const CsvError& e) { // a cell of this column: the data statement may not read it
+      report(DiagnosticEngine::make(DiagId::data_format, at, file_mark, e.what()));
+      return std::nullopt;
+    }
     if (layout.absolute() && !(ts.case_data)) {
       const CaseDataFile* d = case_data_file();
       epoch = d && d->layout.absolute() ? d->epoch : (table->rows() ? table->time().front() : 0.0);
