@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <unordered_set>
 #include <utility>
 
 namespace thermnet::lang {
@@ -203,6 +204,10 @@ Quantity Elaborator::value_of(std::string_view name, Span use) {
       throw EvalError(
           DiagnosticEngine::make(DiagId::cycle, at, decl.name_span, decl.name, path + decl.name));
     }
+  evaluate_reads_first(decl);
+  if (auto it = values_.find(decl.name); it != values_.end()) { // a cycle through it, reported
+    if (std::isnan(it->second.value)) throw EvalError(Diagnostic{});
+  }
   evaluating_.push_back(decl.name);
   ParamReads reads; // a param reads itself, and what its expression and range read
   if (decl.is_param) reads.push_back(&decl);
@@ -270,6 +275,134 @@ Quantity Elaborator::value_of(std::string_view name, Span use) {
     value_reads_[&decl] = std::move(reads);
   }
   return q;
+}
+
+namespace {
+
+/// The names an expression reads (consts, params and builtins alike), in the order written.
+void names_read(const ast::File& file, const ast::Expr& e, std::vector<std::string_view>& out) {
+  if (!e.valid()) return;
+  std::vector<ast::Index> stack{e.root};
+  while (!stack.empty()) {
+    const ast::ExprNode& n = file.node(stack.back());
+    stack.pop_back();
+    switch (n.op) {
+    case ast::ExprNode::Op::name:
+      out.push_back(file.names[n.a].name);
+      break;
+    case ast::ExprNode::Op::negate:
+    case ast::ExprNode::Op::group:
+      stack.push_back(n.a);
+      break;
+    case ast::ExprNode::Op::add:
+    case ast::ExprNode::Op::subtract:
+    case ast::ExprNode::Op::multiply:
+    case ast::ExprNode::Op::divide:
+    case ast::ExprNode::Op::power:
+      stack.push_back(n.b); // (popped after a: left to right)
+      stack.push_back(n.a);
+      break;
+    case ast::ExprNode::Op::call: {
+      const auto args = file.call_args(n);
+      for (auto it = args.rbegin(); it != args.rend(); ++it)
+        stack.push_back(*it);
+      break;
+    }
+    default:
+      break;
+    }
+  }
+}
+
+} // namespace
+
+// A value's expression is evaluated by recursion into the values it reads: a chain of 100,000
+// consts (c1 = c0 + 1, c2 = c1 + 1, ...) would recurse 100,000 deep and overflow the stack. The
+// values `decl` reads, and theirs, are therefore found first (depth-first, with a stack of its
+// own) and evaluated deepest first, each then finding what it reads already evaluated. A cycle
+// among them is reported here, as value_of() would report it, and its members fail.
+void Elaborator::evaluate_reads_first(const ValueDecl& decl) {
+  if (reads_first_) return;
+  Restore<bool> busy(reads_first_, true);
+  const auto pending = [&](std::string_view name) -> const ValueDecl* {
+    if (name == "time" || values_.count(name)) return nullptr;
+    auto it = value_decls_.find(name);
+    if (it == value_decls_.end()) return nullptr;
+    if (structural_ && it->second->is_param) return nullptr; // reported at its use
+    if (std::find(evaluating_.begin(), evaluating_.end(), name) != evaluating_.end())
+      return nullptr; // a cycle through a value under way: value_of() reports it
+    return it->second;
+  };
+  struct Frame {
+    const ValueDecl* decl;
+    std::vector<std::string_view> reads; // its expression's, then its range's
+    std::size_t in_expression = 0;       // how many of them its expression reads
+    std::size_t next = 0;
+  };
+  const auto frame_of = [&](const ValueDecl& d) {
+    Frame f{&d, {}};
+    const ast::File& file = m_.file(d.file);
+    if (d.expr) names_read(file, *d.expr, f.reads);
+    f.in_expression = f.reads.size();
+    if (d.is_param && d.range) {
+      names_read(file, d.range->lo, f.reads);
+      names_read(file, d.range->hi, f.reads);
+    }
+    return f;
+  };
+  std::vector<Frame> stack;
+  std::unordered_map<const ValueDecl*, bool> seen; // true while on the stack
+  std::vector<const ValueDecl*> order;             // deepest first
+  std::unordered_set<const ValueDecl*> in_range_cycle;
+  stack.push_back(frame_of(decl));
+  seen[&decl] = true;
+  while (!stack.empty()) {
+    Frame& top = stack.back();
+    if (top.next == top.reads.size()) {
+      seen[top.decl] = false;
+      if (top.decl != &decl) order.push_back(top.decl);
+      stack.pop_back();
+      continue;
+    }
+    const bool in_range = top.next >= top.in_expression;
+    const ValueDecl* d = pending(top.reads[top.next++]);
+    if (!d) continue;
+    if (auto it = seen.find(d); it != seen.end()) {
+      if (!it->second) continue; // found before
+      const auto from =
+          std::find_if(stack.begin(), stack.end(), [&](const Frame& f) { return f.decl == d; });
+      // A cycle through a param's range (`param p = 1 range 0 .. p`) keeps the param's value:
+      // value_of() reports it, as it evaluates the range after the value.
+      const bool through_range = in_range || std::any_of(from, stack.end() - 1, [](const Frame& f) {
+                                   return f.next - 1 >= f.in_expression;
+                                 });
+      if (through_range) { // and its values are left to be evaluated in the order written
+        for (auto f = from; f != stack.end(); ++f)
+          in_range_cycle.insert(f->decl);
+        continue;
+      }
+      // A cycle of values: d is on the stack. It is reported at d, as evaluating d reports it,
+      // and every value on it fails (each is read by the one before: none is unused).
+      std::string path;
+      for (auto f = from; f != stack.end(); ++f) {
+        path += f->decl->name + " -> ";
+        values_[f->decl->name] = Quantity{std::nan(""), std::nullopt};
+        used_.emplace(f->decl->name);
+      }
+      report(DiagnosticEngine::make(DiagId::cycle, Span{d->file, d->where.begin, d->where.begin},
+                                    d->name_span, d->name, path + d->name));
+      continue;
+    }
+    seen[d] = true;
+    stack.push_back(frame_of(*d));
+  }
+  for (const ValueDecl* d : order) {
+    if (values_.count(d->name) || in_range_cycle.count(d)) continue;
+    try {
+      value_of(d->name, d->name_span);
+    } catch (const EvalError&) { // reported (or to be reported where it is used)
+    }
+  }
 }
 
 // An instance's param is the value its statement gives (evaluated where the statement stands),
