@@ -126,6 +126,28 @@ private:
 
 namespace {
 
+/// Numbers for a message that compares them (a value and its range's bounds): {:g} each, unless
+/// that makes two different ones look equal (1.0000001 outside 0 .. 1 is not "1"); then all with
+/// the digits that read back exactly. `unit` follows each (" degC", or empty).
+std::vector<std::string> compared_numbers(std::initializer_list<double> values,
+                                          std::string_view unit = {}) {
+  std::vector<std::string> out;
+  for (double v : values)
+    out.push_back(fmt::format("{:g}", v));
+  bool alike = false;
+  for (std::size_t i = 0; i < out.size(); ++i)
+    for (std::size_t j = i + 1; j < out.size(); ++j)
+      alike = alike || (out[i] == out[j] && values.begin()[i] != values.begin()[j]);
+  if (alike) {
+    out.clear();
+    for (double v : values)
+      out.push_back(fmt::format("{}", v));
+  }
+  for (std::string& x : out)
+    x += unit;
+  return out;
+}
+
 /// Adds to `into` the params of `reads` it does not hold yet.
 void add_reads(ParamReads& into, const ParamReads& reads) {
   for (const ValueDecl* d : reads)
@@ -245,15 +267,14 @@ Quantity Elaborator::value_of(std::string_view name, Span use) {
       // A bare value takes the unit its range gives (temperatures excepted: bare ones are degC).
       if (const auto& b = lo.dim ? lo.dim : hi.dim; !q.dim && b && !(*b == dim::temperature))
         q.dim = b;
+      const auto shown = compared_numbers({q.value, lo.value, hi.value});
       if (!(lo.value < hi.value))
         report(DiagnosticEngine::make(DiagId::bad_range, at, span_of(decl.file, *decl.range),
-                                      decl.name, fmt::format("{:g}", lo.value),
-                                      fmt::format("{:g}", hi.value)));
+                                      decl.name, shown[1], shown[2]));
       else if (q.value < lo.value || q.value > hi.value)
         report(DiagnosticEngine::make(DiagId::param_outside_range, at,
-                                      span_of(decl.file, *decl.expr), decl.name,
-                                      fmt::format("{:g}", q.value), fmt::format("{:g}", lo.value),
-                                      fmt::format("{:g}", hi.value)));
+                                      span_of(decl.file, *decl.expr), decl.name, shown[0], shown[1],
+                                      shown[2]));
       ranges_[decl.name] = {lo.value, hi.value};
     } catch (const EvalError& e) {
       if (!e.diag.code.empty()) {
@@ -606,7 +627,7 @@ bool Elaborator::check_range(double v, const Place& p, Span at, Span mark) {
   std::string range =
       p.key->absolute_temperature ? "above absolute zero (-273.15 degC)" : p.key->range_text();
   report(DiagnosticEngine::make(DiagId::out_of_range, at, mark, p.what(), range,
-                                format_value(v, p.dim, p.absolute_temperature)));
+                                format_outside(v, *p.key, p.dim, p.absolute_temperature)));
   return false;
 }
 
@@ -1351,8 +1372,9 @@ std::optional<std::pair<double, double>> Elaborator::case_range(const ast::Range
   auto hi = number(r.hi, f, p, at);
   if (!lo || !hi) return std::nullopt;
   if (!(*lo < *hi)) {
+    const auto shown = compared_numbers({*lo - kZeroCelsius, *hi - kZeroCelsius}, " degC");
     report(DiagnosticEngine::make(DiagId::bad_range, at, span_of(f, r), "start temperature",
-                                  format_value(*lo, p.dim, true), format_value(*hi, p.dim, true)));
+                                  shown[0], shown[1]));
     return std::nullopt;
   }
   return std::make_pair(*lo, *hi);
@@ -1431,10 +1453,11 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
       const std::string name = case_param_name(obj, case_->name);
       if (auto o = overrides_.find(name); o != overrides_.end()) v = Signal::of(o->second);
       if (v->constant < range->first || v->constant > range->second) {
+        const auto shown = compared_numbers(
+            {v->constant - kZeroCelsius, range->first - kZeroCelsius, range->second - kZeroCelsius},
+            " degC");
         report(DiagnosticEngine::make(DiagId::param_outside_range, at, span_of(f, a.value.span()),
-                                      name, format_value(v->constant, p.dim, true),
-                                      format_value(range->first, p.dim, true),
-                                      format_value(range->second, p.dim, true)));
+                                      name, shown[0], shown[1], shown[2]));
         return;
       }
     }

@@ -2,6 +2,7 @@
 #include "lang/units.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 #include <span>
 #include <vector>
@@ -35,6 +36,20 @@ std::string format_value(double si, const Dimension& d, bool absolute_temperatur
     return fmt::format("{:g} degC", si - kZeroCelsius);
   if (d.dimensionless()) return fmt::format("{:g}", si);
   return fmt::format("{:g} {}", si, describe(d));
+}
+
+std::string format_outside(double si, const KeySchema& key, const Dimension& d,
+                           bool absolute_temperature) {
+  const bool celsius = absolute_temperature && d == dim::temperature;
+  const double shown = celsius ? si - kZeroCelsius : si;
+  // The short form, read back: if the key accepts it, it hides the violation.
+  const double read = std::strtod(fmt::format("{:g}", shown).c_str(), nullptr);
+  if (!key.accepts(celsius ? read + kZeroCelsius : read))
+    return format_value(si, d, absolute_temperature);
+  const std::string digits = fmt::format("{}", shown); // the shortest text that reads back exactly
+  if (celsius) return digits + " degC";
+  if (d.dimensionless()) return digits;
+  return fmt::format("{} {}", digits, describe(d));
 }
 
 void Evaluator::fail(Diagnostic d) const {

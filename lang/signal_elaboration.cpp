@@ -123,6 +123,8 @@ std::optional<Signal> Elaborator::whole_signal(const ast::SignalExpr& se, FileId
     if (s.is_constant()) return s;
     for (double x : s.values())
       if (!check_range(x, p, at, span_of(f, *ts))) return std::nullopt;
+    s.shape().at = at; // (a run that its rows make fail names the table)
+    s.shape().mark = span_of(f, *ts);
     return s;
   }
   const auto& ps = std::get<ast::PointSignal>(se);
@@ -150,6 +152,8 @@ std::optional<Signal> Elaborator::whole_signal(const ast::SignalExpr& se, FileId
     corners.v.push_back(*x);
   }
   if (!ok) return std::nullopt;
+  s.shape().at = at;
+  s.shape().mark = span_of(f, ps);
   return s;
 }
 
@@ -188,6 +192,8 @@ std::optional<Signal> Elaborator::expression_signal(const ast::Expr& e, FileId f
         [&](ast::Index node) { return embedded_.at(node); });
     shape.t = shape.program->corners();
     shape.offset = bare_temperature_offset(q, p.absolute_temperature);
+    shape.at = at;
+    shape.mark = span_of(f, e);
     if (!check_range(s.at(0.0), p, at, span_of(f, e))) return std::nullopt;
     return s;
   } catch (const EvalError& err) {
