@@ -153,7 +153,7 @@ void write_outputs(const CalibrateOptions& o, const lang::Model& model,
     model_files =
         rewrite::rewrite_model(model.sources(), static_cast<lang::FileId>(root), updates, o.out);
     for (const auto& f : model_files)
-      files.push_back({f.path, f.text});
+      files.push_back({f.path, f.text, f.chosen ? Follow::never : Follow::symlinks});
   }
   if (r.found && !o.plot.empty()) {
     auto cmp = problem.compare(r.best);

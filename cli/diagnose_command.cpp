@@ -96,7 +96,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
       std::cerr << fmt::format("{}: note: no finding; {} not written\n", me, o.write);
     else
       for (auto& f : extended_model_files(*model, rep.findings.front(), o.write))
-        files.push_back({f.path, std::move(f.text)});
+        files.push_back({f.path, std::move(f.text), f.chosen ? Follow::never : Follow::symlinks});
   }
   if (!o.plot.empty()) files.push_back({o.plot, diagnosis_svg(rep, model->name())});
   if (!o.prediction.whiteness_plot.empty() && rep.prediction) {

@@ -182,6 +182,15 @@ std::set<lang::FileId> changed_files(const ModelFiles& m, lang::FileId root,
   return changed;
 }
 
+/// Whether a name chosen for a copy holds nothing or a regular file (which the copy replaces): a
+/// symlink there is not written through (it may lead out of the folder), nor a FIFO or a device.
+bool free_or_regular(const fs::path& p) {
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(p, ec);
+  if (st.type() == fs::file_type::not_found) return true;
+  return !ec && st.type() == fs::file_type::regular;
+}
+
 /// Where each changed file goes: the root to `out`, the others beside it; never onto an input.
 std::map<lang::FileId, fs::path> destinations(const lang::SourceManager& sources,
                                               const ModelFiles& m,
@@ -202,7 +211,7 @@ std::map<lang::FileId, fs::path> destinations(const lang::SourceManager& sources
     const std::string stem = out_path.stem().string() + "." + original.stem().string();
     const std::string ext = original.extension().string();
     fs::path p = out_path.parent_path() / (stem + ext);
-    for (int n = 2; taken.count(real_path(p)); ++n)
+    for (int n = 2; taken.count(real_path(p)) || !free_or_regular(p); ++n)
       p = out_path.parent_path() / fmt::format("{}-{}{}", stem, n, ext);
     taken.insert(real_path(p));
     dest.emplace(f, p);
@@ -279,7 +288,7 @@ std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lan
       result.push_back({dest.at(f).string(),
                         rewritten_text(sources, f, updates, m.refs.at(f), changed, dest,
                                        f == root ? std::move(root_edits) : std::vector<TextEdit>{}),
-                        f});
+                        f, f != root});
   return result;
 }
 
