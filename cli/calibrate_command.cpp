@@ -278,6 +278,7 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
     settings.on_progress = nullptr; // the bar goes out of scope
     if (g_interrupted) r.cancelled = true;
   }
+  note_undefined_r2(r);
 
   std::cout << format_result_table(r, problem);
   std::cout << "(param values in SI units)\n";

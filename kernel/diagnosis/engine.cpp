@@ -8,10 +8,15 @@
 #include "kernel/calibration/least_squares.hpp"
 #include "kernel/core/process_group.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <limits>
+#include <mutex>
 #include <utility>
 
 namespace thermnet::detail {
@@ -226,12 +231,13 @@ void Engine::measure_gain(Finding& f, const Base& base, double sse, double holdo
   double total_test = 0.0;
   for (std::size_t j = 0; j < folds(); ++j)
     total_test += sst(Part{Part::test, j});
-  f.r2_before = total > 0 ? 1.0 - base.sse_all / total : 0.0;
-  f.r2_after = total > 0 ? 1.0 - sse / total : 0.0;
+  constexpr double undefined = std::numeric_limits<double>::quiet_NaN(); // data without spread
+  f.r2_before = total > 0 ? 1.0 - base.sse_all / total : undefined;
+  f.r2_after = total > 0 ? 1.0 - sse / total : undefined;
   f.validation_rmse_before = std::sqrt(base.sse_test / nt);
   f.validation_rmse_after = std::sqrt(holdout_sse / nt);
-  f.validation_r2_before = total_test > 0 ? 1.0 - base.sse_test / total_test : 0.0;
-  f.validation_r2_after = total_test > 0 ? 1.0 - holdout_sse / total_test : 0.0;
+  f.validation_r2_before = total_test > 0 ? 1.0 - base.sse_test / total_test : undefined;
+  f.validation_r2_after = total_test > 0 ? 1.0 - holdout_sse / total_test : undefined;
   f.delta_bic = delta_bic(sse, base.sse_all, k);
 }
 
