@@ -11,9 +11,11 @@
 #include "cli/output_files.hpp"
 #include "cli/param_overrides.hpp"
 #include "cli/prediction_options.hpp"
+#include "cli/progress_bar.hpp"
 #include "cli/run_command.hpp"
 #include "cli/whiteness_figure.hpp"
 #include "kernel/diagnosis/report.hpp"
+#include "lang/path_policy.hpp"
 #include "lang/rewrite/case_blocks.hpp"
 #include "lang/rewrite/param_values.hpp"
 #include "lang/units.hpp"
@@ -73,6 +75,8 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   }
   DiagnosisOptions opt;
   if (!o.events.empty()) {
+    // The user named it: the model-folder rule (for the files a model names) does not apply.
+    lang::allow_named_path(o.events);
     opt.events = read_events(o.events, model->run_case_names());
     opt.events_path = o.events;
   }
