@@ -182,13 +182,12 @@ std::set<lang::FileId> changed_files(const ModelFiles& m, lang::FileId root,
   return changed;
 }
 
-/// Whether a name chosen for a copy holds nothing or a regular file (which the copy replaces): a
-/// symlink there is not written through (it may lead out of the folder), nor a FIFO or a device.
-bool free_or_regular(const fs::path& p) {
+/// Whether a name may be chosen for a copy: not a symlink (dangling or not), which the copy would
+/// be written through, perhaps out of the folder. (A directory, FIFO or device there is taken and
+/// makes the write fail, writing nothing; a regular file is replaced.)
+bool not_symlink(const fs::path& p) {
   std::error_code ec;
-  const fs::file_status st = fs::symlink_status(p, ec);
-  if (st.type() == fs::file_type::not_found) return true;
-  return !ec && st.type() == fs::file_type::regular;
+  return !fs::is_symlink(fs::symlink_status(p, ec));
 }
 
 /// Where each changed file goes: the root to `out`, the others beside it; never onto an input.
@@ -211,7 +210,7 @@ std::map<lang::FileId, fs::path> destinations(const lang::SourceManager& sources
     const std::string stem = out_path.stem().string() + "." + original.stem().string();
     const std::string ext = original.extension().string();
     fs::path p = out_path.parent_path() / (stem + ext);
-    for (int n = 2; taken.count(real_path(p)) || !free_or_regular(p); ++n)
+    for (int n = 2; taken.count(real_path(p)) || !not_symlink(p); ++n)
       p = out_path.parent_path() / fmt::format("{}-{}{}", stem, n, ext);
     taken.insert(real_path(p));
     dest.emplace(f, p);

@@ -60,14 +60,15 @@ run calibrate sub.tnet --method lm
 check "the written model calibrates again (exit 0)" test "$rc" -eq 0
 check "and starts at the fitted value (G about 1)" \
   python3 -c "import re,sys; v=float(re.search(r'param G = ([0-9.e+-]+)', open('sub.params-2.tnet').read()).group(1)); sys.exit(0 if abs(v-1)<0.05 else 1)"
-# A FIFO at the name is not written into either.
+# A FIFO at the name is not written into either: an error, nothing written (and no hang).
 rm -f sub.params-2.tnet sub.tnet
 mkfifo sub.params-2.tnet
-run calibrate main.tnet --method lm -o sub.tnet
-check "a FIFO at a chosen name is skipped too (exit 0)" test "$rc" -eq 0
-check "the copy goes to the name after it" grep -q 'include "sub.params-3.tnet"' sub.tnet
+run calibrate main.tnet --method lm -o sub.tnet --json sub.json
+check "a FIFO at a chosen name is an error (exit 2)" test "$rc" -eq 2
+check "naming it" grep -q "sub.params-2.tnet.*not a regular file" err.txt
+check "nothing written" test ! -e sub.tnet -a ! -e sub.json
 check "the FIFO is still a FIFO" test -p sub.params-2.tnet
-rm -f sub.params-2.tnet sub.params-3.tnet sub.tnet
+rm -f sub.params-2.tnet sub.tnet
 # OUT itself given as a symlink (a name the user gave) is written through, to what it names.
 mkdir -p ../fitted
 ln -s ../fitted/real.tnet link.tnet

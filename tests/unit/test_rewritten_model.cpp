@@ -155,7 +155,7 @@ TEST_CASE("rewrite_model: the user's inputs are never targets, the model itself 
   CHECK(files[0].text.find("include \"cal.mid.tnet\"") != std::string::npos);
 }
 
-TEST_CASE("rewrite_model: a copy never goes through a symlink or into a FIFO (issue 51)") {
+TEST_CASE("rewrite_model: a copy never goes through a symlink (issue 51)") {
   Tree t;
   Loaded m(t.path("main.tnet"));
   const auto updates = updates_for(*m.model);
