@@ -89,7 +89,19 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   opt.sensitivities = o.jacobian == "sensitivities";
   opt.initial_sd = o.prediction.initial_sd;
   opt.min_gain = o.min_gain;
+  // On a terminal, a line says what the diagnosis is doing (a data file of 10^6 rows takes
+  // minutes): its stage, the refits done, the time so far.
+  ProgressBar bar(progress_wanted());
+  if (progress_wanted())
+    opt.progress = [&bar](const DiagnosisProgress& p) {
+      bar.show(p.total == 0
+                   ? fmt::format("thermnet diagnose: {} ({:.0f} s)", p.stage, bar.elapsed())
+                   : fmt::format("thermnet diagnose: {} {}/{} ({:.0f} s)", p.stage, p.done, p.total,
+                                 bar.elapsed()),
+               p.done == 0 || p.done == p.total);
+    };
   const DiagnosisReport rep = diagnose(*model, opt);
+  bar.finish();
   std::cout << diagnosis_text(rep);
   std::cout.flush();
   if (o.stats) std::cerr << diagnosis_timing_text(rep);
