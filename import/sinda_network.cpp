@@ -13,9 +13,14 @@ namespace thermnet::importer::sinda {
 
 namespace {
 
-std::string key(const std::string& sub, std::int64_t id) {
-  return fmt::format("{}.{}", sub, id);
-}
+/// A node or conductor: its submodel's number and its id.
+using Key = std::pair<std::size_t, std::int64_t>;
+
+struct KeyHash {
+  std::size_t operator()(const Key& k) const {
+    return std::hash<std::int64_t>()(k.second) * 31 + k.first;
+  }
+};
 
 /// Ordered by base, then index.
 bool name_less(const Name& a, const Name& b) {
@@ -63,9 +68,9 @@ public:
 
 private:
   void nodes(const Units& units) {
+    index_.reserve(deck_.nodes.size());
     for (const NodeCard& n : deck_.nodes) {
-      const std::string k = key(n.sub, n.id);
-      auto [it, fresh] = index_.emplace(k, &n);
+      auto [it, fresh] = index_.emplace(key(n.sub, n.id), &n);
       if (!fresh) {
         report_.error(n.at, "duplicate-name",
                       fmt::format("node {}.{} is defined twice", n.sub, n.id),
@@ -101,7 +106,8 @@ private:
   }
 
   void conductors(const Units& units) {
-    std::unordered_map<std::string, const ConductorCard*> seen;
+    std::unordered_map<Key, const ConductorCard*, KeyHash> seen;
+    seen.reserve(deck_.conductors.size());
     for (const ConductorCard& c : deck_.conductors) {
       if (report_.saturated()) return;
       auto [it, fresh] = seen.emplace(key(c.sub, c.id), &c);
@@ -245,7 +251,14 @@ private:
   const Deck& deck_;
   Report& report_;
   Network net_;
-  std::unordered_map<std::string, const NodeCard*> index_;
+  /// The key of a submodel's node or conductor (submodels numbered as first seen).
+  Key key(const std::string& sub, std::int64_t id) {
+    auto [it, fresh] = subs_.emplace(sub, subs_.size());
+    return {it->second, id};
+  }
+
+  std::unordered_map<std::string, std::size_t> subs_;
+  std::unordered_map<Key, const NodeCard*, KeyHash> index_;
 };
 
 } // namespace
