@@ -25,8 +25,10 @@ struct ImportCommandOptions {
   bool allow_partial = false;
 };
 
-std::string plural(std::size_t n, const char* word) {
-  return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s");
+std::string plural(std::size_t n, const std::string& word) {
+  if (n == 1) return fmt::format("1 {}", word);
+  if (word.back() == 'y') return fmt::format("{} {}ies", n, word.substr(0, word.size() - 1));
+  return fmt::format("{} {}s", n, word);
 }
 
 int run_import(const ImportCommandOptions& o, lang::SourceManager& sources) {

@@ -82,9 +82,18 @@ lang::FileId read_input(const std::string& path, lang::SourceManager& sources) {
   return sources.add(path, std::move(text));
 }
 
-void IncludeStack::push_root(const std::string& path) {
-  chain_.assign(1, canonical(path));
+bool IncludeStack::push_root(const std::string& path, Report& report) {
+  const std::string key = canonical(path);
+  for (const auto& [file, where] : first_)
+    if (file == key) {
+      report.note(std::nullopt, fmt::format("'{}' was read already ({}): it is read once",
+                                            lang::escape_for_display(path), where));
+      return false;
+    }
+  first_.emplace_back(key, "named on the command line");
+  chain_.assign(1, key);
   if (std::find(read_.begin(), read_.end(), path) == read_.end()) read_.push_back(path);
+  return true;
 }
 
 std::optional<lang::FileId> IncludeStack::enter(const std::string& name, lang::Span at,
@@ -113,8 +122,15 @@ std::optional<lang::FileId> IncludeStack::enter(const std::string& name, lang::S
                              lang::escape_for_display(fs::path(key).filename().string())));
     return std::nullopt;
   }
+  for (const auto& [file, where] : first_)
+    if (file == key) {
+      report.note(at, fmt::format("'{}' was read already ({}): it is read once",
+                                  lang::escape_for_display(path), where));
+      return std::nullopt;
+    }
   try {
     const lang::FileId id = read_input(path, sources);
+    first_.emplace_back(key, "included at " + place_text(sources, at));
     chain_.push_back(key);
     if (std::find(read_.begin(), read_.end(), path) == read_.end()) read_.push_back(path);
     return id;

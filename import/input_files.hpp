@@ -49,14 +49,17 @@ struct InputFileError : std::runtime_error {
 /// text does not have (a binary file).
 lang::FileId read_input(const std::string& path, lang::SourceManager& sources);
 
-/// The files being read, outermost first: what an include may not name again.
+/// The files being read, outermost first: what an include may not name again. Every file is read
+/// once: a file read before (named twice, or named and also included) is noted and not read
+/// again, since its nodes and conductors would be defined twice.
 class IncludeStack {
 public:
-  /// Starts reading a file named on the command line.
-  void push_root(const std::string& path);
+  /// Starts reading a file named on the command line; false (noted) when it was read before.
+  bool push_root(const std::string& path, Report& report);
   /// Reads the file an include statement at `at` names (relative to the folder of the file that
   /// names it) and enters it; reports a missing, unreadable or binary file, a cycle or too deep a
-  /// nesting at `at` and returns nothing. Call pop() when done with the file.
+  /// nesting at `at` and returns nothing, as for a file read before (noted). Call pop() when done
+  /// with the file.
   std::optional<lang::FileId> enter(const std::string& name, lang::Span at,
                                     lang::SourceManager& sources, Report& report);
   /// Leaves the innermost file.
@@ -65,8 +68,9 @@ public:
   const std::vector<std::string>& files_read() const { return read_; }
 
 private:
-  std::vector<std::string> chain_; // canonical paths, outermost first
-  std::vector<std::string> read_;  // as named
+  std::vector<std::string> chain_;                         // canonical paths, outermost first
+  std::vector<std::string> read_;                          // as named
+  std::vector<std::pair<std::string, std::string>> first_; // canonical path, where it was read
 };
 
 } // namespace thermnet::importer

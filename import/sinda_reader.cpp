@@ -68,7 +68,7 @@ public:
       report_.file_error(path, e.unreadable ? "file-unreadable" : "invalid-encoding", e.what());
       return;
     }
-    includes_.push_root(path);
+    if (!includes_.push_root(path, report_)) return;
     block_ = Block::none;
     read_file(id);
     flush();

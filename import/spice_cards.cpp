@@ -82,7 +82,7 @@ public:
       report_.file_error(path, e.unreadable ? "file-unreadable" : "invalid-encoding", e.what());
       return;
     }
-    includes_.push_root(path);
+    if (!includes_.push_root(path, report_)) return;
     read_file(id, title);
   }
 

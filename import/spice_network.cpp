@@ -48,8 +48,6 @@ Network NetworkBuilder::build() {
     files += (files.empty() ? "" : ", ") + lang::escape_for_display(f);
   net_.heading.push_back("SPICE netlist imported by `thermnet import`: " + files);
   if (!c_.title.empty()) net_.heading.push_back("Title: " + lang::escape_for_display(c_.title));
-  net_.heading.push_back("Units: a volt is a degree Celsius, an ampere a watt, an ohm a K/W, a "
-                         "farad a J/K; node 0 is a boundary at 0 degC");
   sources_v();
   check_elements();
   const auto held = [this](const std::string& n) { return n == "0" || held_.count(n) > 0; };
@@ -68,6 +66,10 @@ Network NetworkBuilder::build() {
   cauer_ladders();
   heaters();
   case_spec();
+  net_.heading.push_back(
+      std::string("Units: a volt is a degree Celsius, an ampere a watt, an ohm a K/W, a farad a "
+                  "J/K") +
+      (ground_used_ ? "; SPICE's node 0 is the boundary gnd, at 0 degC" : ""));
   if (ground_used_)
     net_.boundaries.insert(
         net_.boundaries.begin(),
