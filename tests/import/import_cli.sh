@@ -208,6 +208,19 @@ printf '* t\nR1 n 0 1\nL1 n 0 1m\nI1 0 n PULSE(0 1 0 1n 1n 1 2)\n.end\n' >kinds.
 timport kinds.cir
 check "SPICE: an inductor and a PULSE source: listed as not translated, exit 1" \
   eval 'test "$rc" -eq 1 && has "kinds.cir:3:1: warning: not translated: an inductor" && has "kinds.cir:4:8: warning: not translated: the pulse waveform"'
+python3 - <<'PY' >nest.cir
+print("* 70 subcircuits, each holding the next")
+for k in range(70):
+    print(f".subckt s{k} a\nX1 a s{k + 1}\n.ends")
+print(".subckt s70 a\nR1 a 0 1\n.ends\nX0 n s0\nI1 0 n 1\n.end")
+PY
+timport nest.cir
+check "SPICE: instances nested 70 deep: refused at 64 (subckt-too-deep)" \
+  eval 'test "$rc" -eq 1 && has "[subckt-too-deep]"'
+mkfifo deck/pipe.cc
+printf '%s\nINSERT pipe.cc\n' "$good" >deck/fifo.sin
+timport deck/fifo.sin
+check "INSERT of a FIFO: refused at once (exit 2)" eval 'test "$rc" -eq 2 && has "FIFO"'
 printf '* t\n.include loop.inc\n.end\n' >inc.cir
 printf '.include inc2.inc\n' >loop.inc
 printf '.include loop.inc\n' >inc2.inc
@@ -216,4 +229,16 @@ check "SPICE: an include cycle: located error" eval 'test "$rc" -eq 1 && has "[i
 printf '* t\nR1 n 0 1\nI1 0 n 1\n' >one.cir
 timport one.cir --format sinda
 check "--format sinda on a netlist: errors, no crash" eval 'test "$rc" -eq 1'
+# The examples of docs/import.md import and lint clean.
+examples="$HERE/../../models/import"
+timport "$examples/camera.sin" -o camera.tnet
+check "docs example camera.sin imports (7 nodes, 2 boundaries, 13 links, 2 heaters)" \
+  eval 'test "$rc" -eq 0 && has "7 nodes, 2 boundaries, 13 links, 2 heaters"'
+run lint --werror camera.tnet
+check "  ... and lints clean" test "$rc" -eq 0
+timport "$examples/igbt.cir" -o igbt.tnet
+check "docs example igbt.cir imports, its Foster network as a Cauer ladder" \
+  eval 'test "$rc" -eq 0 && has "equivalent Cauer ladder j, cauer_j[1 .. 2]"'
+run lint --werror igbt.tnet
+check "  ... and lints clean" test "$rc" -eq 0
 finish
