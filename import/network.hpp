@@ -105,6 +105,10 @@ struct Network {
   std::optional<CaseSpec> case_spec; ///< the case, if the source gives an analysis
 };
 
+/// Most output rows an imported case asks for: a finer interval (SPICE's TSTEP of 1 us over 10 s)
+/// would make every simulation write millions of rows; the case then takes duration / this.
+inline constexpr double max_output_rows = 100000;
+
 /// A model name made of a file's name: its stem with every character that cannot stand in a name
 /// replaced by `_` (prefixed when it would start with a digit or be empty).
 std::string model_name(const std::string& path, const std::string& prefix);

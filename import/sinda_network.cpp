@@ -238,7 +238,13 @@ private:
     cs.duration = units.time(span);
     cs.origin = c.timend->at;
     if (c.output) {
-      if (c.output->value > 0 && c.output->value <= span)
+      if (c.output->value > 0 && span / c.output->value > max_output_rows) {
+        cs.output = units.time(span / max_output_rows);
+        report_.note(c.output->at,
+                     fmt::format("OUTPUT = {} would write {:.0f} rows: the case writes {:.0f}",
+                                 number_text(c.output->value), span / c.output->value,
+                                 max_output_rows));
+      } else if (c.output->value > 0 && c.output->value <= span)
         cs.output = units.time(c.output->value);
       else
         report_.note(c.output->at, "OUTPUT is not an interval within the run: thermnet's "

@@ -151,6 +151,12 @@ private:
     block_at_ = line.whole();
     block_label_ = sub_.empty() ? name : name + ", " + sub_;
     if (name == "END OF DATA") return true;
+    if (name.empty()) {
+      report_.error(line.whole(), "bad-syntax",
+                    "HEADER needs a block name, e.g. HEADER NODE DATA, MAIN");
+      block_ = Block::skip;
+      return false;
+    }
     struct Known {
       const char* name;
       Block block;

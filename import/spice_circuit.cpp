@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <set>
 
 namespace thermnet::importer::spice {
 
@@ -197,6 +198,10 @@ private:
       return;
     }
     const char kind = head[0];
+    const std::string flat = ctx.prefix.empty() ? head : ctx.prefix + "." + head;
+    if (!names_.insert(flat).second)
+      throw ImportError(c.tokens[0].at, "duplicate-name",
+                        fmt::format("'{}' is defined twice", lang::excerpt_for_display(flat)));
     if (kind == 'x') {
       instance(c, scope, ctx, stack);
       return;
@@ -228,6 +233,7 @@ private:
   ParamScope global_;
   std::map<std::string, std::unique_ptr<Subckt>> subckts_;
   std::vector<std::unique_ptr<ParamScope>> scopes_;
+  std::set<std::string> names_; // flattened element and instance names
   Circuit circuit_;
   bool too_large_ = false;
 };

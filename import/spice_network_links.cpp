@@ -157,7 +157,11 @@ void NetworkBuilder::case_spec() {
   cs.name = "tran";
   cs.duration = number(t.stop);
   cs.origin = t.at;
-  if (t.step <= t.stop)
+  if (t.stop / t.step > max_output_rows) {
+    cs.output = number(t.stop / max_output_rows);
+    report_.note(t.at, fmt::format("TSTEP = {} would write {:.0f} rows: the case writes {:.0f}",
+                                   number_text(t.step), t.stop / t.step, max_output_rows));
+  } else if (t.step <= t.stop)
     cs.output = number(t.step);
   else
     report_.note(t.at, "TSTEP is longer than TSTOP: thermnet's default output interval is used");

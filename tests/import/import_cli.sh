@@ -221,6 +221,10 @@ mkfifo deck/pipe.cc
 printf '%s\nINSERT pipe.cc\n' "$good" >deck/fifo.sin
 timport deck/fifo.sin
 check "INSERT of a FIFO: refused at once (exit 2)" eval 'test "$rc" -eq 2 && has "FIFO"'
+printf '* t\nR1 a 0 1\nC1 a 0 1\nI1 0 a 1\n.tran 1u 10\n.end\n' >rows.cir
+timport rows.cir
+check "SPICE: a TSTEP giving 10^7 rows: the case writes 100,000, with a note" \
+  eval 'test "$rc" -eq 0 && grep -q "^  output = 0.0001$" out.txt && has "would write 10000000 rows"'
 printf '* t\n.include loop.inc\n.end\n' >inc.cir
 printf '.include inc2.inc\n' >loop.inc
 printf '.include loop.inc\n' >inc2.inc
