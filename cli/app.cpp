@@ -10,6 +10,7 @@
 #include "cli/diagnose_command.hpp"
 #include "cli/estimate_command.hpp"
 #include "cli/exit_status.hpp"
+#include "cli/import_command.hpp"
 #include "cli/kinds_command.hpp"
 #include "cli/lint_command.hpp"
 #include "cli/lsp_command.hpp"
@@ -59,6 +60,7 @@ int parse_and_run(int argc, char** argv) {
   add_lint_command(app, status);
   add_simulate_command(app, status);
   add_estimate_commands(app, status);
+  add_import_command(app, status);
   add_calibrate_command(app, status);
   add_check_command(app, status);
   add_design_command(app, status);

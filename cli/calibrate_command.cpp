@@ -153,7 +153,7 @@ void write_outputs(const CalibrateOptions& o, const lang::Model& model,
     model_files =
         rewrite::rewrite_model(model.sources(), static_cast<lang::FileId>(root), updates, o.out);
     for (const auto& f : model_files)
-      files.push_back({f.path, f.text});
+      files.push_back({f.path, f.text, f.chosen ? Follow::never : Follow::symlinks});
   }
   if (r.found && !o.plot.empty()) {
     auto cmp = problem.compare(r.best);
@@ -278,6 +278,7 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
     settings.on_progress = nullptr; // the bar goes out of scope
     if (g_interrupted) r.cancelled = true;
   }
+  note_undefined_r2(r);
 
   std::cout << format_result_table(r, problem);
   std::cout << "(param values in SI units)\n";

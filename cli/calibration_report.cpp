@@ -30,6 +30,12 @@ std::string number(double v) {
 
 } // namespace
 
+void note_undefined_r2(OptimizerResult& r) {
+  if (r.found && std::isnan(r.r2))
+    r.notes.push_back("R² is undefined: every measured point has the same value, so there is no "
+                      "spread for the fit to explain (judge it by the RMSE)");
+}
+
 std::string param_heading(const lang::ParamInfo& p) {
   if (!p.dim || p.dim->dimensionless()) return p.name;
   return fmt::format("{} [{}]", p.name, lang::describe(*p.dim));
@@ -40,7 +46,7 @@ std::string format_result_table(const OptimizerResult& r, const CalibrationProbl
   std::vector<std::string> row{r.method, std::to_string(r.samples), std::to_string(r.evaluations),
                                std::to_string(r.accepted)};
   row.push_back(r.found ? fmt::format("{:.4f}", r.rmse) : "-");
-  row.push_back(r.found ? fmt::format("{:.4f}", r.r2) : "-");
+  row.push_back(!r.found ? "-" : std::isnan(r.r2) ? "undefined" : fmt::format("{:.4f}", r.r2));
   for (std::size_t j = 0; j < problem.dimension(); ++j) {
     head.push_back(param_heading(problem.params()[j]));
     // With a least-squares fit, its standard error beside the value (also in --json).
@@ -71,7 +77,7 @@ nlohmann::ordered_json result_json(const OptimizerResult& r, const CalibrationPr
   j["evaluations"] = r.evaluations;
   j["accepted"] = r.accepted;
   j["rmse"] = r.found ? json(r.rmse) : json(nullptr);
-  j["r2"] = r.found ? json(r.r2) : json(nullptr);
+  j["r2"] = r.found && !std::isnan(r.r2) ? json(r.r2) : json(nullptr);
   json params = json::object(), units = json::object(), declared = json::object();
   for (std::size_t k = 0; k < problem.dimension(); ++k) {
     const auto& p = problem.params()[k];

@@ -20,6 +20,10 @@ struct ReportContext {
   std::string model;      ///< model file
 };
 
+/// Adds the note that R² is undefined to a result found on measured data that do not vary (its r2
+/// is NaN: the table says "undefined", the JSON null).
+void note_undefined_r2(OptimizerResult& r);
+
 /// Header text of a param's column: "name [unit]" with its SI unit ("name" for bare numbers).
 std::string param_heading(const lang::ParamInfo& p);
 
@@ -30,7 +34,8 @@ std::string format_result_table(const OptimizerResult& r, const CalibrationProbl
 /// The JSON report: {method, samples, evaluations, accepted, rmse, r2, params: {name: value},
 /// wall_s} plus units ("SI"), param_units, found, cancelled, simulations, seed, tolerance_K,
 /// cases, points, notes and, from least-squares methods, std_errors and correlation, and criterion
-/// ("output-error"). rmse, r2 are null and params empty when nothing was found.
+/// ("output-error"). rmse, r2 are null and params empty when nothing was found; r2 is null too when
+/// it is undefined (the measured data do not vary).
 nlohmann::ordered_json result_json(const OptimizerResult& r, const CalibrationProblem& problem,
                                    const ReportContext& ctx);
 

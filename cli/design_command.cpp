@@ -252,7 +252,7 @@ int run_design(const DesignOptions& o, lang::SourceManager& sources) {
     if (root < 0) throw OutputError("the model's own text is no longer available");
     for (const auto& f :
          rewrite::rewrite_model(model->sources(), static_cast<lang::FileId>(root), updates, o.out))
-      files.push_back({f.path, f.text});
+      files.push_back({f.path, f.text, f.chosen ? Follow::never : Follow::symlinks});
   }
   write_output_files(files);
   if (!best.feasible) {

@@ -11,9 +11,11 @@
 #include "cli/output_files.hpp"
 #include "cli/param_overrides.hpp"
 #include "cli/prediction_options.hpp"
+#include "cli/progress_bar.hpp"
 #include "cli/run_command.hpp"
 #include "cli/whiteness_figure.hpp"
 #include "kernel/diagnosis/report.hpp"
+#include "lang/path_policy.hpp"
 #include "lang/rewrite/case_blocks.hpp"
 #include "lang/rewrite/param_values.hpp"
 #include "lang/units.hpp"
@@ -73,6 +75,8 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   }
   DiagnosisOptions opt;
   if (!o.events.empty()) {
+    // The user named it: the model-folder rule (for the files a model names) does not apply.
+    lang::allow_named_path(o.events);
     opt.events = read_events(o.events, model->run_case_names());
     opt.events_path = o.events;
   }
@@ -85,7 +89,19 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   opt.sensitivities = o.jacobian == "sensitivities";
   opt.initial_sd = o.prediction.initial_sd;
   opt.min_gain = o.min_gain;
+  // On a terminal, a line says what the diagnosis is doing (a data file of 10^6 rows takes
+  // minutes): its stage, the refits done, the time so far.
+  ProgressBar bar(progress_wanted());
+  if (progress_wanted())
+    opt.progress = [&bar](const DiagnosisProgress& p) {
+      bar.show(p.total == 0
+                   ? fmt::format("thermnet diagnose: {} ({:.0f} s)", p.stage, bar.elapsed())
+                   : fmt::format("thermnet diagnose: {} {}/{} ({:.0f} s)", p.stage, p.done, p.total,
+                                 bar.elapsed()),
+               p.done == 0 || p.done == p.total);
+    };
   const DiagnosisReport rep = diagnose(*model, opt);
+  bar.finish();
   std::cout << diagnosis_text(rep);
   std::cout.flush();
   if (o.stats) std::cerr << diagnosis_timing_text(rep);
@@ -96,7 +112,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
       std::cerr << fmt::format("{}: note: no finding; {} not written\n", me, o.write);
     else
       for (auto& f : extended_model_files(*model, rep.findings.front(), o.write))
-        files.push_back({f.path, std::move(f.text)});
+        files.push_back({f.path, std::move(f.text), f.chosen ? Follow::never : Follow::symlinks});
   }
   if (!o.plot.empty()) files.push_back({o.plot, diagnosis_svg(rep, model->name())});
   if (!o.prediction.whiteness_plot.empty() && rep.prediction) {

@@ -24,7 +24,7 @@ void check_outputs(const std::vector<NamedOutput>& outputs, const std::vector<Na
   std::map<std::string, const NamedOutput*> seen;
   for (const auto& out : outputs) {
     if (out.path.empty()) continue;
-    const OutputTarget t = resolve_output(out.path);
+    const OutputTarget t = resolve_output(out.path, out.follow);
     if (t.kind == OutputTarget::Kind::stream) continue; // writing a device or FIFO destroys nothing
     const std::string id = t.identity();
     if (auto it = input_files.find(id); it != input_files.end())
@@ -44,11 +44,11 @@ void write_output_file(const std::string& path, const std::string& content) {
 void write_output_files(const std::vector<OutputFile>& files) {
   std::vector<NamedOutput> named;
   for (const auto& f : files)
-    named.push_back({"output", f.path});
+    named.push_back({"output", f.path, f.follow});
   check_outputs(named, {});
   std::vector<std::unique_ptr<OutputStream>> streams;
   for (const auto& f : files)
-    streams.push_back(std::make_unique<OutputStream>(f.path));
+    streams.push_back(std::make_unique<OutputStream>(f.path, f.follow));
   std::vector<OutputStream*> all;
   for (std::size_t i = 0; i < files.size(); ++i) {
     streams[i]->write(files[i].content);

@@ -11,14 +11,16 @@ namespace thermnet::cli {
 
 /// An output file to write: where, and its whole content.
 struct OutputFile {
-  std::string path;    ///< target path
-  std::string content; ///< the file's content
+  std::string path;                 ///< target path
+  std::string content;              ///< the file's content
+  Follow follow = Follow::symlinks; ///< never: a name the program chose (see resolve_output)
 };
 
 /// An output of a run as the user named it.
 struct NamedOutput {
-  std::string option; ///< the option that names it, e.g. "-o" or "--plot"
-  std::string path;   ///< its path ("" when the option was not given)
+  std::string option;               ///< the option that names it, e.g. "-o" or "--plot"
+  std::string path;                 ///< its path ("" when the option was not given)
+  Follow follow = Follow::symlinks; ///< never: a name the program chose (see resolve_output)
 };
 
 /// A file a run reads.

@@ -119,8 +119,10 @@ std::string this_ranks_target(const std::string& path) {
 
 } // namespace
 
-OutputStream::OutputStream(const std::string& path)
-    : name_(path), target_(resolve_output(this_ranks_target(path))) {
+OutputStream::OutputStream(const std::string& path, Follow follow)
+    : name_(path),
+      target_(resolve_output(this_ranks_target(path),
+                             this_ranks_target(path) == path ? follow : Follow::symlinks)) {
   buffer_.reserve(kBufferSize);
   if (target_.kind == OutputTarget::Kind::stream) {
     fd_ = ::open(target_.real.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);

@@ -18,9 +18,10 @@ class OutputStream {
 public:
   /// Standard output (what was printed there through std::cout before comes first).
   OutputStream();
-  /// The output named `path` (see resolve_output): a new temporary file beside the real target,
-  /// or the device or FIFO itself opened for writing; throws OutputError.
-  explicit OutputStream(const std::string& path);
+  /// The output named `path` (see resolve_output; `follow`: how a symlink there is taken): a new
+  /// temporary file beside the real target, or the device or FIFO itself opened for writing;
+  /// throws OutputError.
+  explicit OutputStream(const std::string& path, Follow follow = Follow::symlinks);
   /// Removes the temporary file unless it was published.
   ~OutputStream();
   OutputStream(const OutputStream&) = delete;            ///< not copyable

@@ -75,6 +75,30 @@ std::string file_identity(dev_t device, ino_t inode) {
                      static_cast<unsigned long long>(inode));
 }
 
+/// A name the program chose (a copy beside an output): a regular file there is replaced (by a
+/// rename, which replaces the directory entry, never what a link names), nothing there is created;
+/// anything else is refused, a symlink above all: writing through it would change a file nobody
+/// named.
+OutputTarget resolve_chosen(const std::string& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) {
+    if (errno != ENOENT) fail(path, std::strerror(errno));
+    return new_file(path, path);
+  }
+  if (S_ISLNK(st.st_mode))
+    fail(path, "it is a symbolic link, and this name was not given on the command line: it is "
+               "not written through");
+  if (S_ISDIR(st.st_mode)) fail(path, "it is a directory");
+  if (!S_ISREG(st.st_mode))
+    fail(path, "it is not a regular file, and this name was not given on the command line");
+  OutputTarget t = new_file(path, path); // the real directory, the name itself
+  t.kind = OutputTarget::Kind::regular_file;
+  t.device = st.st_dev;
+  t.inode = st.st_ino;
+  t.mode = st.st_mode & 07777;
+  return t;
+}
+
 } // namespace
 
 std::string OutputTarget::identity() const {
@@ -87,8 +111,9 @@ std::string regular_file_identity(const std::string& path) {
   return file_identity(st.st_dev, st.st_ino);
 }
 
-OutputTarget resolve_output(const std::string& path) {
+OutputTarget resolve_output(const std::string& path, Follow follow) {
   if (path.empty()) throw OutputError("an output needs a file name");
+  if (follow == Follow::never) return resolve_chosen(path);
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
     if (errno != ENOENT) fail(path, std::strerror(errno));

@@ -36,8 +36,16 @@ struct OutputTarget {
 /// "device:inode" of the regular file at `path` (symlinks followed), or "" when there is none.
 std::string regular_file_identity(const std::string& path);
 
+/// How an output path is taken.
+enum class Follow {
+  symlinks, ///< the user named it: a symlink there is written through, to what it names
+  never     ///< the program chose the name: only a regular file or nothing may be there
+};
+
 /// Resolves an output path (following symlinks, also dangling ones, to what they name); throws
 /// OutputError for a directory, a block device, a socket, a missing directory or a symlink loop.
-OutputTarget resolve_output(const std::string& path);
+/// With Follow::never (a name the user did not give) anything but a regular file or nothing at the
+/// path itself (a symlink, a device, a FIFO) is an OutputError too.
+OutputTarget resolve_output(const std::string& path, Follow follow = Follow::symlinks);
 
 } // namespace thermnet::cli

@@ -61,6 +61,7 @@ PredictionCalibration calibrate_by_prediction(const lang::Model& model,
     out.one_step_rmse = one_step_rmse(out.innovations);
   }
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  note_undefined_r2(r);
 
   using json = nlohmann::ordered_json;
   json j = result_json(r, problem, ctx);

@@ -65,6 +65,27 @@ void ProgressBar::update(const Progress& p) {
   std::fflush(stderr);
 }
 
+void ProgressBar::show(const std::string& text, bool force) {
+  if (!enabled_) return;
+  // A forced line waits for one being drawn; another is skipped when one is being drawn.
+  std::unique_lock lock(mutex_, std::defer_lock);
+  if (force)
+    lock.lock();
+  else if (!lock.try_lock())
+    return;
+  const auto now = std::chrono::steady_clock::now();
+  if (drawn_ && now - last_ < kRedrawInterval && !force) return;
+  last_ = now;
+  drawn_ = true;
+  const std::string line = fmt::format("\r{}\033[K", text);
+  std::fwrite(line.data(), 1, line.size(), stderr);
+  std::fflush(stderr);
+}
+
+double ProgressBar::elapsed() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
 void ProgressBar::finish() {
   std::lock_guard lock(mutex_);
   if (!drawn_) return;

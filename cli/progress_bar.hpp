@@ -1,6 +1,6 @@
 #pragma once
 /// A one-line progress bar on standard error for long runs (calibrate): percent, evaluations, ETA
-/// and best RMSE so far.
+/// and best RMSE so far; or a line saying what a run is doing (diagnose).
 
 #include "kernel/calibration/optimizer.hpp"
 
@@ -28,6 +28,11 @@ public:
 
   /// Reports progress; thread-safe (a call finding another one drawing is skipped).
   void update(const Progress& p);
+  /// Draws a line of text instead (what a run is doing), at most about ten times a second unless
+  /// `force`; thread-safe like update().
+  void show(const std::string& text, bool force = false);
+  /// Seconds since the bar was made.
+  double elapsed() const;
   /// Clears the bar's line (idempotent).
   void finish();
 

@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 
 #include <iostream>
@@ -103,6 +104,51 @@ void print_stats(const SolverStats& s, double wall) {
       s.nonlinear_iters, s.nonlinear_fails, s.linear_iters, s.prec_setups, s.error_test_fails,
       s.events, s.restarts, wall);
 }
+
+/// The unit trap of inputs: `P1 * table("in.csv", "Q1")` with P1 in W/% and the column in
+/// percent, but no [%] after the table, puts 100 times the power into a node, which reaches
+/// thousands of degC. Such temperatures in a model where nothing is that hot to begin with (no
+/// boundary or start above kHot) are most likely such a mistake: the run says so (a note on
+/// standard error; the results are written as computed).
+class PlausibleHeat {
+public:
+  /// The hottest temperature the model prescribes: boundaries (as the rows show them) and starts.
+  explicit PlausibleHeat(const lang::NetworkSpec& spec) : spec_(spec) {
+    for (const auto& n : spec.nodes)
+      if (n.T0) prescribed_ = std::max(prescribed_, *n.T0);
+    if (spec.settings.initial) prescribed_ = std::max(prescribed_, *spec.settings.initial);
+  }
+  /// Takes one output row (K, the spec's nodes first).
+  void add(double t, const std::vector<double>& temps) {
+    for (std::size_t i = 0; i < spec_.nodes.size() && i < temps.size(); ++i) {
+      if (spec_.nodes[i].boundary) {
+        prescribed_ = std::max(prescribed_, temps[i]);
+      } else if (temps[i] > hottest_) {
+        hottest_ = temps[i];
+        node_ = i;
+        time_ = t;
+      }
+    }
+  }
+  /// The note, or empty when the temperatures are plausible.
+  std::string note() const {
+    if (!(hottest_ > kHot) || prescribed_ > kHot) return {};
+    return fmt::format("node '{}' reaches {:.0f} degC (t = {:g} s), though no boundary or start "
+                       "temperature of the model is above {:.0f} degC: are the inputs in the "
+                       "units they are read in? (a table's values are bare unless a unit follows "
+                       "it: table(\"in.csv\", \"Q\") [%])",
+                       spec_.nodes[node_].name, hottest_ - lang::kZeroCelsius, time_,
+                       kHot - lang::kZeroCelsius);
+  }
+
+private:
+  static constexpr double kHot = 1000.0 + lang::kZeroCelsius; // K
+  const lang::NetworkSpec& spec_;
+  double prescribed_ = 0.0;
+  double hottest_ = 0.0;
+  std::size_t node_ = 0;
+  double time_ = 0.0;
+};
 
 int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   int status = exit_ok;
@@ -194,8 +240,10 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
                           {"times", nlohmann::json::array()},
                           {"temperatures", nlohmann::json::array()},
                           {"flows", nlohmann::json::array()}};
+  PlausibleHeat heat_check(spec);
   auto start = std::chrono::steady_clock::now();
   const auto row = [&](double t, const std::vector<double>& temps) {
+    heat_check.add(t, temps);
     row_temps.clear();
     for (std::size_t c : columns)
       row_temps.push_back(temps[c]);
@@ -225,6 +273,8 @@ int run_simulate(const SimulateOptions& o, lang::SourceManager& sources) {
   const SolverStats stats = simulate(net, sim, row, o.energy.empty() ? nullptr : &energy);
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (o.stats) print_stats(stats, wall);
+  if (const std::string note = heat_check.note(); !note.empty())
+    std::cerr << "thermnet simulate: note: " << note << "\n";
   if (check) {
     const auto outcomes = check->outcomes();
     std::cerr << outcomes_text(outcomes, sources)

@@ -339,6 +339,9 @@ struct CaseItem : std::variant<CaseData, CaseAssign, CaseFor> {
 struct CaseStmt : Tagged {
   Identifier name;             ///< case name
   std::vector<CaseItem> items; ///< its statements
+  /// Its settings skipped for a syntax error (`data`, `duration`): what they would have set is
+  /// not missing, so nothing more is said about it.
+  bool unparsed_data = false, unparsed_duration = false;
 };
 
 /// `require KIND "GROUP"... LIMIT [from TIME] [in CASE, ...] ["description"]` (extension): a

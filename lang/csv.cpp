@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -74,6 +75,28 @@ bool parse_number(const std::string& s, double& out) {
   return ec == std::errc() && p == s.data() + s.size();
 }
 
+/// What is wrong with a field that parse_number() refuses: "'x' is not a number", or that it
+/// overflows or underflows a double (1e400, 1e-400).
+std::string number_problem(const std::string& s) {
+  const char* b = s.c_str();
+  if (*b == '+') ++b;
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(b, &end);
+  if (errno == ERANGE && end == s.c_str() + s.size()) {
+    if (std::isinf(v))
+      return fmt::format("'{}' overflows: its magnitude is above the largest number (1.8e308)",
+                         excerpt_for_display(s));
+    if (std::abs(v) < std::numeric_limits<double>::denorm_min())
+      return fmt::format("'{}' underflows: its magnitude is below the smallest number (4.9e-324); "
+                         "write 0 if it is meant",
+                         excerpt_for_display(s));
+  }
+  if (end == s.c_str() + s.size() && !std::isfinite(v))
+    return fmt::format("'{}' is not a finite number", excerpt_for_display(s));
+  return fmt::format("'{}' is not a number", excerpt_for_display(s));
+}
+
 std::string lower(std::string_view s) {
   std::string l(s);
   std::transform(l.begin(), l.end(), l.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -96,9 +119,17 @@ long days_from_civil(long y, unsigned m, unsigned d) {
   return era * 146097 + static_cast<long>(doe) - 719468;
 }
 
+/// Days of a month of the proleptic Gregorian calendar.
+long days_in_month(long y, long m) {
+  static constexpr long days[] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  const bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+  return m == 2 && leap ? 29 : days[m - 1];
+}
+
 /// An ISO 8601 date and time (`2021-01-22`, `2021-01-22T14:48:58.72Z`, `2021-01-22 14:48+01:00`)
-/// as seconds since 1970-01-01 UTC; a time without zone is taken as UTC.
-std::optional<double> parse_iso_time(std::string_view s) {
+/// as seconds since 1970-01-01 UTC; a time without zone is taken as UTC. A well-formed stamp with
+/// a field out of its range (2021-02-30, 25:00, +99:99) sets `why` to that field's problem.
+std::optional<double> parse_iso_time(std::string_view s, std::string& why) {
   std::size_t i = 0;
   auto digits = [&](std::size_t n, long& out) {
     if (i + n > s.size()) return false;
@@ -121,7 +152,14 @@ std::optional<double> parse_iso_time(std::string_view s) {
   long y = 0, mo = 0, d = 0, h = 0, mi = 0, sec = 0;
   if (!digits(4, y) || !expect('-') || !digits(2, mo) || !expect('-') || !digits(2, d))
     return std::nullopt;
-  if (mo < 1 || mo > 12 || d < 1 || d > 31) return std::nullopt;
+  if (mo < 1 || mo > 12) {
+    why = fmt::format("there is no month {}", mo);
+    return std::nullopt;
+  }
+  if (d < 1 || d > days_in_month(y, mo)) {
+    why = fmt::format("{:04}-{:02} has no day {} (it has {} days)", y, mo, d, days_in_month(y, mo));
+    return std::nullopt;
+  }
   double seconds = 0.0;
   if (i < s.size() && (s[i] == 'T' || s[i] == ' ')) {
     ++i;
@@ -140,7 +178,11 @@ std::optional<double> parse_iso_time(std::string_view s) {
         if (i == from) return std::nullopt;
       }
     }
-    if (h > 24 || mi > 59 || sec > 60) return std::nullopt;
+    // 24:00 is the end of a day (ISO 8601), 60 s a leap second; nothing later.
+    if (h > 24 || mi > 59 || sec > 60 || (h == 24 && (mi > 0 || sec > 0 || seconds > 0.0))) {
+      why = "the time of day lies outside 00:00 .. 24:00";
+      return std::nullopt;
+    }
   }
   long zone = 0; // seconds east of UTC
   if (i < s.size()) {
@@ -153,6 +195,11 @@ std::optional<double> parse_iso_time(std::string_view s) {
       if (!digits(2, zh)) return std::nullopt;
       expect(':');
       if (i < s.size() && !digits(2, zm)) return std::nullopt;
+      // Zones in use lie within -12:00 .. +14:00; minutes are minutes.
+      if (zh > 14 || zm > 59) {
+        why = "a time zone lies within -12:00 .. +14:00";
+        return std::nullopt;
+      }
       zone = sign * (zh * 3600 + zm * 60);
     }
   }
@@ -246,7 +293,7 @@ void CsvTable::check_column(std::size_t column) const {
   if (column >= bad.size() || !bad[column]) return;
   const BadCell& b = *bad[column];
   throw CsvError(path, b.row, b.column,
-                 fmt::format("'{}' is not a number{}", excerpt_for_display(b.text),
+                 fmt::format("{}{}", number_problem(b.text),
                              b.text.find(';') == std::string::npos
                                  ? ""
                                  : " (fields are separated by ',', not ';')"));
@@ -334,8 +381,13 @@ CsvTable parse_csv(const std::string& text, const std::string& path, const CsvLa
     double time = std::numeric_limits<double>::quiet_NaN();
     if (is_missing(tf)) throw CsvError(path, line_no, time_at + 1, "the time is missing");
     if (layout.format == TimeFormat::iso) {
-      if (auto v = parse_iso_time(tf))
+      std::string why;
+      if (auto v = parse_iso_time(tf, why))
         time = *v;
+      else if (!why.empty())
+        throw CsvError(
+            path, line_no, time_at + 1,
+            fmt::format("'{}' is not a date and time: {}", excerpt_for_display(tf), why));
       else
         throw CsvError(path, line_no, time_at + 1,
                        fmt::format("'{}' is not an ISO 8601 date and time "
@@ -344,7 +396,7 @@ CsvTable parse_csv(const std::string& text, const std::string& path, const CsvLa
     } else {
       if (!parse_number(tf, time))
         throw CsvError(path, line_no, time_at + 1,
-                       fmt::format("'{}' is not a number{}", excerpt_for_display(tf),
+                       fmt::format("{}{}", number_problem(tf),
                                    default_layout && tf.find(';') != std::string::npos
                                        ? " (fields are separated by ',', not ';')"
                                        : ""));

@@ -186,6 +186,11 @@ bool Elaborator::column_map(NetworkSpec& net, const ast::CaseData& data) {
       total += w;
     }
     if (d.columns.empty()) continue; // every column refused (reported above): no series
+    // Normalised by the largest weight first: the sum of weights near 1e308 would overflow.
+    const double largest = *std::max_element(d.weights.begin(), d.weights.end());
+    total = 0.0;
+    for (double& w : d.weights)
+      total += w /= largest;
     for (double& w : d.weights)
       w /= total;
     d.scale = s.data_scale;
@@ -261,6 +266,24 @@ void Elaborator::check_data(const NetworkSpec& net, Span at, Span mark,
     }
     if (!known_columns) return;
     const auto series = measured_series(t, s, [](const std::string&) { return true; });
+    // A series of a node that several sensors read is compared with none of them (which one?).
+    for (const auto& v : series) {
+      const std::vector<int> sensors = sensors_of_series(net, v.target);
+      if (sensors.size() < 2) continue;
+      const auto entry = std::find_if(s.data_series.begin(), s.data_series.end(),
+                                      [&](const DataSeries& d) { return d.target == v.target; });
+      if (entry != s.data_series.end()) {
+        report(
+            DiagnosticEngine::make(DiagId::data_sensor_ambiguous,
+                                   Span{entry->where.file, entry->where.begin, entry->where.begin},
+                                   entry->where, several_sensors_message(net, v.target, sensors)));
+      } else {
+        report(DiagnosticEngine::make(DiagId::data_sensor_ambiguous, at, mark,
+                                      fmt::format("{} (column {} of {})",
+                                                  several_sensors_message(net, v.target, sensors),
+                                                  v.column, fs::path(path).filename().string())));
+      }
+    }
     bool any = false;
     for (const auto& v : series)
       any = any ||
@@ -308,13 +331,17 @@ void Elaborator::check_data(const NetworkSpec& net, Span at, Span mark,
   }
 }
 
-// `initial = data`: a node measured directly (or through a sensor of it alone) starts at the first
-// measured value of its series (through the sensor's offset and gain), unless it has a T0; the
-// kernel starts the other nodes at the steady state around those (start_state()).
+// `initial = data`: a node measured directly starts at the first measured value of its series,
+// unless it has a T0. A series compared with a sensor's reading (it names the sensor, or the one
+// node a single sensor reads) starts the sensor's nodes so that the reading equals that value:
+// through the sensor's offset and gain, and for a sensor of several nodes the nodes without a
+// start (nor a series of their own) share what the others leave. The kernel starts the other
+// nodes at the steady state around those (start_state()).
 void Elaborator::initial_from_data(NetworkSpec& net) {
   const CaseSettings& s = net.settings;
   const Span at{case_->file, s.where.begin, s.where.begin};
   if (s.data_path.empty()) {
+    if (case_->stmt->unparsed_data) return; // its syntax error is reported
     report(DiagnosticEngine::make(DiagId::bad_signal, at, case_->name_span,
                                   fmt::format("'initial = data' of case '{}' needs a data "
                                               "statement",
@@ -325,24 +352,48 @@ void Elaborator::initial_from_data(NetworkSpec& net) {
     auto table = m_.tables().get(s.data_path, s.data_layout);
     const auto series =
         measured_series(*table, s, [&](const std::string& name) { return measurable(m_, name); });
+    struct Start {
+      std::vector<int> sensors; // what the series is compared with (several: ambiguous)
+      double kelvin = 0.0;      // its first measured value
+      int node = -1;            // the node it is, when no sensor reads it
+    };
+    std::vector<Start> starts;
     for (const auto& v : series) {
       auto first =
           std::find_if(v.kelvin.begin(), v.kelvin.end(), [](double x) { return !std::isnan(x); });
       if (first == v.kelvin.end()) continue;
-      double kelvin = *first;
-      int node = net.node_index(v.target);
-      if (node < 0) { // a sensor: the node it reads alone, its reading through offset and gain
-        for (const auto& e : net.elements)
-          if (e.name == v.target && e.schema && e.schema->observes && e.nodes().size() == 1) {
-            node = e.nodes()[0];
-            kelvin = (kelvin - kZeroCelsius - e.values.at("offset").constant) /
-                         e.values.at("gain").constant +
-                     kZeroCelsius;
-          }
+      starts.push_back({sensors_of_series(net, v.target), *first, net.node_index(v.target)});
+    }
+    // Nodes measured directly first: a sensor of several nodes counts them as known.
+    for (const Start& st : starts) {
+      if (!st.sensors.empty() || st.node < 0) continue;
+      NodeSpec& n = net.nodes[static_cast<std::size_t>(st.node)];
+      if (!n.boundary && !n.T0) n.T0 = st.kelvin;
+    }
+    for (const Start& st : starts) {
+      if (st.sensors.size() != 1) continue; // several: lint reports it (check_data)
+      const ElementSpec& e = net.elements[static_cast<std::size_t>(st.sensors.front())];
+      // The reading is offset + gain * mean(T) in degC: the mean that reads the measured value.
+      const double mean = (st.kelvin - kZeroCelsius - e.values.at("offset").constant) /
+                              e.values.at("gain").constant +
+                          kZeroCelsius;
+      double known = 0.0;
+      std::vector<NodeSpec*> free;
+      for (int node : e.nodes()) {
+        NodeSpec& n = net.nodes[static_cast<std::size_t>(node)];
+        if (n.boundary)
+          known += n.T.at(0.0);
+        else if (n.T0)
+          known += *n.T0;
+        else
+          free.push_back(&n);
       }
-      if (node < 0) continue;
-      NodeSpec& n = net.nodes[static_cast<std::size_t>(node)];
-      if (!n.boundary && !n.T0) n.T0 = kelvin;
+      if (free.empty()) continue;
+      const double each =
+          (mean * static_cast<double>(e.nodes().size()) - known) / static_cast<double>(free.size());
+      if (!std::isfinite(each) || each <= 0.0) continue; // the nodes start as the kernel says
+      for (NodeSpec* n : free)
+        n->T0 = each;
     }
   } catch (const CsvError&) {
     // reported where the data statement is checked

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <unordered_set>
 #include <utility>
 
 namespace thermnet::lang {
@@ -125,6 +126,28 @@ private:
 
 namespace {
 
+/// Numbers for a message that compares them (a value and its range's bounds): {:g} each, unless
+/// that makes two different ones look equal (1.0000001 outside 0 .. 1 is not "1"); then all with
+/// the digits that read back exactly. `unit` follows each (" degC", or empty).
+std::vector<std::string> compared_numbers(std::initializer_list<double> values,
+                                          std::string_view unit = {}) {
+  std::vector<std::string> out;
+  for (double v : values)
+    out.push_back(fmt::format("{:g}", v));
+  bool alike = false;
+  for (std::size_t i = 0; i < out.size(); ++i)
+    for (std::size_t j = i + 1; j < out.size(); ++j)
+      alike = alike || (out[i] == out[j] && values.begin()[i] != values.begin()[j]);
+  if (alike) {
+    out.clear();
+    for (double v : values)
+      out.push_back(fmt::format("{}", v));
+  }
+  for (std::string& x : out)
+    x += unit;
+  return out;
+}
+
 /// Adds to `into` the params of `reads` it does not hold yet.
 void add_reads(ParamReads& into, const ParamReads& reads) {
   for (const ValueDecl* d : reads)
@@ -203,6 +226,10 @@ Quantity Elaborator::value_of(std::string_view name, Span use) {
       throw EvalError(
           DiagnosticEngine::make(DiagId::cycle, at, decl.name_span, decl.name, path + decl.name));
     }
+  evaluate_reads_first(decl);
+  if (auto it = values_.find(decl.name); it != values_.end()) { // a cycle through it, reported
+    if (std::isnan(it->second.value)) throw EvalError(Diagnostic{});
+  }
   evaluating_.push_back(decl.name);
   ParamReads reads; // a param reads itself, and what its expression and range read
   if (decl.is_param) reads.push_back(&decl);
@@ -240,15 +267,14 @@ Quantity Elaborator::value_of(std::string_view name, Span use) {
       // A bare value takes the unit its range gives (temperatures excepted: bare ones are degC).
       if (const auto& b = lo.dim ? lo.dim : hi.dim; !q.dim && b && !(*b == dim::temperature))
         q.dim = b;
+      const auto shown = compared_numbers({q.value, lo.value, hi.value});
       if (!(lo.value < hi.value))
         report(DiagnosticEngine::make(DiagId::bad_range, at, span_of(decl.file, *decl.range),
-                                      decl.name, fmt::format("{:g}", lo.value),
-                                      fmt::format("{:g}", hi.value)));
+                                      decl.name, shown[1], shown[2]));
       else if (q.value < lo.value || q.value > hi.value)
         report(DiagnosticEngine::make(DiagId::param_outside_range, at,
-                                      span_of(decl.file, *decl.expr), decl.name,
-                                      fmt::format("{:g}", q.value), fmt::format("{:g}", lo.value),
-                                      fmt::format("{:g}", hi.value)));
+                                      span_of(decl.file, *decl.expr), decl.name, shown[0], shown[1],
+                                      shown[2]));
       ranges_[decl.name] = {lo.value, hi.value};
     } catch (const EvalError& e) {
       if (!e.diag.code.empty()) {
@@ -270,6 +296,134 @@ Quantity Elaborator::value_of(std::string_view name, Span use) {
     value_reads_[&decl] = std::move(reads);
   }
   return q;
+}
+
+namespace {
+
+/// The names an expression reads (consts, params and builtins alike), in the order written.
+void names_read(const ast::File& file, const ast::Expr& e, std::vector<std::string_view>& out) {
+  if (!e.valid()) return;
+  std::vector<ast::Index> stack{e.root};
+  while (!stack.empty()) {
+    const ast::ExprNode& n = file.node(stack.back());
+    stack.pop_back();
+    switch (n.op) {
+    case ast::ExprNode::Op::name:
+      out.push_back(file.names[n.a].name);
+      break;
+    case ast::ExprNode::Op::negate:
+    case ast::ExprNode::Op::group:
+      stack.push_back(n.a);
+      break;
+    case ast::ExprNode::Op::add:
+    case ast::ExprNode::Op::subtract:
+    case ast::ExprNode::Op::multiply:
+    case ast::ExprNode::Op::divide:
+    case ast::ExprNode::Op::power:
+      stack.push_back(n.b); // (popped after a: left to right)
+      stack.push_back(n.a);
+      break;
+    case ast::ExprNode::Op::call: {
+      const auto args = file.call_args(n);
+      for (auto it = args.rbegin(); it != args.rend(); ++it)
+        stack.push_back(*it);
+      break;
+    }
+    default:
+      break;
+    }
+  }
+}
+
+} // namespace
+
+// A value's expression is evaluated by recursion into the values it reads: a chain of 100,000
+// consts (c1 = c0 + 1, c2 = c1 + 1, ...) would recurse 100,000 deep and overflow the stack. The
+// values `decl` reads, and theirs, are therefore found first (depth-first, with a stack of its
+// own) and evaluated deepest first, each then finding what it reads already evaluated. A cycle
+// among them is reported here, as value_of() would report it, and its members fail.
+void Elaborator::evaluate_reads_first(const ValueDecl& decl) {
+  if (reads_first_) return;
+  Restore<bool> busy(reads_first_, true);
+  const auto pending = [&](std::string_view name) -> const ValueDecl* {
+    if (name == "time" || values_.count(name)) return nullptr;
+    auto it = value_decls_.find(name);
+    if (it == value_decls_.end()) return nullptr;
+    if (structural_ && it->second->is_param) return nullptr; // reported at its use
+    if (std::find(evaluating_.begin(), evaluating_.end(), name) != evaluating_.end())
+      return nullptr; // a cycle through a value under way: value_of() reports it
+    return it->second;
+  };
+  struct Frame {
+    const ValueDecl* decl;
+    std::vector<std::string_view> reads; // its expression's, then its range's
+    std::size_t in_expression = 0;       // how many of them its expression reads
+    std::size_t next = 0;
+  };
+  const auto frame_of = [&](const ValueDecl& d) {
+    Frame f{&d, {}};
+    const ast::File& file = m_.file(d.file);
+    if (d.expr) names_read(file, *d.expr, f.reads);
+    f.in_expression = f.reads.size();
+    if (d.is_param && d.range) {
+      names_read(file, d.range->lo, f.reads);
+      names_read(file, d.range->hi, f.reads);
+    }
+    return f;
+  };
+  std::vector<Frame> stack;
+  std::unordered_map<const ValueDecl*, bool> seen; // true while on the stack
+  std::vector<const ValueDecl*> order;             // deepest first
+  std::unordered_set<const ValueDecl*> in_range_cycle;
+  stack.push_back(frame_of(decl));
+  seen[&decl] = true;
+  while (!stack.empty()) {
+    Frame& top = stack.back();
+    if (top.next == top.reads.size()) {
+      seen[top.decl] = false;
+      if (top.decl != &decl) order.push_back(top.decl);
+      stack.pop_back();
+      continue;
+    }
+    const bool in_range = top.next >= top.in_expression;
+    const ValueDecl* d = pending(top.reads[top.next++]);
+    if (!d) continue;
+    if (auto it = seen.find(d); it != seen.end()) {
+      if (!it->second) continue; // found before
+      const auto from =
+          std::find_if(stack.begin(), stack.end(), [&](const Frame& f) { return f.decl == d; });
+      // A cycle through a param's range (`param p = 1 range 0 .. p`) keeps the param's value:
+      // value_of() reports it, as it evaluates the range after the value.
+      const bool through_range = in_range || std::any_of(from, stack.end() - 1, [](const Frame& f) {
+                                   return f.next - 1 >= f.in_expression;
+                                 });
+      if (through_range) { // and its values are left to be evaluated in the order written
+        for (auto f = from; f != stack.end(); ++f)
+          in_range_cycle.insert(f->decl);
+        continue;
+      }
+      // A cycle of values: d is on the stack. It is reported at d, as evaluating d reports it,
+      // and every value on it fails (each is read by the one before: none is unused).
+      std::string path;
+      for (auto f = from; f != stack.end(); ++f) {
+        path += f->decl->name + " -> ";
+        values_[f->decl->name] = Quantity{std::nan(""), std::nullopt};
+        used_.emplace(f->decl->name);
+      }
+      report(DiagnosticEngine::make(DiagId::cycle, Span{d->file, d->where.begin, d->where.begin},
+                                    d->name_span, d->name, path + d->name));
+      continue;
+    }
+    seen[d] = true;
+    stack.push_back(frame_of(*d));
+  }
+  for (const ValueDecl* d : order) {
+    if (values_.count(d->name) || in_range_cycle.count(d)) continue;
+    try {
+      value_of(d->name, d->name_span);
+    } catch (const EvalError&) { // reported (or to be reported where it is used)
+    }
+  }
 }
 
 // An instance's param is the value its statement gives (evaluated where the statement stands),
@@ -460,7 +614,10 @@ std::optional<double> Elaborator::to_place(const Quantity& q, const Place& p, Sp
                                   describe(*q.dim)));
     return std::nullopt;
   }
-  const double v = q.value + bare_temperature_offset(q, p.absolute_temperature);
+  // A temperature difference drops what degC/degF added (0.4 [degC] is 0.4 K).
+  const double v = p.key && p.key->temperature_difference
+                       ? q.value - q.zero
+                       : q.value + bare_temperature_offset(q, p.absolute_temperature);
   if (!check_range(v, p, at, mark)) return std::nullopt;
   return v;
 }
@@ -470,7 +627,7 @@ bool Elaborator::check_range(double v, const Place& p, Span at, Span mark) {
   std::string range =
       p.key->absolute_temperature ? "above absolute zero (-273.15 degC)" : p.key->range_text();
   report(DiagnosticEngine::make(DiagId::out_of_range, at, mark, p.what(), range,
-                                format_value(v, p.dim, p.absolute_temperature)));
+                                format_outside(v, *p.key, p.dim, p.absolute_temperature)));
   return false;
 }
 
@@ -904,8 +1061,33 @@ void Elaborator::elaborate_declarations(NetworkSpec& net, const ElaborationRecor
 void Elaborator::finish(NetworkSpec& net) {
   if (case_) apply_case(net);
   apply_key_settings(net);
+  drop_unresolved_lags(net);
   resolve_references(net);
   add_requirements(net);
+}
+
+// A lag far shorter than the run is invisible in every output, and the integrators cannot resolve
+// it (IDA's consistent start fails on the derivative of so stiff a state): it is taken as none,
+// with a warning, as the element itself would take it.
+void Elaborator::drop_unresolved_lags(NetworkSpec& net) {
+  for (ElementSpec& e : net.elements) {
+    if (!e.schema) continue;
+    for (const KeySchema& k : e.schema->keys) {
+      if (!k.lag) continue;
+      auto it = e.values.find(k.name);
+      if (it == e.values.end() || !it->second.is_constant()) continue;
+      const double lag = it->second.constant;
+      if (!unresolved_lag(lag, net.settings.duration)) continue;
+      const Span at{e.where.file, e.where.begin, e.where.begin};
+      const bool by_duration = std::isfinite(1.0 / lag) && net.settings.duration;
+      report(DiagnosticEngine::make(
+          DiagId::lag_unresolved, at, e.where, e.kind(), e.name, k.name, fmt::format("{:g}", lag),
+          by_duration ? fmt::format("shorter than 1e-7 of the {:g} s of case '{}'",
+                                    *net.settings.duration, net.settings.name)
+                      : std::string("too short for any run")));
+      it->second = Signal::of(0.0);
+    }
+  }
 }
 
 // Keys set from outside the model come last, over the model's and the case's values; the objects
@@ -972,7 +1154,7 @@ void Elaborator::apply_case(NetworkSpec& net) {
   case_loops_cut_ = false;
   failed_case_loops_.clear();
   apply_case_items(net, case_->stmt->items, nullptr, seen);
-  if (!seen.count("duration"))
+  if (!seen.count("duration") && !case_->stmt->unparsed_duration) // (else its syntax error)
     report(DiagnosticEngine::make(DiagId::missing_duration,
                                   Span{case_->file, s.where.begin, s.where.begin}, case_->name_span,
                                   s.name));
@@ -1190,8 +1372,9 @@ std::optional<std::pair<double, double>> Elaborator::case_range(const ast::Range
   auto hi = number(r.hi, f, p, at);
   if (!lo || !hi) return std::nullopt;
   if (!(*lo < *hi)) {
+    const auto shown = compared_numbers({*lo - kZeroCelsius, *hi - kZeroCelsius}, " degC");
     report(DiagnosticEngine::make(DiagId::bad_range, at, span_of(f, r), "start temperature",
-                                  format_value(*lo, p.dim, true), format_value(*hi, p.dim, true)));
+                                  shown[0], shown[1]));
     return std::nullopt;
   }
   return std::make_pair(*lo, *hi);
@@ -1270,10 +1453,11 @@ void Elaborator::apply_override(NetworkSpec& net, const ast::CaseAssign& a, cons
       const std::string name = case_param_name(obj, case_->name);
       if (auto o = overrides_.find(name); o != overrides_.end()) v = Signal::of(o->second);
       if (v->constant < range->first || v->constant > range->second) {
+        const auto shown = compared_numbers(
+            {v->constant - kZeroCelsius, range->first - kZeroCelsius, range->second - kZeroCelsius},
+            " degC");
         report(DiagnosticEngine::make(DiagId::param_outside_range, at, span_of(f, a.value.span()),
-                                      name, format_value(v->constant, p.dim, true),
-                                      format_value(range->first, p.dim, true),
-                                      format_value(range->second, p.dim, true)));
+                                      name, shown[0], shown[1], shown[2]));
         return;
       }
     }

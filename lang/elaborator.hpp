@@ -125,6 +125,7 @@ private:
   Evaluator evaluator(FileId f, const Scope* scope);
   Quantity lookup(const ast::Identifier& id, FileId f, const Scope* scope);
   Quantity instance_value(const Scope& instance, int index, Span use);
+  void evaluate_reads_first(const ValueDecl& decl);
   std::optional<double> to_place(const Quantity& q, const Place& p, Span at, Span mark);
   std::optional<double> number(const ast::Expr& e, FileId f, const Place& p, Span at);
   // Values that change over time (lang/signal_elaboration.cpp).
@@ -193,6 +194,7 @@ private:
   std::optional<ElementSpec> elaborate_composite(const ElementDecl& d);
   void apply_param_overrides();
   void apply_key_settings(NetworkSpec& net);
+  void drop_unresolved_lags(NetworkSpec& net);
   void finish(NetworkSpec& net);
   void apply_case(NetworkSpec& net);
   void apply_case_items(NetworkSpec& net, const std::vector<ast::CaseItem>& items,
@@ -251,6 +253,7 @@ private:
   std::unordered_map<std::string_view, std::pair<double, double>> ranges_;
   std::map<std::string, double> pending_params_;
   std::vector<std::string> evaluating_;
+  bool reads_first_ = false; // evaluate_reads_first() is under way (it does not nest)
   std::set<std::string, std::less<>> used_;
   std::vector<std::optional<Quantity>> instance_values_; // per instance value slot, once
   std::vector<int> element_slot_; // per element declaration: index in the network, or -1

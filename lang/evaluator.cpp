@@ -2,6 +2,7 @@
 #include "lang/units.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 #include <span>
 #include <vector>
@@ -35,6 +36,20 @@ std::string format_value(double si, const Dimension& d, bool absolute_temperatur
     return fmt::format("{:g} degC", si - kZeroCelsius);
   if (d.dimensionless()) return fmt::format("{:g}", si);
   return fmt::format("{:g} {}", si, describe(d));
+}
+
+std::string format_outside(double si, const KeySchema& key, const Dimension& d,
+                           bool absolute_temperature) {
+  const bool celsius = absolute_temperature && d == dim::temperature;
+  const double shown = celsius ? si - kZeroCelsius : si;
+  // The short form, read back: if the key accepts it, it hides the violation.
+  const double read = std::strtod(fmt::format("{:g}", shown).c_str(), nullptr);
+  if (!key.accepts(celsius ? read + kZeroCelsius : read))
+    return format_value(si, d, absolute_temperature);
+  const std::string digits = fmt::format("{}", shown); // the shortest text that reads back exactly
+  if (celsius) return digits + " degC";
+  if (d.dimensionless()) return digits;
+  return fmt::format("{} {}", digits, describe(d));
 }
 
 void Evaluator::fail(Diagnostic d) const {
@@ -80,6 +95,7 @@ Quantity Evaluator::node(ast::Index i) const {
   case Op::negate: {
     Quantity q = node(n.a);
     q.value = -q.value;
+    q.zero = -q.zero;
     return q;
   }
   case Op::add:
@@ -121,7 +137,8 @@ Quantity Evaluator::combine_sum(Quantity a, Quantity b, bool add, const ast::Tag
   if (a.dim && b.dim && !(*a.dim == *b.dim))
     fail(DiagnosticEngine::make(DiagId::unit_mix, span(where), span(where),
                                 add ? "add" : "subtract", describe(*a.dim), describe(*b.dim)));
-  return Quantity{add ? a.value + b.value : a.value - b.value, a.dim ? a.dim : b.dim};
+  return Quantity{add ? a.value + b.value : a.value - b.value, a.dim ? a.dim : b.dim,
+                  add ? a.zero + b.zero : a.zero - b.zero};
 }
 
 Quantity Evaluator::product(ast::Index i) const {
@@ -136,8 +153,14 @@ Quantity Evaluator::product(ast::Index i) const {
     const ast::ExprNode& op = file_.node(chain[k]);
     Quantity rhs = node(op.b);
     const bool divide = op.op == Op::divide;
+    // A shifted temperature scaled by a number stays shifted by as much (2 * 20 [degC]).
+    double zero = 0.0;
+    if (rhs.zero == 0.0)
+      zero = divide ? acc.zero / rhs.value : acc.zero * rhs.value;
+    else if (acc.zero == 0.0 && !divide)
+      zero = rhs.zero * acc.value;
     acc = Quantity{divide ? acc.value / rhs.value : acc.value * rhs.value,
-                   multiply(acc.dim, rhs.dim, divide)};
+                   multiply(acc.dim, rhs.dim, divide), zero};
   }
   return acc;
 }
@@ -193,7 +216,7 @@ Quantity Evaluator::quantity(const ast::ExprNode& n) const {
   const ast::UnitText& unit = file_.units[n.a];
   try {
     Unit u = parse_unit(unit.text);
-    return Quantity{u.scale * n.value + u.offset, u.dim};
+    return Quantity{u.scale * n.value + u.offset, u.dim, u.offset};
   } catch (const UnitError& e) {
     // The word at the error position (a unit symbol), to mark it whole and suggest a known one.
     std::string word;

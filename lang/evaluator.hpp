@@ -3,6 +3,7 @@
 
 #include "lang/ast.hpp"
 #include "lang/diagnostics.hpp"
+#include "lang/schema.hpp"
 #include "lang/units.hpp"
 
 #include <exception>
@@ -16,6 +17,9 @@ namespace thermnet::lang {
 struct Quantity {
   double value = 0.0;           ///< SI value
   std::optional<Dimension> dim; ///< dimension, or none for a bare number
+  /// What lone degC/degF units added to the value (273.15 for `20 [degC]`, 0 for `30 [degC] - 20
+  /// [degC]`): value - zero is the value as a temperature difference.
+  double zero = 0.0;
 };
 
 /// What a quantity adds where an absolute temperature is expected: kZeroCelsius for a bare number
@@ -72,5 +76,9 @@ private:
 
 /// Formats an SI value with its unit for messages ("-5 W/K", "17 degC" for absolute temperatures).
 std::string format_value(double si, const Dimension& dim, bool absolute_temperature = false);
+/// format_value() of a value that `key` does not accept, with the digits it takes to show that
+/// (1.0000000000000002 rather than 1 for a key in [0, 1]).
+std::string format_outside(double si, const KeySchema& key, const Dimension& dim,
+                           bool absolute_temperature = false);
 
 } // namespace thermnet::lang

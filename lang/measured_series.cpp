@@ -27,6 +27,25 @@ void check_above_absolute_zero(const CsvTable& t, const SeriesValues& s,
     }
 }
 
+/// Fails at the first value above kMaxMeasuredKelvin: a cell like 1e300 is finite, but no
+/// measurement is that hot, and its square overflows every sum of squares (RMSE inf, R² nan).
+void check_below_ceiling(const CsvTable& t, const SeriesValues& s,
+                         const std::vector<std::size_t>& columns) {
+  for (std::size_t r = 0; r < s.kelvin.size(); ++r)
+    if (s.kelvin[r] > kMaxMeasuredKelvin) {
+      std::size_t c = columns.front();
+      for (std::size_t k : columns) // the column that brought the mean above: the highest
+        if (t.cells[k][r] > t.cells[c][r]) c = k;
+      throw CsvError(
+          t.path, t.line_of(r), t.file_columns[c],
+          fmt::format("{:g} is too large for a temperature of '{}' ({:.6g} K; a measured "
+                      "temperature is at most {:g} K: is the file's unit the one it is "
+                      "read in?)",
+                      t.cells[c][r], excerpt_for_display(s.target), s.kelvin[r],
+                      kMaxMeasuredKelvin));
+    }
+}
+
 } // namespace
 
 void check_celsius_columns(const CsvTable& t) {
@@ -37,7 +56,37 @@ void check_celsius_columns(const CsvTable& t) {
         throw CsvError(t.path, t.line_of(r), t.file_columns[c],
                        fmt::format("{:g} degC is below absolute zero (-273.15 degC) in column '{}'",
                                    t.cells[c][r], excerpt_for_display(t.columns[c])));
+      else if (t.cells[c][r] + kZeroCelsius > kMaxMeasuredKelvin)
+        throw CsvError(t.path, t.line_of(r), t.file_columns[c],
+                       fmt::format("{:g} degC is too large for a temperature (at most {:g} K) in "
+                                   "column '{}'",
+                                   t.cells[c][r], kMaxMeasuredKelvin,
+                                   excerpt_for_display(t.columns[c])));
   }
+}
+
+std::vector<int> sensors_of_series(const NetworkSpec& spec, const std::string& target) {
+  const int node = spec.node_index(target);
+  std::vector<int> found;
+  for (std::size_t e = 0; e < spec.elements.size(); ++e) {
+    const auto& el = spec.elements[e];
+    if (!el.schema || !el.schema->observes) continue;
+    if (el.name == target) return {static_cast<int>(e)};
+    if (node >= 0 && el.nodes().size() == 1 && el.nodes()[0] == node)
+      found.push_back(static_cast<int>(e));
+  }
+  return found;
+}
+
+std::string several_sensors_message(const NetworkSpec& spec, const std::string& node,
+                                    const std::vector<int>& sensors) {
+  std::string names;
+  for (int e : sensors)
+    names += fmt::format("{}'{}'", names.empty() ? "" : ", ",
+                         spec.elements[static_cast<std::size_t>(e)].name);
+  return fmt::format("node '{}' is read by the sensors {}: name the sensor the series is compared "
+                     "with (data \"FILE\" {{ SENSOR = COLUMN }})",
+                     node, names);
 }
 
 std::vector<double> case_times(const CsvTable& t, const CaseSettings& s) {
@@ -65,6 +114,7 @@ std::vector<SeriesValues> measured_series(const CsvTable& t, const CaseSettings&
         v.kelvin[r] = std::isnan(x) ? x : s.data_scale * x + s.data_offset + kZeroCelsius;
       }
       check_above_absolute_zero(t, v, {c});
+      check_below_ceiling(t, v, {c});
       out.push_back(std::move(v));
     }
     return out;
@@ -89,6 +139,7 @@ std::vector<SeriesValues> measured_series(const CsvTable& t, const CaseSettings&
                                      : d.scale * mean + d.offset + kZeroCelsius;
     }
     check_above_absolute_zero(t, v, columns);
+    check_below_ceiling(t, v, columns);
     out.push_back(std::move(v));
   }
   return out;

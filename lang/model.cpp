@@ -43,6 +43,28 @@ std::string quoted_names(const Model& m, const std::vector<std::size_t>& members
 /// Warnings about the network's shape: isolated nodes, and groups with no path to a boundary.
 /// Links are taken from the declarations, not from the elaborated network, so an element with an
 /// error still links its nodes (its error is reported; a warning about its nodes would be noise).
+/// A sensor's reading is a series of its own (a data file's column, an output column of
+/// `simulate --sensors`): a sensor named like a node would make both columns one name.
+void check_sensor_names(const Model& m, const Reporter& report) {
+  for (const auto& e : m.elements()) {
+    if (!e.schema || !e.schema->observes) continue;
+    const int node = m.node_index(e.name);
+    if (node < 0) continue;
+    const NodeDecl& n = m.nodes()[static_cast<std::size_t>(node)];
+    const Span where = e.where();
+    Diagnostic d =
+        DiagnosticEngine::make(DiagId::duplicate_name, Span{where.file, where.begin, where.begin},
+                               e.name_span(), "sensor", e.name);
+    d.message = fmt::format("sensor '{}' has the name of {} '{}': its reading is a column of its "
+                            "own (in data files and simulate --sensors); name it otherwise",
+                            e.name, n.boundary ? "boundary" : "node", e.name);
+    d.notes.push_back(DiagnosticEngine::note(
+        DiagId::note_text, n.name_span(),
+        fmt::format("{} '{}' is declared here", n.boundary ? "boundary" : "node", e.name)));
+    report(std::move(d));
+  }
+}
+
 void check_topology(const Model& m, const Reporter& report) {
   const auto& decls = m.nodes();
   const std::size_t n = decls.size();
@@ -157,6 +179,7 @@ void Model::lint(DiagnosticEngine& diags) const {
   // reported.
   const bool complete = syntax_errors_ == 0 && !truncated_;
   if (complete) check_topology(*this, collect);
+  check_sensor_names(*this, collect);
   std::set<std::string, std::less<>> used = base.used_names();
   used.insert(structurally_used_.begin(), structurally_used_.end());
   // A case that sets no param has the base model's nodes and elements (and their problems, all
@@ -191,8 +214,16 @@ void Model::lint(DiagnosticEngine& diags) const {
 
 bool Model::reads_case_data() const {
   for (const auto& f : files_)
-    for (const auto& s : f->signals)
-      if (const auto* t = std::get_if<ast::TableSignal>(&s); t && t->case_data) return true;
+    for (const auto& s : f->signals) {
+      const auto* t = std::get_if<ast::TableSignal>(&s);
+      if (!t) continue;
+      if (t->case_data) return true;
+      // A table of absolute times is placed on the case's clock (its data file's first row).
+      CsvLayout layout;
+      if (t->options.time && t->options.time->unit &&
+          !parse_time_format(t->options.time->unit->text, layout) && layout.absolute())
+        return true;
+    }
   return false;
 }
 

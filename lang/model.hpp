@@ -342,8 +342,8 @@ public:
   int element_index(std::string_view name) const { return element_index_.find(name); }
   /// The CSV files the model's tables and data statements read, parsed once per file.
   TableCache& tables() const { return tables_; }
-  /// True when a value reads the case's data file (`table(data, ...)`): each case's network is
-  /// then elaborated on its own.
+  /// True when a value reads the case's data file (`table(data, ...)`) or its clock (a table of
+  /// absolute times): each case's network is then elaborated on its own.
   bool reads_case_data() const;
   /// The first error that made a declaration unusable while loading (an unknown kind or node,
   /// wrong terminals, a bad loop or index), which instantiate() throws; empty when there is none.

@@ -555,7 +555,7 @@ private:
     if (!parse_header(
             p, [&](It& q) { return grammar_->case_header(q, cs.name); }, block))
       return;
-    if (!parse_case_items(p, cs.items, start, "case")) return;
+    if (!parse_case_items(p, cs.items, start, "case", &cs)) return;
     cs.begin = off(start);
     cs.end = off(p);
     out.push_back(std::move(cs));
@@ -563,7 +563,8 @@ private:
 
   /// Parses case settings up to the '}' that closes the block `open` starts; false when the
   /// error limit was reached.
-  bool parse_case_items(It& p, std::vector<ast::CaseItem>& items, It open, const char* kind) {
+  bool parse_case_items(It& p, std::vector<ast::CaseItem>& items, It open, const char* kind,
+                        ast::CaseStmt* of) {
     for (;;) {
       p = skip_separators(p);
       if (p == end_) {
@@ -587,7 +588,7 @@ private:
           continue;
         }
         if (header) {
-          if (!parse_case_items(p, f.items, start, "for loop")) return false;
+          if (!parse_case_items(p, f.items, start, "for loop", of)) return false;
           f.begin = off(start);
           f.end = off(p);
           items.emplace_back(std::move(f));
@@ -595,9 +596,14 @@ private:
         }
       }
       ast::CaseItem item;
+      const It start = p;
       if (parse_one(
               p, [&](It& q) { return grammar_->case_item(q, item); }, item, Block::case_items))
         items.push_back(std::move(item));
+      else if (of && at_keyword(start, "data"))
+        of->unparsed_data = true;
+      else if (of && at_keyword(start, "duration"))
+        of->unparsed_duration = true;
     }
   }
 

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace thermnet::lang {
 
 std::string KeySchema::range_text() const {
@@ -20,6 +22,12 @@ bool KeySchema::accepts(double v) const {
   if (min && (min_exclusive ? !(v > *min) : !(v >= *min))) return false;
   if (max && (max_exclusive ? !(v < *max) : !(v <= *max))) return false;
   return true;
+}
+
+bool unresolved_lag(double lag, std::optional<double> duration) {
+  if (!(lag > 0.0)) return false;
+  if (!std::isfinite(1.0 / lag)) return true;
+  return duration && lag < 1e-7 * *duration;
 }
 
 const KeySchema* ElementSchema::key(std::string_view name) const {

@@ -32,7 +32,9 @@ struct KeySchema {
   bool min_exclusive = false;          ///< min itself is invalid
   bool max_exclusive = false;          ///< max itself is invalid
   bool absolute_temperature = false;   ///< bare numbers are degC (converted to K)
-  std::string doc;                     ///< one-line documentation with the unit
+  bool temperature_difference = false; ///< a difference: 0.4 [degC] or 0.4 [degF] * 9/5 is 0.4 K
+  bool lag = false; ///< a time constant integrated as a state (0: none; see unresolved_lag())
+  std::string doc;  ///< one-line documentation with the unit
   std::string with; ///< an optional part of the alternative group holding this key (F: "A")
 
   /// "in (0, 1]", "> 0", ... for messages; empty when unbounded.
@@ -40,6 +42,11 @@ struct KeySchema {
   /// True when an SI value lies in the valid range.
   bool accepts(double v) const;
 };
+
+/// True when a lag (a KeySchema::lag value, s) is positive but far shorter than a run of
+/// `duration` s can resolve (below 1e-7 of it, or so short that its reciprocal overflows): it is
+/// then taken as no lag.
+bool unresolved_lag(double lag, std::optional<double> duration);
 
 /// Values of an element's keys in SI, by key name (absent keys carry their defaults).
 using KeyValues = std::map<std::string, double, std::less<>>;

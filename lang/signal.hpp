@@ -2,6 +2,8 @@
 /// Time-dependent values in SI: constant, piecewise constant (step), piecewise linear (pwl,
 /// table), or an expression of the time.
 
+#include "lang/source.hpp"
+
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -30,6 +32,10 @@ struct Signal {
     std::shared_ptr<const TimeProgram> program;
     double scale = 1.0;  ///< factor on the program's value (expression)
     double offset = 0.0; ///< added after the factor (expression; 273.15 for a bare degC value)
+    /// Where the expression was written (its statement's start, the expression; both empty when
+    /// unknown): a run that finds it out of range or not finite names that place, which for a
+    /// case's override is the case's line, not the element's declaration.
+    Span at, mark;
   };
   double constant = 0.0; ///< value when kind() == constant
 

@@ -123,6 +123,8 @@ std::optional<Signal> Elaborator::whole_signal(const ast::SignalExpr& se, FileId
     if (s.is_constant()) return s;
     for (double x : s.values())
       if (!check_range(x, p, at, span_of(f, *ts))) return std::nullopt;
+    s.shape().at = at; // (a run that its rows make fail names the table)
+    s.shape().mark = span_of(f, *ts);
     return s;
   }
   const auto& ps = std::get<ast::PointSignal>(se);
@@ -150,6 +152,8 @@ std::optional<Signal> Elaborator::whole_signal(const ast::SignalExpr& se, FileId
     corners.v.push_back(*x);
   }
   if (!ok) return std::nullopt;
+  s.shape().at = at;
+  s.shape().mark = span_of(f, ps);
   return s;
 }
 
@@ -188,6 +192,8 @@ std::optional<Signal> Elaborator::expression_signal(const ast::Expr& e, FileId f
         [&](ast::Index node) { return embedded_.at(node); });
     shape.t = shape.program->corners();
     shape.offset = bare_temperature_offset(q, p.absolute_temperature);
+    shape.at = at;
+    shape.mark = span_of(f, e);
     if (!check_range(s.at(0.0), p, at, span_of(f, e))) return std::nullopt;
     return s;
   } catch (const EvalError& err) {
@@ -479,7 +485,11 @@ std::optional<Elaborator::TableValues> Elaborator::table_values(const ast::Table
   Span file_mark = span_of(f, ts.case_data ? static_cast<const ast::Tagged&>(ts) : ts.file);
   double epoch = 0.0;
   if (ts.case_data) {
-    if (ts.options.time || ts.options.separator || !ts.options.misplaced.empty()) {
+    if (!ts.options.time && !ts.options.separator && !ts.options.misplaced.empty()) {
+      layout_of(ts.options, f, at, true); // `hold` or `before` twice: "'hold' is given twice"
+      return std::nullopt;
+    }
+    if (ts.options.time || ts.options.separator) {
       report(DiagnosticEngine::make(
           DiagId::bad_signal, at, file_mark,
           "table(data, ...) reads the case's data file in the layout its data statement gives; "
@@ -489,7 +499,8 @@ std::optional<Elaborator::TableValues> Elaborator::table_values(const ast::Table
     const CaseDataFile* d = case_data_file();
     if (!d) {
       if (!case_ && !m_.cases().empty()) return TableValues{Signal::of(0.0), dim};
-      if (first_data_statement()) return std::nullopt; // its problem is reported there
+      if (first_data_statement()) return std::nullopt;              // its problem is reported there
+      if (case_ && case_->stmt->unparsed_data) return std::nullopt; // its syntax error is
       report(DiagnosticEngine::make(
           DiagId::bad_signal, at, file_mark,
           case_ ? fmt::format("table(data, ...) reads the case's data file, but case '{}' has no "
@@ -524,7 +535,12 @@ std::optional<Elaborator::TableValues> Elaborator::table_values(const ast::Table
       report(std::move(d));
       return std::nullopt;
     }
-    table->check_column(static_cast<std::size_t>(col));
+    try {
+      table->check_column(static_cast<std::size_t>(col));
+    } catch (const CsvError& e) { // a cell of this column: the data statement may not read it
+      report(DiagnosticEngine::make(DiagId::data_format, at, file_mark, e.what()));
+      return std::nullopt;
+    }
     if (layout.absolute() && !(ts.case_data)) {
       const CaseDataFile* d = case_data_file();
       epoch = d && d->layout.absolute() ? d->epoch : (table->rows() ? table->time().front() : 0.0);

@@ -174,7 +174,8 @@ nlohmann::ordered_json ModelSession::calibrate(const CalibrateRequest& q) const 
     settings.tolerance = q.tolerance;
     settings.seed = q.seed;
     settings.threads = q.threads;
-    const OptimizerResult r = plugin->create()->run(problem, settings);
+    OptimizerResult r = plugin->create()->run(problem, settings);
+    cli::note_undefined_r2(r);
     return cli::result_json(r, problem, cli::ReportContext{q.seed, q.tolerance, model_->path()});
   } catch (const lang::ModelError& e) {
     throw load_error_of(e, *sources_);

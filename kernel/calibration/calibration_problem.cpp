@@ -66,18 +66,26 @@ CalibrationProblem::CalibrationProblem(const lang::Model& model, std::vector<std
     data_.push_back(load_measured(spec.settings.data_path, spec));
     cases_.push_back(name);
   }
-  // R^2 denominator: the spread of every measured point around their common mean.
-  double sum = 0.0;
+  // R^2 denominator: the spread of every measured point around their common mean, summed about
+  // the first point (constant data give exactly 0, not the round-off of a mean: R^2 -2e23).
+  double first = std::numeric_limits<double>::quiet_NaN(), sum = 0.0;
   std::size_t n = 0;
   for (const auto& d : data_)
     for (const auto& s : d.series)
       for (double v : s.values)
-        if (!std::isnan(v)) sum += v, ++n;
-  const double mean = n > 0 ? sum / static_cast<double>(n) : 0.0;
+        if (!std::isnan(v)) {
+          if (n == 0) first = v;
+          sum += v - first, ++n;
+        }
+  const double mean = n > 0 ? sum / static_cast<double>(n) : 0.0; // about `first`
   for (const auto& d : data_)
     for (const auto& s : d.series)
       for (double v : s.values)
-        if (!std::isnan(v)) sst_ += (v - mean) * (v - mean);
+        if (!std::isnan(v)) sst_ += (v - first - mean) * (v - first - mean);
+}
+
+double CalibrationProblem::r_squared(double sse) const {
+  return sst_ > 0.0 ? 1.0 - sse / sst_ : std::numeric_limits<double>::quiet_NaN();
 }
 
 std::vector<double> CalibrationProblem::lower() const {
@@ -154,7 +162,7 @@ Evaluation CalibrationProblem::evaluate(const std::vector<double>& x,
     ev.failure = e.what();
   }
   ev.rmse = ev.points > 0 ? std::sqrt(ev.sse / static_cast<double>(ev.points)) : 0.0;
-  ev.r2 = sst_ > 0.0 ? 1.0 - ev.sse / sst_ : 0.0;
+  ev.r2 = r_squared(ev.sse);
   if (ev.accepted && opt.keep_residuals) ev.residuals = std::move(residuals);
   return ev;
 }

@@ -33,11 +33,11 @@ struct Evaluation {
   /// True when the point was abandoned at the first residual reaching the tolerance (ok stays
   /// true: nothing failed; sse, points, rmse and r2 then cover only the points compared so far).
   bool abandoned = false;
-  std::size_t simulations = 0;   ///< case simulations started (fewer than the cases if abandoned)
-  double sse = 0.0;              ///< sum of squared residuals, K^2 (over the points compared)
-  std::size_t points = 0;        ///< residuals compared
-  double rmse = 0.0;             ///< sqrt(sse / points), K
-  double r2 = 0.0;               ///< 1 - sse / sum (T_meas - mean)^2, as in the study
+  std::size_t simulations = 0; ///< case simulations started (fewer than the cases if abandoned)
+  double sse = 0.0;            ///< sum of squared residuals, K^2 (over the points compared)
+  std::size_t points = 0;      ///< residuals compared
+  double rmse = 0.0;           ///< sqrt(sse / points), K
+  double r2 = 0.0; ///< 1 - sse / sum (T_meas - mean)^2, as in the study (NaN: no spread)
   std::vector<double> residuals; ///< T_sim - T_meas per point, fixed order (if kept and accepted)
   std::string failure;           ///< why it is not ok (solver message), for reports
 };
@@ -67,8 +67,12 @@ public:
   const std::vector<MeasuredData>& data() const { return data_; }
   /// Total number of measured points (residuals of a full evaluation).
   std::size_t points() const;
-  /// Sum over all points of (T_meas - mean T_meas)^2, K^2 (the R^2 denominator).
+  /// Sum over all points of (T_meas - mean T_meas)^2, K^2 (the R^2 denominator; exactly 0 when
+  /// every measured point is the same).
   double total_variance() const { return sst_; }
+  /// R^2 = 1 - sse / total_variance() of a sum of squared residuals; NaN (undefined) when the
+  /// measured data do not vary.
+  double r_squared(double sse) const;
 
   /// Simulates every case at x and compares with the data. Never throws for bad x: solver
   /// failures and invalid values give ok = false.

@@ -44,7 +44,7 @@ struct OptimizerResult {
   bool found = false;             ///< a best point exists
   std::vector<double> best;       ///< best point (SI)
   double rmse = 0.0;              ///< its RMSE, K
-  double r2 = 0.0;                ///< its R^2
+  double r2 = 0.0;                ///< its R^2 (NaN: undefined, the measured data do not vary)
   double wall_s = 0.0;            ///< wall time, s
   bool cancelled = false;         ///< stopped early by the cancel flag
   std::vector<double> std_errors; ///< standard errors of the params (least squares; SI)

@@ -22,7 +22,7 @@ struct UncertaintyOptions {
 
 /// Per node and output time: min, percentiles, max over the samples that could be simulated.
 struct UncertaintyBands {
-  std::vector<std::string> names;  ///< node and boundary names, spec order
+  std::vector<std::string> names;  ///< node and boundary names, spec order (then sensors)
   std::vector<double> times;       ///< output times, s
   std::vector<double> percentiles; ///< the reported percentiles
   /// stats[i][k][q]: node i at times[k]; q = 0 min, 1..P the percentiles, P + 1 max (K).

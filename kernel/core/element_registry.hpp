@@ -110,6 +110,17 @@ struct Key {
     k.min_exclusive = true;
     return *this;
   }
+  /// A temperature difference: a value in degC or degF is scaled, not shifted (0.4 [degC] is 0.4
+  /// K).
+  Key& temperature_difference() {
+    k.temperature_difference = true;
+    return *this;
+  }
+  /// A time constant the element integrates as a state (unresolved_lag(): far too short is none).
+  Key& lag() {
+    k.lag = true;
+    return *this;
+  }
   /// The finished schema entry.
   operator lang::KeySchema() const { return k; }
 };

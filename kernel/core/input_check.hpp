@@ -21,6 +21,10 @@ public:
   /// Throws lang::ModelError (located at the statement, naming the value and the time) when an
   /// input of `spec` (the one it was built from) is out of its range or not finite at time t.
   void at(const lang::NetworkSpec& spec, double t) const;
+  /// Throws lang::ModelError (located at the expression) when an input of `spec` grows without
+  /// bound near time t (a pole: tan(time / 100) at t = 157.08 s), which the integrators, failing
+  /// there, cannot name; a run of [t0, t) gives the values it is compared with.
+  void unbounded_near(const lang::NetworkSpec& spec, double t, double t0) const;
 
 private:
   struct Input {

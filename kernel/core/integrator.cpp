@@ -28,6 +28,9 @@ namespace {
 constexpr int kMaxEventsAtOneTime = 100;
 /// Most consecutive internal steps that do not advance time before giving up.
 constexpr int kMaxStalledSteps = 10;
+/// Internal steps each restart at an input's corner may take beyond SolverOptions::max_steps
+/// (a restart takes two to five on smooth inputs).
+constexpr long kStepsPerRestart = 20;
 
 /// Two times closer than this are treated as equal (segments shorter are skipped).
 double time_resolution(double a, double b) {
@@ -198,13 +201,23 @@ public:
 
 private:
   /// Fails once the steps of the whole run reach max_steps.
+  /// The restarts at the inputs' corners (a table's rows) are work the run must do: each may take
+  /// kStepsPerRestart steps besides max_steps, so that a table of a million rows is integrated.
   void check_step_budget() {
-    if (stepper_.steps() >= opt_.max_steps)
+    const long restarts = static_cast<long>(stops_.size()) - 1;
+    const long budget = opt_.max_steps + kStepsPerRestart * restarts;
+    if (stepper_.steps() >= budget)
       chk_.fail(step_call_, stepper_.too_much_work_flag(),
                 stepper_.flag_name(stepper_.too_much_work_flag()),
-                fmt::format("the maximum of {} internal steps (max_steps) was reached before "
-                            "t = {:.10g} s",
-                            opt_.max_steps, stops_.back()));
+                restarts == 0
+                    ? fmt::format("the maximum of {} internal steps (max_steps) was reached before "
+                                  "t = {:.10g} s",
+                                  opt_.max_steps, stops_.back())
+                    : fmt::format("the maximum of {} internal steps (max_steps {} and {} for each "
+                                  "of the {} restarts at the inputs' corners) was reached before "
+                                  "t = {:.10g} s",
+                                  budget, opt_.max_steps, kStepsPerRestart, restarts,
+                                  stops_.back()));
   }
 
   /// Steps that no longer advance time (typically creeping towards a time where the heat balance
@@ -414,6 +427,11 @@ SolverStats run_transient(ThermalSystem& sys, std::vector<double>& T, double t0,
     outputs.emit_up_to(t0, y);
     run.run();
     outputs.emit_up_to(t1, y);
+  } catch (const SolverError& e) {
+    std::copy(y, y + n, T.begin()); // the last state reached
+    // An input may explain the failure at its place in the model (a pole, a table's rows).
+    sys.explain_failure(e.time, t0, t1, e.flag == stepper->too_much_work_flag());
+    throw;
   } catch (...) {
     std::copy(y, y + n, T.begin()); // the last state reached
     throw;

@@ -25,24 +25,10 @@ namespace {
 /// one sensor that reads node `target` alone; -1 for none. Throws CsvError when several do.
 int sensor_of(const lang::NetworkSpec& spec, const std::string& target, const std::string& path,
               std::size_t column) {
-  const int node = spec.node_index(target);
-  int found = -1;
-  std::string names;
-  for (std::size_t e = 0; e < spec.elements.size(); ++e) {
-    const auto& el = spec.elements[e];
-    if (!el.schema || !el.schema->observes) continue;
-    if (el.name == target) return static_cast<int>(e);
-    if (node < 0 || el.nodes().size() != 1 || el.nodes()[0] != node) continue;
-    names += fmt::format("{}'{}'", names.empty() ? "" : ", ", el.name);
-    if (found >= 0)
-      throw lang::CsvError(path, 1, column,
-                           fmt::format("node '{}' is read by the sensors {}: name the sensor the "
-                                       "series is compared with (data \"FILE\" {{ SENSOR = "
-                                       "COLUMN }})",
-                                       target, names));
-    found = static_cast<int>(e);
-  }
-  return found;
+  const std::vector<int> sensors = lang::sensors_of_series(spec, target);
+  if (sensors.empty()) return -1;
+  if (sensors.size() == 1) return sensors.front();
+  throw lang::CsvError(path, 1, column, lang::several_sensors_message(spec, target, sensors));
 }
 
 bool is_sensor(const lang::NetworkSpec& spec, const std::string& name) {

@@ -1,5 +1,7 @@
 #include "kernel/core/network.hpp"
 
+#include "lang/model.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -292,6 +294,41 @@ std::vector<double> Network::breakpoints(double t0, double t1) const {
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
+}
+
+void Network::explain_failure(double t, double t0, double t1, bool out_of_steps) const {
+  if (!inputs_.empty()) inputs_.unbounded_near(spec_, t, t0);
+  if (!out_of_steps) return;
+  // The input that made the integrator restart most often, when its restarts took the steps.
+  const lang::Signal* most = nullptr;
+  std::size_t corners = 0;
+  std::string what;
+  lang::Span where;
+  const auto consider = [&](const lang::Signal& s, const auto& name, lang::Span statement) {
+    const auto& c = s.corners();
+    const auto n = static_cast<std::size_t>(std::upper_bound(c.begin(), c.end(), t1) -
+                                            std::upper_bound(c.begin(), c.end(), t0));
+    if (n <= corners) return;
+    most = &s;
+    corners = n;
+    what = name();
+    where = statement;
+  };
+  for (const auto& node : spec_.nodes)
+    if (node.boundary)
+      consider(
+          node.T, [&] { return fmt::format("T of boundary '{}'", node.name); }, node.where);
+  for (const auto& e : spec_.elements)
+    for (const auto& [key, value] : e.values)
+      consider(
+          value, [&] { return fmt::format("{} of {} '{}'", key, e.kind(), e.name); }, e.where);
+  if (!most || corners < 1000) return; // not what took the steps
+  const lang::Signal::Shape* shape = most->shape_if();
+  const bool located = shape && shape->mark.end > shape->mark.begin;
+  const lang::Span mark = located ? shape->mark : where;
+  const lang::Span at = located ? shape->at : lang::Span{where.file, where.begin, where.begin};
+  throw lang::ModelError(lang::DiagnosticEngine::make(
+      lang::DiagId::input_corners, at, mark, what, corners, "internal", fmt::format("{:.10g}", t)));
 }
 
 std::string Network::unknown_name(int i) const {

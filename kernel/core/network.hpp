@@ -40,6 +40,7 @@ public:
   bool apply_events(double t, const double* T, const std::vector<int>& fired) override;
   void init_events(double t, const double* T) override;
   std::vector<double> breakpoints(double t0, double t1) const override;
+  void explain_failure(double t, double t0, double t1, bool out_of_steps) const override;
   std::string unknown_name(int i) const override;
   std::string event_name(int k) const override;
 

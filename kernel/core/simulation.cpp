@@ -147,6 +147,9 @@ SimulationResult simulate(Network& net, const SimulationOptions& opt) {
   SimulationResult r;
   for (const auto& n : net.spec().nodes)
     r.names.push_back(n.name);
+  if (opt.sensors) // their readings follow the nodes in every row
+    for (int e : net.sensor_elements())
+      r.names.push_back(net.spec().elements[static_cast<std::size_t>(e)].name);
   r.stats = simulate(net, opt, [&r](double t, const std::vector<double>& temps) {
     r.times.push_back(t);
     r.temps.push_back(temps);

@@ -24,7 +24,7 @@ struct SimulationOptions {
 
 /// Temperatures of every node (nodes and boundaries, spec order) at each output time, in K.
 struct SimulationResult {
-  std::vector<std::string> names;         ///< node names, spec order
+  std::vector<std::string> names;         ///< node names, spec order (then sensors, if asked)
   std::vector<double> times;              ///< output times, s
   std::vector<std::vector<double>> temps; ///< temps[k][i]: node i at times[k], K
   SolverStats stats;                      ///< solver counters (transient or steady)

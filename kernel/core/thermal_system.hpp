@@ -56,6 +56,12 @@ public:
   /// (integrate() may then solve it exactly: exact_linear.hpp). Default: false.
   virtual bool piecewise_linear() const { return false; }
 
+  /// After the integrators failed at time t of a run over [t0, t1] (out of steps when
+  /// `out_of_steps`): throws a located error when an input explains it (an expression with a pole
+  /// near t, an input whose corners took the steps); returns otherwise.
+  virtual void explain_failure(double /*t*/, double /*t0*/, double /*t1*/,
+                               bool /*out_of_steps*/) const {}
+
   /// Name of an unknown for messages (the node name).
   virtual std::string unknown_name(int i) const { return "#" + std::to_string(i); }
   /// What owns event function k, for messages ("thermostat 'th'").
@@ -84,6 +90,9 @@ public:
   void init_events(double t, const double* T) override { inner_.init_events(t, T); }
   std::vector<double> breakpoints(double t0, double t1) const override {
     return inner_.breakpoints(t0, t1);
+  }
+  void explain_failure(double t, double t0, double t1, bool out_of_steps) const override {
+    inner_.explain_failure(t, t0, t1, out_of_steps);
   }
   std::string unknown_name(int i) const override { return inner_.unknown_name(i); }
   std::string event_name(int k) const override { return inner_.event_name(k); }

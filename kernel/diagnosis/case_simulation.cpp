@@ -428,16 +428,20 @@ void Engine::index_parts() {
   const auto index = [&](Part part) {
     PartRows p;
     p.in.reserve(rows);
-    double sum = 0.0;
+    // Summed about the part's first value: data that do not vary give exactly 0 (R² undefined),
+    // not the round-off of their mean.
+    double first = 0.0, sum = 0.0;
     for (std::size_t c = 0; c < ev_.cases.size(); ++c)
       for (const auto& s : ev_.cases[c].measured.series)
         for (std::size_t k = 0; k < s.values.size(); ++k) {
           if (std::isnan(s.values[k])) continue;
           const bool in = in_part(c, k, part);
           p.in.push_back(in ? 1 : 0);
-          if (in) sum += s.values[k], ++p.count;
+          if (!in) continue;
+          if (p.count++ == 0) first = s.values[k];
+          sum += s.values[k] - first;
         }
-    const double mean = p.count ? sum / static_cast<double>(p.count) : 0.0;
+    const double mean = first + (p.count ? sum / static_cast<double>(p.count) : 0.0);
     std::size_t row = 0;
     for (const auto& ce : ev_.cases)
       for (const auto& s : ce.measured.series)

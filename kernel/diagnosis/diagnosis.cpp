@@ -9,12 +9,15 @@
 
 #include <chrono>
 #include <ctime>
+#include <optional>
 
 namespace thermnet {
 
 DiagnosisReport diagnose(const lang::Model& model, const DiagnosisOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::clock_t cpu0 = std::clock();
+  if (options.progress)
+    options.progress({"reading the data, simulating the baseline and the heat flows", 0, 0});
   const detail::Engine engine(model, options);
   DiagnosisReport rep;
   rep.setup_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -33,14 +36,26 @@ DiagnosisReport diagnose(const lang::Model& model, const DiagnosisOptions& optio
   // Under the prediction criterion the likelihood-ratio tests decide (a model at the noise floor
   // gains nothing significant there either); the output error's selection otherwise, which also
   // describes the error its last model leaves.
-  detail::Base last = engine.declared();
-  const detail::Base best =
-      options.criterion == "prediction" ? detail::select_by_likelihood(engine, options, rep)
-      : rep.at_noise_floor              ? engine.declared()
-                                        : detail::Selection(engine, options).run(rep, last);
+  // (the declared model's base is referred to, not copied: it holds every measured point's
+  // simulation and residuals, hundreds of MB for a data file of 10^6 rows)
+  const detail::Base* last = &engine.declared();
+  detail::Base selected_last;
+  std::optional<detail::Base> selected;
+  const auto tell = [&](const char* stage) {
+    if (options.progress) options.progress({stage, 0, 0});
+  };
+  if (options.criterion == "prediction") {
+    tell("fitting the candidates by the likelihood of their one-step-ahead predictions");
+    selected = detail::select_by_likelihood(engine, options, rep);
+  } else if (!rep.at_noise_floor) {
+    tell("screening the candidates on the unexplained heat flows");
+    selected = detail::Selection(engine, options).run(rep, selected_last);
+    last = &selected_last;
+  }
+  const detail::Base& best = selected ? *selected : engine.declared();
   if (options.criterion != "prediction") {
-    rep.structural = detail::residual_signature(engine.evidence(), last.sims, last.metrics.rmse);
-    rep.structural.remains = !last.at_floor && last.metrics.rmse >= 2.0 * rep.noise_floor;
+    rep.structural = detail::residual_signature(engine.evidence(), last->sims, last->metrics.rmse);
+    rep.structural.remains = !last->at_floor && last->metrics.rmse >= 2.0 * rep.noise_floor;
   }
   rep.curves = engine.curves(best);
   rep.batches = engine.batches();

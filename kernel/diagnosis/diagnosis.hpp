@@ -9,12 +9,20 @@
 #include "kernel/diagnosis/likelihood_findings.hpp"
 #include "lang/model.hpp"
 
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace thermnet {
+
+/// What a diagnosis is doing, for a progress display.
+struct DiagnosisProgress {
+  std::string stage;     ///< in words, e.g. "refitting candidates"
+  std::size_t done = 0;  ///< refits of the stage done
+  std::size_t total = 0; ///< refits of the stage (0: a stage without a count)
+};
 
 /// How to diagnose.
 struct DiagnosisOptions {
@@ -42,6 +50,9 @@ struct DiagnosisOptions {
   /// output-error: the refits' Jacobians from the cases' forward sensitivities (CVODES) instead of
   /// forward differences of simulations (fewer simulations; near-tied fits may end elsewhere)
   bool sensitivities = false;
+  /// Told what the diagnosis is doing (at each stage and after each refit; from worker threads
+  /// too, never two calls at once); empty: nothing is told.
+  std::function<void(const DiagnosisProgress&)> progress;
 };
 
 /// How far the simulation is off for one node (one case or all cases together).

@@ -8,10 +8,15 @@
 #include "kernel/calibration/least_squares.hpp"
 #include "kernel/core/process_group.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <limits>
+#include <mutex>
 #include <utility>
 
 namespace thermnet::detail {
@@ -30,6 +35,7 @@ std::vector<std::vector<double>> Engine::series_residuals(const CaseSims& sims) 
     const auto& m = ev_.cases[c].measured;
     for (std::size_t s = 0; s < m.series.size(); ++s) {
       out.emplace_back();
+      out.back().reserve(m.times.size());
       for (std::size_t k = 0; k < m.times.size(); ++k)
         if (!std::isnan(m.series[s].values[k]))
           out.back().push_back(sims[c][s][k] - m.series[s].values[k]);
@@ -81,6 +87,7 @@ Base Engine::make_base(std::vector<Applied> applied, bool measured) const {
   std::vector<double> r;
   residuals(b.sims, Part{}, r);
   b.sse_all = sum_of_squares(r);
+  b.holdout_r.reserve(n_test_); // (sized once, as in validate())
   for (std::size_t f = 0; f < folds(); ++f) {
     residuals(b.sims, Part{Part::test, f}, r);
     b.sse_test += sum_of_squares(r);
@@ -160,11 +167,14 @@ Evaluated Engine::evaluated(const Entry& e, const Base& base, Refit refit) const
   out.holdout_rho = std::move(refit.holdout_rho);
   if (!refit.ok) return out;
   out.holdout_sse = sum_of_squares(out.holdout_r);
-  // Residuals per series (the all-data rows, in order) for the mechanism comparison.
+  // Residuals per series (the all-data rows, in order) for the mechanism comparison, each sized
+  // exactly: every refitted candidate keeps them (grown by push_back, 5-50 % more).
   std::size_t row = 0;
   for (const auto& ce : ev_.cases)
     for (const auto& s : ce.measured.series) {
       out.r.emplace_back();
+      out.r.back().reserve(static_cast<std::size_t>(std::count_if(
+          s.values.begin(), s.values.end(), [](double v) { return !std::isnan(v); })));
       for (double v : s.values)
         if (!std::isnan(v)) out.r.back().push_back(refit.r[row++]);
     }
@@ -210,6 +220,9 @@ bool Engine::validate(const Hypothesis& h, const Candidate& c, const Fit& all, c
       held.lo[j] = all.p[j] - 1e-9;
       held.hi[j] = all.p[j] + 1e-9;
     }
+  // Sized once: appended fold by fold it grew to 4/3 of the held-out points, and every refitted
+  // candidate keeps it (608 instead of 456 MB for 19 candidates of a 10^6-row file).
+  holdout_r.reserve(holdout_r.size() + n_test_);
   for (std::size_t k = 0; k < folds(); ++k) {
     try {
       if (!determined_in(held, all, Part{Part::train, k})) {
@@ -263,12 +276,13 @@ void Engine::measure_gain(Finding& f, const Base& base, double sse, double holdo
   double total_test = 0.0;
   for (std::size_t j = 0; j < folds(); ++j)
     total_test += sst(Part{Part::test, j});
-  f.r2_before = total > 0 ? 1.0 - base.sse_all / total : 0.0;
-  f.r2_after = total > 0 ? 1.0 - sse / total : 0.0;
+  constexpr double undefined = std::numeric_limits<double>::quiet_NaN(); // data without spread
+  f.r2_before = total > 0 ? 1.0 - base.sse_all / total : undefined;
+  f.r2_after = total > 0 ? 1.0 - sse / total : undefined;
   f.validation_rmse_before = std::sqrt(base.sse_test / nt);
   f.validation_rmse_after = std::sqrt(holdout_sse / nt);
-  f.validation_r2_before = total_test > 0 ? 1.0 - base.sse_test / total_test : 0.0;
-  f.validation_r2_after = total_test > 0 ? 1.0 - holdout_sse / total_test : 0.0;
+  f.validation_r2_before = total_test > 0 ? 1.0 - base.sse_test / total_test : undefined;
+  f.validation_r2_after = total_test > 0 ? 1.0 - holdout_sse / total_test : undefined;
   f.delta_bic = delta_bic(sse, base.sse_all, k);
 }
 
@@ -277,10 +291,26 @@ std::vector<Evaluated> Engine::evaluate_all(const std::vector<Entry>& entries, c
   // Each process refits its share of the entries; the refits are exchanged, and every process
   // makes the same findings from all of them.
   std::vector<Refit> refits(entries.size());
+  const std::string stage =
+      fmt::format("refitting candidates{}{}", joint ? " jointly with the ranged params" : "",
+                  base.applied.empty() ? std::string()
+                                       : fmt::format(" given {} finding{}", base.applied.size(),
+                                                     base.applied.size() == 1 ? "" : "s"));
+  std::atomic<std::size_t> done{0};
+  std::mutex told;
+  const auto tell = [&](std::size_t n) {
+    if (!opt_.progress) return;
+    std::lock_guard lock(told);
+    opt_.progress({stage, n, entries.size()});
+  };
+  tell(0);
   timed(base, joint, entries.size(), [&] {
     distributed_for(
         entries.size(), opt_.threads,
-        [&](std::size_t i) { refits[i] = refit(entries[i], base, joint); },
+        [&](std::size_t i) {
+          refits[i] = refit(entries[i], base, joint);
+          tell(++done);
+        },
         [&](std::size_t i) { return pack_refit(refits[i]); },
         [&](std::size_t i, std::string_view bytes) { refits[i] = unpack_refit(bytes); });
   });

@@ -14,6 +14,27 @@
 
 namespace thermnet::detail {
 
+namespace {
+
+/// Why a case's data measure no node ("" when they measure one): a boundary's temperature is
+/// given, not simulated (its "error" is 0, or the difference between two inputs), so data on
+/// boundaries alone give nothing to diagnose.
+std::string no_node_measured(const CaseEvidence& ce) {
+  std::vector<std::string> boundaries;
+  if (ce.measured.series.empty()) return {};
+  for (const auto& s : ce.measured.series) {
+    if (!ce.spec.nodes[static_cast<std::size_t>(s.node_index)].boundary) return {};
+    boundaries.push_back(s.node);
+  }
+  return fmt::format("case '{}': its data file {} measures no node, only the boundar{} {} (a "
+                     "boundary's temperature is given, not simulated); diagnose compares "
+                     "simulated nodes with measured ones: add a column of a node",
+                     ce.name, ce.measured.path, boundaries.size() == 1 ? "y" : "ies",
+                     fmt::join(boundaries, ", "));
+}
+
+} // namespace
+
 void Engine::load_cases() {
   ev_.model = &model_;
   ev_.threads = opt_.threads;
@@ -29,6 +50,7 @@ void Engine::load_cases() {
   const bool all = names.empty();
   if (all) names = model_.run_case_names();
   std::set<std::string> seen;
+  std::string boundaries_only; // why the last case left out measures no node
   for (const auto& requested : names) {
     const std::string name = model_.resolve_case(requested);
     if (!seen.insert(name).second) continue;
@@ -43,11 +65,17 @@ void Engine::load_cases() {
     ce.name = name;
     ce.measured = load_measured(spec.settings.data_path, spec);
     ce.spec = std::move(spec);
+    if (std::string why = no_node_measured(ce); !why.empty()) {
+      if (!all) throw DiagnosisError(why);
+      boundaries_only = why; // a case whose data drive boundaries only: left out, like no data
+      continue;
+    }
     if (ce.measured.times.size() < 10 || ce.measured.series.empty())
       throw DiagnosisError(
           fmt::format("case '{}': too few measured samples to diagnose (need at least 10)", name));
     ev_.cases.push_back(std::move(ce));
   }
+  if (ev_.cases.empty() && !boundaries_only.empty()) throw DiagnosisError(boundaries_only);
   if (ev_.cases.empty())
     throw DiagnosisError("no case of the model has measured data; nothing to diagnose (add "
                          "`data \"file.csv\"` to a case)");

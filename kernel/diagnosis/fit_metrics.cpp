@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace thermnet::detail {
 
@@ -138,7 +139,7 @@ FitMetrics Engine::metrics(const CaseSims& sims) const {
     }
   fm.rmse = n ? std::sqrt(sse / static_cast<double>(n)) : 0.0;
   const double total = sst(Part{});
-  fm.r2 = total > 0 ? 1.0 - sse / total : 0.0;
+  fm.r2 = total > 0 ? 1.0 - sse / total : std::numeric_limits<double>::quiet_NaN(); // no spread
   return fm;
 }
 

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <memory>
 #include <set>
+#include <utility>
 
 namespace thermnet::detail {
 
@@ -62,7 +63,7 @@ Base Selection::select_forward(DiagnosisReport& rep, Base& last) const {
     if (!reestimate(applied, nres[b].f, rep, holdout_r)) break;
     base = with_holdout(engine_.make_base(applied), std::move(holdout_r));
   }
-  last = base;
+  last = std::move(base); // (not copied: a base holds every measured point twice over)
   return best;
 }
 

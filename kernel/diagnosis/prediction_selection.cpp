@@ -249,8 +249,8 @@ private:
   void simulation_error(const PredictionProblem& pp, const SpecMaker& make, Fitted& f) const {
     const std::vector<double> x(f.fit.theta.begin(),
                                 f.fit.theta.begin() + static_cast<long>(pp.structural()));
-    double sse = 0.0, sum = 0.0, sum2 = 0.0;
-    std::size_t n = 0;
+    double sse = 0.0, sum = 0.0, sum2 = 0.0, first = 0.0; // sums about the first value: data
+    std::size_t n = 0;                                    // that do not vary give sst = 0
     for (std::size_t c = 0; c < ev_.cases.size(); ++c) {
       const MeasuredData& d = ev_.cases[c].measured;
       const auto sims = simulate_case(make(c, x), d.times);
@@ -260,9 +260,9 @@ private:
           if (std::isnan(m)) continue;
           const double r = sims[k][static_cast<std::size_t>(s.node_index)] - m;
           sse += r * r;
-          sum += m;
-          sum2 += m * m;
-          ++n;
+          if (n++ == 0) first = m;
+          sum += m - first;
+          sum2 += (m - first) * (m - first);
         }
     }
     if (n == 0) return;

@@ -24,6 +24,11 @@ nlohmann::json node_json(const NodeMetrics& m) {
   return j;
 }
 
+/// R² to 4 decimals, or "undefined" (NaN: the measured data do not vary).
+std::string r2_text(double r2) {
+  return std::isnan(r2) ? std::string("undefined") : fmt::format("{:.4f}", r2);
+}
+
 /// Nodes by falling RMSE.
 std::vector<std::pair<std::string, NodeMetrics>> worst_nodes(const FitMetrics& m) {
   std::vector<std::pair<std::string, NodeMetrics>> v(m.nodes.begin(), m.nodes.end());
@@ -249,10 +254,18 @@ std::string diagnosis_text(const DiagnosisReport& r) {
   std::string s;
   s += fmt::format("Diagnosis of {} ({} case{}: {})\n", r.model, r.cases.size(),
                    r.cases.size() == 1 ? "" : "s", fmt::join(r.cases, ", "));
-  s += fmt::format("Baseline: RMSE {:.3g} K, R² {:.4f}; measurement noise about {:.3g} K\n",
-                   r.baseline.rmse, r.baseline.r2, r.noise_floor);
+  s += fmt::format("Baseline: RMSE {:.3g} K, R² {}; measurement noise about {:.3g} K\n",
+                   r.baseline.rmse,
+                   std::isnan(r.baseline.r2)
+                       ? "undefined (every measured point has the same value: no spread to explain)"
+                       : r2_text(r.baseline.r2),
+                   r.noise_floor);
   s += "\nWhat the simulation gets wrong (worst nodes):\n";
   auto worst = worst_nodes(r.baseline);
+  // A series the simulation matches exactly (a boundary read from the data it is given) is not
+  // something the simulation gets wrong.
+  std::erase_if(worst, [](const auto& w) { return w.second.points == 0 || w.second.rmse == 0.0; });
+  if (worst.empty()) s += "  nothing: every measured series is matched exactly\n";
   for (std::size_t i = 0; i < worst.size() && i < 3; ++i) {
     const auto& [name, m] = worst[i];
     s += fmt::format("  {:<14} RMSE {:.3g} K, bias {:+.3g} K, largest error {:+.3g} K at t = "
@@ -318,10 +331,10 @@ std::string diagnosis_text(const DiagnosisReport& r) {
     if (f.given > 0)
       s += fmt::format("     given finding{} {} applied\n", f.given > 1 ? "s" : "",
                        f.given > 1 ? fmt::format("1-{}", f.given) : std::string("1"));
-    s += fmt::format("     gain: RMSE {:.3g} -> {:.3g} K, R² {:.4f} -> {:.4f}; held-out RMSE "
+    s += fmt::format("     gain: RMSE {:.3g} -> {:.3g} K, R² {} -> {}; held-out RMSE "
                      "{:.3g} -> {:.3g} K ({})\n",
-                     f.rmse_before, f.rmse_after, f.r2_before, f.r2_after, f.validation_rmse_before,
-                     f.validation_rmse_after, validation);
+                     f.rmse_before, f.rmse_after, r2_text(f.r2_before), r2_text(f.r2_after),
+                     f.validation_rmse_before, f.validation_rmse_after, validation);
     if (!f.rivals.empty()) {
       s += "     fits as well (held-out test cannot tell them apart):\n";
       for (const auto& r : f.rivals)

@@ -182,6 +182,14 @@ std::set<lang::FileId> changed_files(const ModelFiles& m, lang::FileId root,
   return changed;
 }
 
+/// Whether a name may be chosen for a copy: not a symlink (dangling or not), which the copy would
+/// be written through, perhaps out of the folder. (A directory, FIFO or device there is taken and
+/// makes the write fail, writing nothing; a regular file is replaced.)
+bool not_symlink(const fs::path& p) {
+  std::error_code ec;
+  return !fs::is_symlink(fs::symlink_status(p, ec));
+}
+
 /// Where each changed file goes: the root to `out`, the others beside it; never onto an input.
 std::map<lang::FileId, fs::path> destinations(const lang::SourceManager& sources,
                                               const ModelFiles& m,
@@ -202,7 +210,7 @@ std::map<lang::FileId, fs::path> destinations(const lang::SourceManager& sources
     const std::string stem = out_path.stem().string() + "." + original.stem().string();
     const std::string ext = original.extension().string();
     fs::path p = out_path.parent_path() / (stem + ext);
-    for (int n = 2; taken.count(real_path(p)); ++n)
+    for (int n = 2; taken.count(real_path(p)) || !not_symlink(p); ++n)
       p = out_path.parent_path() / fmt::format("{}-{}{}", stem, n, ext);
     taken.insert(real_path(p));
     dest.emplace(f, p);
@@ -279,7 +287,7 @@ std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lan
       result.push_back({dest.at(f).string(),
                         rewritten_text(sources, f, updates, m.refs.at(f), changed, dest,
                                        f == root ? std::move(root_edits) : std::vector<TextEdit>{}),
-                        f});
+                        f, f != root});
   return result;
 }
 

@@ -23,6 +23,7 @@ struct RewrittenFile {
   std::string path;        ///< where it is to be written
   std::string text;        ///< its new text
   lang::FileId source = 0; ///< the model file it is a copy of
+  bool chosen = false;     ///< its name was chosen here (a copy beside OUT), not given by the user
 };
 
 /// A file a model reads.
@@ -39,12 +40,13 @@ std::vector<InputFile> files_read(const lang::SourceManager& sources, lang::File
 
 /// The files of the model rooted at `root` with the params set to their new values, root first.
 /// The root goes to `out`; every other file that changes goes beside `out` as `OUTSTEM.NAME`
-/// (`OUTSTEM.STEM-2.EXT`, ... when that name is taken by an input or another copy). In each written
-/// file, includes of a copied file name the copy, and relative include/data/table/plugin paths
-/// are re-expressed from the new directory when it differs from the original's. Files that do not
-/// change are not copied; the user's inputs are never targets. Throws RewriteError when `out`
-/// names an input of the model (the model itself, an included, data, table or plugin file).
-/// `root_edits` are further edits of the root file's original text (case blocks extended).
+/// (`OUTSTEM.STEM-2.EXT`, ... when that name is taken by an input or another copy, or is a symlink:
+/// a name nobody gave is never written through). In each written file, includes of a copied file
+/// name the copy, and relative include/data/table/plugin paths are re-expressed from the new
+/// directory when it differs from the original's. Files that do not change are not copied; the
+/// user's inputs are never targets. Throws RewriteError when `out` names an input of the model (the
+/// model itself, an included, data, table or plugin file). `root_edits` are further edits of the
+/// root file's original text (case blocks extended).
 std::vector<RewrittenFile> rewrite_model(const lang::SourceManager& sources, lang::FileId root,
                                          const std::vector<ParamUpdate>& updates,
                                          const std::string& out,

@@ -15,7 +15,8 @@ namespace {
 class Sensor final : public Element {
 public:
   Sensor(std::vector<int> nodes, double tau, double offset, double gain)
-      : nodes_(std::move(nodes)), tau_(tau), offset_(offset), gain_(gain) {}
+      : nodes_(std::move(nodes)), tau_(lang::unresolved_lag(tau, std::nullopt) ? 0.0 : tau),
+        offset_(offset), gain_(gain) {}
 
   int state_count() const override { return tau_ > 0.0 ? 1 : 0; }
   void assign_states(int first) override { state_ = first; }
@@ -25,7 +26,10 @@ public:
   bool affine() const override { return true; }
   void declare(JacobianLayout& layout) override {
     if (tau_ <= 0.0) return;
+    // declare() runs twice (the network records the pattern, then hands out the slots): the
+    // slots of the last call are the ones kept.
     self_slot_ = layout.slot(state_, state_);
+    node_slots_.clear();
     for (int n : nodes_)
       node_slots_.push_back(layout.slot(state_, n));
   }
@@ -67,10 +71,12 @@ ElementPlugin make_sensor() {
           "lag, an offset and a gain; carries no heat";
   s.keys.push_back(Key("tau", lang::dim::time, "time constant of the first-order lag [s] (0: none)")
                        .otherwise(0.0)
-                       .non_negative());
+                       .non_negative()
+                       .lag());
   s.keys.push_back(Key("offset", lang::dim::temperature,
                        "constant added to the reading [K] (a temperature difference)")
-                       .otherwise(0.0));
+                       .otherwise(0.0)
+                       .temperature_difference());
   s.keys.push_back(Key("gain", lang::Dimension{}, "factor on the reading in degC (1: none)")
                        .otherwise(1.0)
                        .positive());

@@ -134,7 +134,8 @@ ElementPlugin make_thermostat() {
                        "sensor time constant [s]: the switch acts on R, dR/dt = (T_sense - R) / "
                        "lag (0: no lag)")
                        .otherwise(0.0)
-                       .non_negative());
+                       .non_negative()
+                       .lag());
   s.keys.push_back(Key("min_on", lang::dim::time, "least time on after switching on [s] (0: none)")
                        .otherwise(0.0)
                        .non_negative());
@@ -159,6 +160,7 @@ ElementPlugin make_thermostat() {
                            return e.has(key) ? e.number(key) : 0.0;
                          };
                          t.lag = optional("lag");
+                         if (lang::unresolved_lag(t.lag, std::nullopt)) t.lag = 0.0;
                          t.min_on = optional("min_on");
                          t.min_off = optional("min_off");
                          return std::make_unique<Thermostat>(std::move(t));

@@ -134,7 +134,7 @@ OptimizerResult GeneticAlgorithm::run(const CalibrationProblem& problem,
     ++r.evaluations;
     r.simulations += problem.cases().size();
     r.rmse = e.ok ? e.rmse : std::sqrt(best / static_cast<double>(problem.points()));
-    r.r2 = e.ok ? e.r2 : 1.0 - best / problem.total_variance();
+    r.r2 = e.ok ? e.r2 : problem.r_squared(best);
     r.accepted = state.ok.load();
     const auto n = static_cast<double>(problem.points());
     r.notes.push_back(fmt::format(

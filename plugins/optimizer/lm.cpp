@@ -91,7 +91,7 @@ private:
 
 /// Standard errors (SI), correlation matrix and their notes at the final point.
 void add_statistics(const CalibrationResiduals& problem, const LeastSquaresResult& fit,
-                    OptimizerResult& r) {
+                    const std::vector<lang::ParamInfo>& params, OptimizerResult& r) {
   const LeastSquaresCovariance cov =
       least_squares_covariance(problem, fit.x, fit.jacobian, fit.sse);
   r.std_errors = cov.std_errors;
@@ -106,7 +106,9 @@ void add_statistics(const CalibrationResiduals& problem, const LeastSquaresResul
         "not identifiable from the data (see the correlation matrix)",
         cov.condition));
   for (std::size_t j : cov.no_effect)
-    r.notes.push_back(fmt::format("lm: param #{} has no effect on the residuals", j + 1));
+    r.notes.push_back(fmt::format("lm: param '{}' has no effect on the residuals (the data do not "
+                                  "depend on it at the fit: its value is not an estimate)",
+                                  params.at(j).name));
 }
 
 class LevenbergMarquardt final : public Optimizer {
@@ -153,10 +155,10 @@ OptimizerResult LevenbergMarquardt::run(const CalibrationProblem& problem,
   r.found = true;
   r.best = fit.x;
   r.rmse = cur.points > 0 ? std::sqrt(fit.sse / static_cast<double>(cur.points)) : 0.0;
-  r.r2 = problem.total_variance() > 0.0 ? 1.0 - fit.sse / problem.total_variance() : 0.0;
+  r.r2 = problem.r_squared(fit.sse);
   r.accepted = 1 + fit.accepted; // the start and every accepted step
   if (fit.jacobian_at_x)
-    add_statistics(residuals, fit, r);
+    add_statistics(residuals, fit, problem.params(), r);
   else
     r.notes.push_back("lm: no Jacobian at the final point: no standard errors");
   for (Eigen::Index j = 0; j < fit.u.size(); ++j)

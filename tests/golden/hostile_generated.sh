@@ -24,6 +24,24 @@ EOF
 hostile_run "a chain of 30,000 submodels, each instantiating the next" 30 1000 1 \
   "instances more than 64 deep \[submodel-too-deep\]" lint chain.tnet
 
+# Chains of values each read by the next (issue 51: 10,000 chained consts or params crashed lint
+# and the language server, the evaluation recursing as deep as the chain): evaluated in a loop, and
+# right (the boundary at c99999 / 1000 = 100 degC); a cycle as long is one located error.
+python3 - >consts.tnet <<'EOF'
+n = 100000
+print("const c0 = 1")
+for k in range(1, n):
+    print("const c%d = c%d + 1" % (k, k - 1))
+print("boundary b T = c%d / 1000\nnode m C = 1\nconductance g m b G = 1\ncase c { duration = 1 }" % (n - 1))
+EOF
+hostile_run "a chain of 100,000 consts: simulate --steady reads b = 100 degC" 60 2000 0 \
+  "^0,100.00000000,100.00000000" simulate consts.tnet --steady
+sed 's/^const /param /' consts.tnet >params.tnet
+hostile_run "a chain of 100,000 params" 60 2000 0 "^0,100.00000000" simulate params.tnet --steady
+sed 's/^const c0 = 1$/const c0 = c99999 + 1/' consts.tnet >cycle.tnet
+hostile_run "a cycle of 100,000 consts: one located cycle error" 60 2000 1 \
+  "'c[0-9]*' depends on itself: c[0-9]* -> c[0-9]* -> .*\[cycle\]" lint cycle.tnet
+
 printf 'boundary b T = 20\nsubmodel s(x) {\n  node m C = 1\n  conductance g m x G = 1\n  s inner m\n}\n' >selfsub.tnet
 hostile_run "a submodel containing itself, never instantiated" 20 1000 1 \
   "submodel 's' contains itself: s -> s \[submodel-cycle\]" lint selfsub.tnet

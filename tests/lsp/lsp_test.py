@@ -578,6 +578,28 @@ check("the data file's escape sequence and invalid byte are shown escaped",
       hd is not None and "<U+001B>]0;pwned<U+0007>tim<A5>e" in text and "\\u001b" not in text, hd)
 s.notify("textDocument/didClose", {"textDocument": {"uri": hostile_uri}})
 
+# ----------------------------------------------------------------------------- long chains
+# 10,000 chained consts crashed the server on didOpen (the evaluation recursed as deep as the
+# chain, issue 51); a chain of 100,000 consts and one of params are checked, hover still answers.
+for kind, rid in (("const", 60), ("param", 61)):
+    chain = "%s c0 = 1\n" % kind + "".join("%s c%d = c%d + 1\n" % (kind, k, k - 1)
+                                           for k in range(1, 100000))
+    chain += "boundary b T = c99999 / 1000\nnode m C = 1\nconductance g m b G = 1\n"
+    chain_uri = "file://" + os.path.join(work, "chain_%s.tnet" % kind)
+    s.notify("textDocument/didOpen", {"textDocument": {"uri": chain_uri, "languageId": "tnet",
+                                                       "version": 1, "text": chain}})
+    try:
+        cd = s.next(lambda m: m.get("method") == "textDocument/publishDiagnostics"
+                    and m["params"]["uri"] == chain_uri, timeout=60)["params"]["diagnostics"]
+    except queue.Empty:
+        cd = None
+    check("a chain of 100,000 %ss: diagnostics published without an error" % kind,
+          cd is not None and not any(d.get("severity") == 1 for d in cd), cd)
+    r = s.request(rid, "textDocument/hover", {"textDocument": {"uri": chain_uri},
+                                              "position": pos(chain, "c99999 / 1000", 0, 1)})
+    check("  ... and hover on c99999 answers", "result" in r and r.get("error") is None, r)
+    s.notify("textDocument/didClose", {"textDocument": {"uri": chain_uri}})
+
 # ----------------------------------------------------------------------------- errors, shutdown
 r = s.request(50, "textDocument/frobnicate", {})
 check("an unknown method gets -32601", r.get("error", {}).get("code") == -32601, r)

@@ -225,6 +225,39 @@ TEST_CASE("load_measured: columns matched to nodes, degC -> K, missing values sk
   }
   CHECK_THROWS_AS(load_measured(dir.write("neg.csv", "time,a\n-1,20\n0,20\n"), spec),
                   lang::CsvError);
+  // A finite but absurd value is refused like inf, at its row and column (issue 51): its square
+  // would overflow the sums of squares (RMSE inf, R² nan).
+  for (const char* cell : {"1e300", "1e7", "-1e300"}) {
+    try {
+      load_measured(dir.write("huge.csv", std::string("time,b,a\n0,20,20\n10,21,") + cell + "\n"),
+                    spec);
+      FAIL("no error for " << cell);
+    } catch (const lang::CsvError& e) {
+      CHECK(e.row == 3);
+      CHECK(e.column == 3);
+    }
+  }
+  CHECK_NOTHROW(load_measured(dir.write("hot.csv", "time,a\n0,20\n10,5000\n"), spec));
+}
+
+TEST_CASE("CalibrationProblem: data that do not vary give no spread and an undefined R²") {
+  TempDir dir;
+  // 20.1 degC: the mean of 13 copies is not 293.25 K to the last bit, a spread of round-off
+  // once gave R² = -2.3e23.
+  std::string csv = "time,a\n";
+  for (int k = 0; k <= 12; ++k)
+    csv += std::to_string(10 * k) + ",20.1\n";
+  dir.write("flat.csv", csv);
+  Loaded m(dir.write("m.tnet", "param G = 2 [W/K] range 1 .. 3\nboundary amb T = 20\n"
+                               "node a C = 10 T0 = 20\nconductance g a amb G = G\n"
+                               "case c { duration = 120; data \"flat.csv\" }\n"));
+  CalibrationProblem p(*m.model);
+  CHECK(p.total_variance() == 0.0);
+  const Evaluation e = p.evaluate({2.0});
+  REQUIRE(e.ok);
+  CHECK(e.rmse == doctest::Approx(0.1).epsilon(1e-6));
+  CHECK(std::isnan(e.r2));
+  CHECK(std::isnan(p.r_squared(1.0)));
 }
 
 TEST_CASE("CalibrationProblem: ranged params, cases with data, bounds and R² denominator") {

@@ -155,6 +155,57 @@ TEST_CASE("rewrite_model: the user's inputs are never targets, the model itself 
   CHECK(files[0].text.find("include \"cal.mid.tnet\"") != std::string::npos);
 }
 
+TEST_CASE("rewrite_model: a copy never goes through a symlink (issue 51)") {
+  Tree t;
+  Loaded m(t.path("main.tnet"));
+  const auto updates = updates_for(*m.model);
+  // A symlink planted at the copy's name, leading out of the folder: skipped, not written through.
+  t.dir.write("elsewhere/victim.txt", "victim\n");
+  fs::create_symlink(t.path("elsewhere/victim.txt"), t.path("cal.mid.tnet"));
+  fs::create_symlink(t.path("nowhere/dangling.tnet"), t.path("cal.params.tnet"));
+  auto files = rewrite::rewrite_model(m.sources, m.root(), updates, t.path("cal.tnet"));
+  REQUIRE(files.size() == 3);
+  CHECK_FALSE(files[0].chosen); // OUT: the user's name
+  CHECK(files[1].chosen);
+  CHECK(files[1].path == t.path("cal.mid-2.tnet"));
+  CHECK(files[2].path == t.path("cal.params-2.tnet")); // a dangling symlink is skipped too
+  CHECK(files[0].text.find("include \"cal.mid-2.tnet\"") != std::string::npos);
+  std::vector<cli::OutputFile> out;
+  for (const auto& f : files)
+    out.push_back({f.path, f.text, f.chosen ? cli::Follow::never : cli::Follow::symlinks});
+  cli::write_output_files(out);
+  CHECK(read(t.dir.path / "elsewhere/victim.txt") == "victim\n");
+  CHECK(fs::is_symlink(t.path("cal.mid.tnet")));
+  CHECK_FALSE(fs::exists(t.dir.path / "nowhere"));
+  Loaded back(t.path("cal.tnet"));
+  back.model->lint(back.diags);
+  CHECK(back.diags.error_count() == 0);
+  // A regular file at a chosen name (an earlier run's copy) is replaced, by a rename: a hard link
+  // to it elsewhere keeps its content.
+  fs::create_hard_link(t.path("cal.mid-2.tnet"), t.path("elsewhere/hard.tnet"));
+  const std::string before = read(t.dir.path / "elsewhere/hard.tnet");
+  std::vector<rewrite::ParamUpdate> other = updates;
+  for (auto& u : other)
+    u.value *= 2;
+  files = rewrite::rewrite_model(m.sources, m.root(), other, t.path("cal.tnet"));
+  REQUIRE(files.size() == 3);
+  CHECK(files[1].path == t.path("cal.mid-2.tnet"));
+  out.clear();
+  for (const auto& f : files)
+    out.push_back({f.path, f.text, f.chosen ? cli::Follow::never : cli::Follow::symlinks});
+  cli::write_output_files(out);
+  CHECK(read(t.dir.path / "elsewhere/hard.tnet") == before);
+  // Should a symlink appear at a chosen name after the names were chosen, the write refuses it.
+  fs::remove(t.path("cal.params-2.tnet"));
+  fs::create_symlink(t.path("elsewhere/victim.txt"), t.path("cal.params-2.tnet"));
+  CHECK_THROWS_AS(cli::write_output_files({{t.path("cal.params-2.tnet"), "x", cli::Follow::never}}),
+                  cli::OutputError);
+  CHECK(read(t.dir.path / "elsewhere/victim.txt") == "victim\n");
+  // The user's own name is followed, as a shell redirection would.
+  cli::write_output_files({{t.path("cal.params-2.tnet"), "through\n"}});
+  CHECK(read(t.dir.path / "elsewhere/victim.txt") == "through\n");
+}
+
 TEST_CASE("format_param_value: an expression keeps the one unit it is written in") {
   lang::ParamInfo k;
   k.dim = lang::dim::conductivity;

@@ -1,0 +1,64 @@
+#pragma once
+/// Building the network of a flattened SPICE netlist (used by spice_network.cpp and
+/// spice_network_links.cpp): boundaries from V sources, capacities, nodes, resistors, Cauer
+/// ladders for Foster chains, heaters and the case.
+
+#include "import/network.hpp"
+#include "import/report.hpp"
+#include "import/spice_circuit.hpp"
+#include "import/spice_foster.hpp"
+#include "import/spice_names.hpp"
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace thermnet::importer::spice::detail {
+
+/// A name or node of the netlist, shown safely.
+std::string shown(const std::string& s);
+/// A plain number as a value.
+Value number(double v);
+/// A temperature in volts (degC) as a value (kelvin).
+Value temperature(double v);
+/// A source's value (DC or PWL) as a signal, times `sign`; a temperature for a V source.
+Signal signal_of(const Element& e, double sign, bool is_temperature);
+
+/// Builds the network of a circuit.
+class NetworkBuilder {
+public:
+  /// A builder of `c`'s network; problems go to `report`.
+  NetworkBuilder(const Circuit& c, Report& report)
+      : c_(c), report_(report), usable_(c.elements.size(), true) {}
+  /// The network (incomplete when the report holds errors).
+  Network build();
+
+private:
+  void sources_v();
+  void check_elements();
+  void capacities();
+  void declare_nodes();
+  void initial_conditions();
+  void resistors();
+  void cauer_ladders();
+  void heaters();
+  void case_spec();
+  Name node_name(const std::string& flat);
+
+  const Circuit& c_;
+  Report& report_;
+  Network net_;
+  std::vector<bool> usable_;
+  std::map<std::string, std::size_t> held_;
+  std::map<std::string, Signal> held_signal_;
+  std::map<std::string, double> cap_;
+  std::map<std::string, std::pair<double, lang::Span>> t0_;
+  std::vector<FosterChain> chains_;
+  std::map<std::string, std::size_t> node_index_; // flattened node -> index in net_.nodes
+  NameMap names_;
+  bool ground_used_ = false;
+  lang::Span first_ground_;
+};
+
+} // namespace thermnet::importer::spice::detail

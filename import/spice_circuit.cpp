@@ -1,0 +1,495 @@
+#include "import/spice_circuit.hpp"
+
+#include "import/spice_number.hpp"
+#include "import/spice_params.hpp"
+#include "lang/display_text.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <set>
+
+namespace thermnet::importer::spice {
+
+namespace {
+
+/// How deep subcircuit instances may nest.
+constexpr std::size_t max_instance_depth = 64;
+
+struct Subckt {
+  std::string name;
+  std::vector<std::string> terminals;
+  std::vector<std::pair<std::string, ParamDef>> defaults;
+  std::vector<const Card*> cards;
+  lang::Span at;
+};
+
+bool is_ground(const std::string& node) {
+  return node == "0" || node == "gnd";
+}
+
+std::string kind_name(char c) {
+  switch (c) {
+  case 'l':
+    return "an inductor";
+  case 'e':
+  case 'f':
+  case 'g':
+  case 'h':
+    return "a controlled source";
+  case 'b':
+    return "a behavioural source";
+  case 'd':
+    return "a diode";
+  case 'q':
+  case 'm':
+  case 'j':
+  case 'z':
+    return "a transistor";
+  case 's':
+  case 'w':
+    return "a switch";
+  case 't':
+  case 'o':
+  case 'u':
+    return "a transmission line";
+  case 'k':
+    return "a coupling";
+  case 'a':
+    return "an XSPICE model";
+  default:
+    return "an element";
+  }
+}
+
+class Flattener {
+public:
+  Flattener(Netlist& netlist, const lang::SourceManager& sources, Report& report)
+      : net_(netlist), sources_(sources), report_(report), global_(nullptr) {}
+
+  Circuit run() {
+    circuit_.title = net_.title;
+    circuit_.files = net_.files;
+    std::vector<const Card*> top;
+    split(top);
+    for (const Card* c : top)
+      if (lower(c->tokens[0].text) == ".param") guarded([&] { params(*c, global_); });
+    std::vector<std::string> stack;
+    expand(top, global_, "", {}, stack, true);
+    return std::move(circuit_);
+  }
+
+private:
+  template <typename F> void guarded(F&& f) {
+    try {
+      f();
+    } catch (const ImportError& e) {
+      report_.error(e);
+    }
+  }
+
+  /// Sorts the cards into the top level and subcircuit definitions; skips .control blocks.
+  void split(std::vector<const Card*>& top) {
+    std::vector<Subckt*> open;
+    bool control = false;
+    lang::Span control_at;
+    for (const Card& card : net_.cards) {
+      const std::string head = lower(card.tokens[0].text);
+      if (control) {
+        if (head == ".endc") control = false;
+        continue;
+      }
+      if (head == ".control") {
+        control = true;
+        control_at = card.at;
+        report_.note(card.at, "ignored: the .control block (ngspice commands, which change no "
+                              "temperature)");
+        continue;
+      }
+      if (head == ".subckt") {
+        guarded([&] { open.push_back(define(card)); });
+        continue;
+      }
+      if (head == ".ends") {
+        if (open.empty())
+          report_.error(card.at, "bad-syntax", ".ends without .subckt");
+        else
+          open.pop_back();
+        continue;
+      }
+      if (open.empty())
+        top.push_back(&card);
+      else
+        open.back()->cards.push_back(&card);
+    }
+    if (control) report_.error(control_at, "bad-syntax", ".control without .endc");
+    for (const Subckt* s : open)
+      report_.error(s->at, "bad-syntax",
+                    fmt::format(".subckt {} has no .ends", lang::excerpt_for_display(s->name)));
+  }
+
+  Subckt* define(const Card& card) {
+    const auto& t = card.tokens;
+    if (t.size() < 2 || t[1].kind != Token::Kind::word)
+      throw ImportError(card.at, "bad-syntax", ".subckt needs a name: .subckt NAME NODE ...");
+    auto s = std::make_unique<Subckt>();
+    s->name = lower(t[1].text);
+    s->at = card.at;
+    std::size_t i = 2;
+    for (; i < t.size(); ++i) {
+      if (lower(t[i].text) == "params:") {
+        ++i;
+        break;
+      }
+      if (i + 1 < t.size() && t[i + 1].kind == Token::Kind::equals) break;
+      if (t[i].kind != Token::Kind::word)
+        throw ImportError(t[i].at, "bad-syntax", "expected a node name");
+      s->terminals.push_back(lower(t[i].text));
+    }
+    read_assignments(sources_, t, i, s->defaults);
+    auto [it, fresh] = subckts_.emplace(s->name, std::move(s));
+    if (!fresh)
+      throw ImportError(
+          card.at, "duplicate-name",
+          fmt::format("subcircuit '{}' is defined twice", lang::excerpt_for_display(it->first)));
+    return it->second.get();
+  }
+
+  void params(const Card& c, ParamScope& scope) {
+    std::vector<std::pair<std::string, ParamDef>> list;
+    read_assignments(sources_, c.tokens, 1, list);
+    for (auto& [name, def] : list)
+      scope.define(name, def);
+  }
+
+  struct Context {
+    std::string prefix;
+    std::map<std::string, std::string> nodes; // terminal -> outer node
+  };
+
+  std::string node(const Token& t, const Context& ctx) const {
+    if (t.kind != Token::Kind::word)
+      throw ImportError(
+          t.at, "bad-syntax",
+          fmt::format("expected a node, found '{}'", lang::excerpt_for_display(t.text)));
+    const std::string n = lower(t.text);
+    if (is_ground(n)) return "0";
+    if (auto it = ctx.nodes.find(n); it != ctx.nodes.end()) return it->second;
+    return ctx.prefix.empty() ? n : ctx.prefix + "." + n;
+  }
+
+  void expand(const std::vector<const Card*>& cards, const ParamScope& scope,
+              const std::string& prefix, const std::map<std::string, std::string>& terminals,
+              std::vector<std::string>& stack, bool top) {
+    const Context ctx{prefix, terminals};
+    for (const Card* c : cards) {
+      if (report_.saturated() || too_large_) return;
+      guarded([&] { card(*c, scope, ctx, stack, top); });
+    }
+  }
+
+  void card(const Card& c, const ParamScope& scope, const Context& ctx,
+            std::vector<std::string>& stack, bool top) {
+    const std::string head = lower(c.tokens[0].text);
+    if (head[0] == '.') {
+      directive(c, head, scope, ctx, top);
+      return;
+    }
+    const char kind = head[0];
+    const std::string flat = ctx.prefix.empty() ? head : ctx.prefix + "." + head;
+    if (!names_.insert(flat).second)
+      throw ImportError(c.tokens[0].at, "duplicate-name",
+                        fmt::format("'{}' is defined twice", lang::excerpt_for_display(flat)));
+    if (kind == 'x') {
+      instance(c, scope, ctx, stack);
+      return;
+    }
+    if (kind != 'r' && kind != 'c' && kind != 'i' && kind != 'v') {
+      report_.dropped(c.at,
+                      fmt::format("{} ('{}'): thermnet reads R, C, I, V and X cards",
+                                  kind_name(kind), lang::excerpt_for_display(c.tokens[0].text)));
+      return;
+    }
+    if (circuit_.elements.size() >= max_elements) {
+      too_large_ = true;
+      throw ImportError(c.at, "too-large",
+                        fmt::format("the netlist expands to more than {} elements", max_elements));
+    }
+    element(c, kind, scope, ctx);
+  }
+
+  void element(const Card& c, char kind, const ParamScope& scope, const Context& ctx);
+  void source_spec(const Card& c, Element& e, const ParamScope& scope);
+  void instance(const Card& c, const ParamScope& scope, const Context& ctx,
+                std::vector<std::string>& stack);
+  void directive(const Card& c, const std::string& head, const ParamScope& scope,
+                 const Context& ctx, bool top);
+
+  Netlist& net_;
+  const lang::SourceManager& sources_;
+  Report& report_;
+  ParamScope global_;
+  std::map<std::string, std::unique_ptr<Subckt>> subckts_;
+  std::vector<std::unique_ptr<ParamScope>> scopes_;
+  std::set<std::string> names_; // flattened element and instance names
+  Circuit circuit_;
+  bool too_large_ = false;
+};
+
+void Flattener::element(const Card& c, char kind, const ParamScope& scope, const Context& ctx) {
+  const auto& t = c.tokens;
+  if (t.size() < 4)
+    throw ImportError(c.at, "bad-syntax",
+                      fmt::format("{} needs a name, two nodes and a value",
+                                  lang::excerpt_for_display(t[0].text)));
+  Element e;
+  e.kind = kind;
+  e.name = ctx.prefix.empty() ? lower(t[0].text) : ctx.prefix + "." + lower(t[0].text);
+  e.a = node(t[1], ctx);
+  e.b = node(t[2], ctx);
+  e.at = c.at;
+  if (kind == 'i' || kind == 'v') {
+    source_spec(c, e, scope);
+    circuit_.elements.push_back(std::move(e));
+    return;
+  }
+  std::size_t i = 3;
+  // `R1 a b 10`, or `R1 a b r = 10`.
+  const char key = kind;
+  if (i + 2 < t.size() && t[i].kind == Token::Kind::word && t[i + 1].kind == Token::Kind::equals &&
+      lower(t[i].text) == std::string(1, key))
+    i += 2;
+  bool femto = false;
+  e.value = scope.value(t[i], &femto);
+  e.value_at = t[i].at;
+  if (femto && kind == 'c')
+    report_.note(t[i].at, fmt::format("'{}' reads as {} F: SPICE's suffix f is femto (1e-15), "
+                                      "not farad",
+                                      lang::excerpt_for_display(t[i].text), e.value));
+  std::vector<std::pair<std::string, ParamDef>> extra;
+  read_assignments(sources_, t, i + 1, extra);
+  for (const auto& [name, def] : extra) {
+    if (name == "m") {
+      const double m = scope.evaluate(def);
+      if (!(m > 0)) throw ImportError(def.at, "invalid-value", "the multiplier m must be positive");
+      e.value = kind == 'r' ? e.value / m : e.value * m;
+    } else if (kind == 'c' && name == "ic") {
+      e.ic = scope.evaluate(def);
+    } else {
+      report_.dropped(def.at, fmt::format("the parameter '{}' of {} (its nominal value is written)",
+                                          lang::excerpt_for_display(name),
+                                          lang::excerpt_for_display(t[0].text)));
+    }
+  }
+  circuit_.elements.push_back(std::move(e));
+}
+
+void Flattener::source_spec(const Card& c, Element& e, const ParamScope& scope) {
+  const auto& t = c.tokens;
+  bool have_dc = false;
+  std::size_t i = 3;
+  while (i < t.size()) {
+    const std::string w = t[i].kind == Token::Kind::word ? lower(t[i].text) : "";
+    if (w == "dc") {
+      if (i + 1 >= t.size()) throw ImportError(t[i].at, "bad-syntax", "DC needs a value");
+      std::size_t v = i + 1;
+      if (t[v].kind == Token::Kind::equals) ++v;
+      if (v >= t.size()) throw ImportError(t[i].at, "bad-syntax", "DC needs a value");
+      e.value = scope.value(t[v]);
+      e.value_at = t[v].at;
+      have_dc = true;
+      i = v + 1;
+    } else if (w == "ac") {
+      // AC magnitude and phase: small-signal analyses only.
+      ++i;
+      for (int k = 0; k < 2 && i < t.size() && t[i].kind != Token::Kind::open; ++k) {
+        const std::string n = lower(t[i].text);
+        if (n == "dc" || n == "pwl" ||
+            !(t[i].kind == Token::Kind::expression || spice_number(t[i].text) || scope.lookup(n)))
+          break;
+        ++i;
+      }
+    } else if (w == "pwl") {
+      if (i + 1 >= t.size() || t[i + 1].kind != Token::Kind::open)
+        throw ImportError(t[i].at, "bad-syntax",
+                          "PWL needs its points in parentheses: PWL(t1 v1 t2 v2 ...)");
+      std::size_t j = i + 2;
+      std::vector<const Token*> values;
+      while (j < t.size() && t[j].kind != Token::Kind::close)
+        values.push_back(&t[j++]);
+      if (j >= t.size()) throw ImportError(t[i].at, "bad-syntax", "PWL( without its ')'");
+      if (values.empty() || values.size() % 2 != 0)
+        throw ImportError(t[i].at, "bad-syntax", "PWL needs pairs of time and value");
+      for (std::size_t k = 0; k < values.size(); k += 2) {
+        const double time = scope.value(*values[k]);
+        if (!e.pwl.empty() && !(time > e.pwl.back().first))
+          throw ImportError(values[k]->at, "invalid-value", "PWL times must increase");
+        if (time < 0)
+          throw ImportError(values[k]->at, "invalid-value", "a PWL time may not be negative");
+        e.pwl.emplace_back(time, scope.value(*values[k + 1]));
+      }
+      e.value_at = t[i].at;
+      i = j + 1;
+      if (i < t.size()) {
+        report_.dropped(t[i].at, fmt::format("the PWL options of {} (r=, td=: repetition and "
+                                             "delay)",
+                                             lang::excerpt_for_display(t[0].text)));
+        return;
+      }
+    } else if (w == "pulse" || w == "sin" || w == "exp" || w == "sffm" || w == "am" ||
+               w == "trnoise" || w == "trrandom" || w == "pat") {
+      report_.dropped(t[i].at, fmt::format("the {} waveform of {} (thermnet reads DC and PWL "
+                                           "sources; the DC value is written)",
+                                           lang::excerpt_for_display(w),
+                                           lang::excerpt_for_display(t[0].text)));
+      return;
+    } else if (!have_dc && e.pwl.empty()) {
+      e.value = scope.value(t[i]);
+      e.value_at = t[i].at;
+      have_dc = true;
+      ++i;
+    } else {
+      throw ImportError(
+          t[i].at, "bad-syntax",
+          fmt::format("unexpected '{}' in the source", lang::excerpt_for_display(t[i].text)));
+    }
+  }
+  if (!have_dc && e.pwl.empty()) e.value_at = c.at; // no value: 0, as in SPICE
+  if (have_dc && !e.pwl.empty() && e.value != e.pwl.front().second)
+    report_.note(c.at, fmt::format("{}: the DC value is not written; the PWL gives the value at "
+                                   "every time",
+                                   lang::excerpt_for_display(t[0].text)));
+}
+
+void Flattener::instance(const Card& c, const ParamScope& scope, const Context& ctx,
+                         std::vector<std::string>& stack) {
+  const auto& t = c.tokens;
+  std::size_t end = t.size(); // first token of the parameters
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    if (lower(t[i].text) == "params:" ||
+        (i + 1 < t.size() && t[i + 1].kind == Token::Kind::equals)) {
+      end = i;
+      break;
+    }
+  }
+  if (end < 3)
+    throw ImportError(c.at, "bad-syntax", "an X card needs nodes and a subcircuit: X1 N1 N2 NAME");
+  const Token& sub = t[end - 1];
+  const std::string name = lower(sub.text);
+  auto it = subckts_.find(name);
+  if (it == subckts_.end())
+    throw ImportError(
+        sub.at, "unknown-subckt",
+        fmt::format("no subcircuit is called '{}'", lang::excerpt_for_display(sub.text)));
+  const Subckt& s = *it->second;
+  if (end - 2 != s.terminals.size())
+    throw ImportError(c.at, "bad-syntax",
+                      fmt::format("subcircuit '{}' has {} nodes, the instance gives {}", name,
+                                  s.terminals.size(), end - 2));
+  if (std::find(stack.begin(), stack.end(), name) != stack.end())
+    throw ImportError(
+        c.at, "subckt-cycle",
+        fmt::format("subcircuit '{}' contains itself", lang::excerpt_for_display(name)));
+  if (stack.size() >= max_instance_depth)
+    throw ImportError(
+        c.at, "subckt-too-deep",
+        fmt::format("subcircuit instances nest more than {} deep", max_instance_depth));
+  std::map<std::string, std::string> terminals;
+  for (std::size_t k = 0; k < s.terminals.size(); ++k)
+    terminals[s.terminals[k]] = node(t[1 + k], ctx);
+  auto inner = std::make_unique<ParamScope>(&global_);
+  std::size_t from = end;
+  if (from < t.size() && lower(t[from].text) == "params:") ++from;
+  std::vector<std::pair<std::string, ParamDef>> given;
+  read_assignments(sources_, t, from, given);
+  for (const auto& [pname, def] : given)
+    inner->set(pname, scope.evaluate(def));
+  for (const auto& [pname, def] : s.defaults)
+    if (!inner->lookup_here(pname)) inner->define(pname, def);
+  for (const Card* card : s.cards)
+    if (lower(card->tokens[0].text) == ".param") params(*card, *inner);
+  const std::string prefix =
+      ctx.prefix.empty() ? lower(t[0].text) : ctx.prefix + "." + lower(t[0].text);
+  stack.push_back(name);
+  expand(s.cards, *inner, prefix, terminals, stack, false);
+  stack.pop_back();
+  scopes_.push_back(std::move(inner));
+}
+
+void Flattener::directive(const Card& c, const std::string& head, const ParamScope& scope,
+                          const Context&, bool top) {
+  const auto& t = c.tokens;
+  if (head == ".param") return; // read before the cards are expanded
+  const auto top_only = [&] {
+    if (!top)
+      throw ImportError(c.at, "bad-syntax", fmt::format("{} stands outside subcircuits", head));
+  };
+  if (head == ".tran") {
+    top_only();
+    Tran tr;
+    tr.at = c.at;
+    std::vector<double> v;
+    for (std::size_t i = 1; i < t.size(); ++i) {
+      if (lower(t[i].text) == "uic") {
+        tr.uic = true;
+        continue;
+      }
+      v.push_back(scope.value(t[i]));
+    }
+    if (v.size() < 2 || v.size() > 4)
+      throw ImportError(c.at, "bad-syntax", ".tran needs TSTEP TSTOP [TSTART [TMAX]] [UIC]");
+    tr.step = v[0];
+    tr.stop = v[1];
+    tr.start = v.size() > 2 ? v[2] : 0.0;
+    if (!(tr.stop > 0)) throw ImportError(t[2].at, "invalid-value", "TSTOP must be positive");
+    if (!(tr.step > 0)) throw ImportError(t[1].at, "invalid-value", "TSTEP must be positive");
+    if (circuit_.tran) throw ImportError(c.at, "duplicate-name", "a second .tran");
+    circuit_.tran = tr;
+    return;
+  }
+  if (head == ".ic") {
+    top_only();
+    // V(node) = value ...
+    for (std::size_t i = 1; i < t.size();) {
+      if (i + 5 > t.size() || lower(t[i].text) != "v" || t[i + 1].kind != Token::Kind::open ||
+          t[i + 3].kind != Token::Kind::close || t[i + 4].kind != Token::Kind::equals)
+        throw ImportError(t[i].at, "bad-syntax", ".ic takes V(NODE) = VALUE ...");
+      if (i + 5 >= t.size()) throw ImportError(t[i].at, "bad-syntax", ".ic V(NODE) needs = VALUE");
+      circuit_.ics.push_back({node(t[i + 2], Context{}), scope.value(t[i + 5]), t[i].at});
+      i += 6;
+    }
+    return;
+  }
+  if (head == ".op") {
+    if (!circuit_.op) circuit_.op = c.at;
+    return;
+  }
+  static constexpr const char* output[] = {".print",   ".plot",  ".probe", ".save",    ".meas",
+                                           ".measure", ".width", ".four",  ".options", ".option",
+                                           ".opt",     ".temp",  ".model", ".nodeset", ".title"};
+  for (const char* o : output)
+    if (head == o) {
+      report_.note(c.at, fmt::format("ignored: {} (changes no temperature)", head));
+      return;
+    }
+  static constexpr const char* analyses[] = {".ac", ".dc",    ".noise", ".tf", ".sens",
+                                             ".pz", ".disto", ".sp",    ".pss"};
+  for (const char* a : analyses)
+    if (head == a) {
+      report_.note(c.at, fmt::format("ignored: the {} analysis (thermnet runs transients and "
+                                     "steady states)",
+                                     head));
+      return;
+    }
+  report_.dropped(c.at, fmt::format("the {} statement", lang::excerpt_for_display(head)));
+}
+
+} // namespace
+
+Circuit flatten(Netlist netlist, const lang::SourceManager& sources, Report& report) {
+  return Flattener(netlist, sources, report).run();
+}
+
+} // namespace thermnet::importer::spice
