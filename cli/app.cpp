@@ -6,6 +6,7 @@
 
 #include "cli/calibrate_command.hpp"
 #include "cli/check_command.hpp"
+#include "cli/command_line.hpp"
 #include "cli/design_command.hpp"
 #include "cli/diagnose_command.hpp"
 #include "cli/estimate_command.hpp"
@@ -95,6 +96,7 @@ int parse_and_run(int argc, char** argv) {
 } // namespace
 
 int run_app(int argc, char** argv) {
+  remember_command_line(argc, argv); // for the report pages (--html)
   return close_standard_output(parse_and_run(argc, argv));
 }
 

@@ -1,6 +1,7 @@
 // `thermnet calibrate MODEL [--method NAME] [--samples N] [--tolerance T] [--seed S] [--threads N]
 //  [-o CALIBRATED.tnet] [--json REPORT.json] [--plot OUT.svg] [--case NAME ...]
-//  [--criterion output-error|prediction] [--initial-sd K] [--whiteness-plot OUT.svg]`
+//  [--criterion output-error|prediction] [--initial-sd K] [--whiteness-plot OUT.svg]
+//  [--html REPORT.html]`
 //
 // Ctrl-C (under mpirun also SIGTERM, which mpirun sends the ranks for a Ctrl-C) sets a flag the
 // optimizer polls: it stops drawing samples, returns the best so far, and the command still writes
@@ -9,6 +10,7 @@
 
 #include "cli/calibrate_command.hpp"
 
+#include "cli/calibration_html.hpp"
 #include "cli/calibration_report.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
@@ -46,6 +48,7 @@ struct CalibrateOptions {
   int threads = 0;
   std::string out;
   std::string json;
+  std::string html;
   std::string plot;
   std::vector<std::string> cases;
   std::vector<std::string> sets;
@@ -201,6 +204,14 @@ int run_prediction(const CalibrateOptions& o, const lang::Model& model,
                                                    model.name(), pc.fit.log_likelihood)))});
   if (pc.result.found && !o.predictions.empty())
     extra.push_back({o.predictions, predictions_csv(pc.innovations)});
+  if (!o.html.empty())
+    extra.push_back({o.html, calibration_html({&model,
+                                               &problem,
+                                               &pc.result,
+                                               {o.seed, o.tolerance, o.model},
+                                               model_inputs(model),
+                                               {},
+                                               &pc})});
   write_outputs(o, model, problem, pc.result, pc.json, std::move(extra));
   if (!pc.result.found) {
     std::cerr << fmt::format("{}: error: the likelihood cannot be evaluated at the start\n", me);
@@ -216,6 +227,7 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
   if (!model) return status;
   check_outputs({{"-o", o.out},
                  {"--json", o.json},
+                 {"--html", o.html},
                  {"--plot", o.plot},
                  {"--whiteness-plot", o.prediction.whiteness_plot},
                  {"--predictions", o.predictions}},
@@ -268,9 +280,14 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
       threads == 1 ? "" : "s");
 
   OptimizerResult r;
+  ConvergenceTrace trace; // for --html: the best RMSE as the search went
   {
     ProgressBar bar(progress_wanted());
-    settings.on_progress = [&bar](const Progress& p) { bar.update(p); };
+    const bool trace_wanted = !o.html.empty();
+    settings.on_progress = [&bar, &trace, trace_wanted](const Progress& p) {
+      bar.update(p);
+      if (trace_wanted) trace.record(p);
+    };
     InterruptGuard guard;
     settings.cancel = &g_interrupted;
     r = plugin->create()->run(problem, settings);
@@ -287,7 +304,16 @@ int run_calibrate(const CalibrateOptions& o, lang::SourceManager& sources) {
   for (const auto& note : r.notes)
     std::cerr << fmt::format("{}: note: {}\n", me, note);
   auto json = result_json(r, problem, {o.seed, o.tolerance, o.model});
-  write_outputs(o, *model, problem, r, json, {});
+  std::vector<OutputFile> extra;
+  if (!o.html.empty())
+    extra.push_back({o.html, calibration_html({model.get(),
+                                               &problem,
+                                               &r,
+                                               {o.seed, o.tolerance, o.model},
+                                               model_inputs(*model),
+                                               trace.points(),
+                                               nullptr})});
+  write_outputs(o, *model, problem, r, json, std::move(extra));
   if (r.cancelled) {
     // Under mpirun only rank 0 writes; the others say so (their words are shown only if they
     // differ from rank 0's).
@@ -328,6 +354,10 @@ void add_calibrate_command(CLI::App& app, int& status) {
                   "originals; the inputs are never modified (OUT may not be one of them), "
                   "and nothing is written unless every output can be");
   cmd->add_option("--json", o->json, "write the result as JSON");
+  cmd->add_option("--html", o->html,
+                  "write the report as one self-contained HTML page (params with start, range, "
+                  "fit and interval; fit per case; convergence; residual diagnostics; "
+                  "docs/calibration.md)");
   cmd->add_option("--plot", o->plot, "SVG plot of measured vs simulated for the best fit");
   cmd->add_option("--case", o->cases,
                   "cases to compare (repeat --case or separate by commas; default: all with data)")

@@ -1,10 +1,11 @@
 // `thermnet diagnose MODEL [--case NAME ...] [--json REPORT.json] [--write EXTENDED.tnet]
 //  [--plot OUT.svg] [--threads N] [--top K] [--events EVENTS.csv] [--stats]
 //  [--criterion output-error|prediction] [--initial-sd K] [--whiteness-plot OUT.svg]
-//  [--jacobian differences|sensitivities]`
+//  [--jacobian differences|sensitivities] [--html REPORT.html]`
 
 #include "cli/diagnose_command.hpp"
 
+#include "cli/diagnosis_html.hpp"
 #include "cli/exit_status.hpp"
 #include "cli/model_loading.hpp"
 #include "cli/option_rules.hpp"
@@ -42,6 +43,7 @@ struct DiagnoseOptions {
   std::string model;
   std::vector<std::string> cases;
   std::string json;
+  std::string html;
   std::string write;
   std::string plot;
   std::string events;
@@ -63,6 +65,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   auto inputs = model_inputs(*model);
   if (!o.events.empty()) inputs.push_back({o.events, "the events file"});
   check_outputs({{"--json", o.json},
+                 {"--html", o.html},
                  {"--write", o.write},
                  {"--plot", o.plot},
                  {"--whiteness-plot", o.prediction.whiteness_plot}},
@@ -107,6 +110,7 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
   if (o.stats) std::cerr << diagnosis_timing_text(rep);
   std::vector<OutputFile> files;
   if (!o.json.empty()) files.push_back({o.json, diagnosis_json(rep).dump(2) + "\n"});
+  if (!o.html.empty()) files.push_back({o.html, diagnosis_html(rep, *model, inputs)});
   if (!o.write.empty()) {
     if (rep.findings.empty())
       std::cerr << fmt::format("{}: note: no finding; {} not written\n", me, o.write);
@@ -133,17 +137,38 @@ int run_diagnose(const DiagnoseOptions& o, lang::SourceManager& sources) {
 
 } // namespace
 
-std::vector<rewrite::RewrittenFile> extended_model_files(const lang::Model& model, const Finding& f,
-                                                         const std::string& out) {
-  const long root = model.sources().find(model.path());
-  if (root < 0) throw OutputError("the model's own text is no longer available");
-  const auto file = static_cast<lang::FileId>(root);
-  std::string why = fmt::format(
+std::string finding_comment(const Finding& f) {
+  return fmt::format(
       "# thermnet diagnose: {} [{}]{} -- {}\n# RMSE {:.4g} -> {:.4g} K (held-out {:.4g} -> "
       "{:.4g} K)\n",
       f.candidate.kind, fmt::join(f.candidate.nodes, ", "),
       f.candidate.mechanism.empty() ? "" : " (" + f.candidate.mechanism + ")", f.evidence,
       f.rmse_before, f.rmse_after, f.validation_rmse_before, f.validation_rmse_after);
+}
+
+std::string finding_lines(const Finding& f) {
+  std::string s = finding_comment(f);
+  for (const auto& name : f.retired)
+    s += fmt::format("# (the declaration of {} is commented out: the lines below replace it)\n",
+                     name);
+  if (!f.param_rewrites.empty()) {
+    s += "# (the declared values of the ranged params are rewritten:)\n";
+    for (const auto& [name, value] : f.param_rewrites)
+      s += fmt::format("#   {} = {} (SI)\n", name, netlist_number(value));
+  } else if (!f.statement.empty()) {
+    s += f.statement + "\n";
+  }
+  for (const auto& [name, lines] : f.case_statements)
+    s += fmt::format("# inside case {} {{ ... }}:\n{}\n", name, lines);
+  return s;
+}
+
+std::vector<rewrite::RewrittenFile> extended_model_files(const lang::Model& model, const Finding& f,
+                                                         const std::string& out) {
+  const long root = model.sources().find(model.path());
+  if (root < 0) throw OutputError("the model's own text is no longer available");
+  const auto file = static_cast<lang::FileId>(root);
+  const std::string why = finding_comment(f);
   // The ranged params it recalibrated are rewritten where they are declared (an included file
   // is written as a rewritten copy beside the output, as calibrate -o does).
   std::vector<rewrite::ParamUpdate> updates;
@@ -193,6 +218,14 @@ std::string extended_model_text(const lang::Model& model, const Finding& f) {
 
 std::string diagnosis_svg(const DiagnosisReport& r, const std::string& model_name,
                           std::size_t worst) {
+  const std::string title = r.findings.empty() ? fmt::format("{} — no finding", model_name)
+                                               : fmt::format("{} — before and after {}", model_name,
+                                                             r.findings.front().candidate.kind);
+  return plot::render_svg(diagnosis_figure(r, title, worst, true));
+}
+
+plot::Figure diagnosis_figure(const DiagnosisReport& r, const std::string& title, std::size_t worst,
+                              bool with_after) {
   std::vector<std::pair<std::string, double>> nodes;
   for (const auto& [name, m] : r.baseline.nodes)
     nodes.emplace_back(name, m.rmse);
@@ -202,9 +235,7 @@ std::string diagnosis_svg(const DiagnosisReport& r, const std::string& model_nam
   worst = std::min({worst, kNodeColors.size(), static_cast<std::size_t>(plot::palette_size())});
   if (nodes.size() > worst) nodes.resize(worst);
   plot::Figure fig;
-  fig.title = r.findings.empty() ? fmt::format("{} — no finding", model_name)
-                                 : fmt::format("{} — before and after {}", model_name,
-                                               r.findings.front().candidate.kind);
+  fig.title = title;
   for (const auto& cv : r.curves) {
     plot::Panel panel;
     panel.title = "case " + cv.case_name + " (worst nodes)";
@@ -227,12 +258,12 @@ std::string diagnosis_svg(const DiagnosisReport& r, const std::string& model_nam
         panel.series.push_back(std::move(s));
       };
       add(cv.measured, "measured", plot::LineStyle::markers);
-      add(cv.before, "before", plot::LineStyle::solid);
-      add(cv.after, "after", plot::LineStyle::dashed);
+      add(cv.before, with_after ? "before" : "simulated", plot::LineStyle::solid);
+      if (with_after) add(cv.after, "after", plot::LineStyle::dashed);
     }
     fig.panels.push_back(std::move(panel));
   }
-  return plot::render_svg(fig);
+  return fig;
 }
 
 void add_diagnose_command(CLI::App& app, int& status) {
@@ -243,6 +274,9 @@ void add_diagnose_command(CLI::App& app, int& status) {
       ->required();
   sub->add_option("--case", o->cases, "diagnose only these cases (repeatable)");
   sub->add_option("--json", o->json, "write the report as JSON");
+  sub->add_option("--html", o->html,
+                  "write the report as one self-contained HTML page (baseline, findings with "
+                  "their gains, rivals, lines and plots, residual diagnostics; docs/diagnose.md)");
   sub->add_option("--write", o->write, "write the model with the best finding applied");
   sub->add_option("--plot", o->plot, "write an SVG of before/after curves of the worst nodes");
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")

@@ -3,6 +3,7 @@
 
 #include "kernel/diagnosis/diagnosis.hpp"
 #include "lang/rewrite/model_files.hpp"
+#include "plot/figure.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -29,5 +30,17 @@ std::string extended_model_text(const lang::Model& model, const Finding& finding
 /// distinct colour per node (at most 8 nodes), titled with the model's name.
 std::string diagnosis_svg(const DiagnosisReport& report, const std::string& model_name,
                           std::size_t worst = 3);
+
+/// The figure of diagnosis_svg(): one panel per case, measured and simulated curves of the
+/// `worst` nodes (by baseline RMSE), the curves with the findings applied when `with_after`.
+plot::Figure diagnosis_figure(const DiagnosisReport& report, const std::string& title,
+                              std::size_t worst, bool with_after);
+
+/// The comment --write puts above a finding's lines: its kind, nodes, evidence and gain.
+std::string finding_comment(const Finding& finding);
+
+/// The lines that add a finding to the model, for a person: finding_comment(), the top-level
+/// statements --write appends (or the params it rewrites) and the lines of each case block.
+std::string finding_lines(const Finding& finding);
 
 } // namespace thermnet::cli

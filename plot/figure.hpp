@@ -58,6 +58,9 @@ struct Figure {
   int columns = 1;           ///< panels per row
   int width = 960;           ///< total width in px
   int panel_height = 420;    ///< height of each panel row in px
+  /// Prefix of the SVG's element ids (letters, digits, '-' and '_'; others are dropped): figures
+  /// inlined in one HTML page need distinct ones
+  std::string id_prefix;
 };
 
 } // namespace thermnet::plot

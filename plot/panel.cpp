@@ -184,8 +184,8 @@ PanelLayout layout_panel(const Panel& p, Rect cell, const XUnit& xu, const DataR
 }
 
 // The clip path of the data: the plot area with room for markers on its edges.
-void draw_clip_path(SvgWriter& o, int index, Rect plot) {
-  o.f(R"(<clipPath id="clip{}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>)", index,
+void draw_clip_path(SvgWriter& o, const std::string& clip_id, Rect plot) {
+  o.f(R"(<clipPath id="{}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>)", clip_id,
       n1(plot.x - kMarkerRadius - 1), n1(plot.y - kMarkerRadius - 1),
       n1(plot.w + 2 * kMarkerRadius + 2), n1(plot.h + 2 * kMarkerRadius + 2));
   o.s += '\n';
@@ -362,10 +362,10 @@ void draw_series(SvgWriter& o, const Series& s, const Style& st, const Mapping& 
 
 // Bands, then series, clipped to the plot area.
 void draw_data(SvgWriter& o, const Panel& p, const PanelStyles& styles, const Mapping& m,
-               int index) {
-  o.f(R"~(<g clip-path="url(#clip{})">)~"
+               const std::string& clip_id) {
+  o.f(R"~(<g clip-path="url(#{})">)~"
       "\n",
-      index);
+      clip_id);
   for (std::size_t k = 0; k < p.bands.size(); ++k)
     draw_band(o, p.bands[k], styles.bands[k], m);
   for (std::size_t k = 0; k < p.series.size(); ++k)
@@ -375,19 +375,19 @@ void draw_data(SvgWriter& o, const Panel& p, const PanelStyles& styles, const Ma
 
 } // namespace
 
-void render_panel(SvgWriter& o, const Panel& p, int index, Rect cell) {
+void render_panel(SvgWriter& o, const Panel& p, const std::string& clip_id, Rect cell) {
   const XUnit xu = x_unit(p);
   const DataRange r = data_range(p, xu.divisor);
   const PanelStyles styles = panel_styles(p);
   const PanelLayout L = layout_panel(p, cell, xu, r, styles.legend);
   o.f("<g class=\"panel\">\n");
-  draw_clip_path(o, index, L.plot);
+  draw_clip_path(o, clip_id, L.plot);
   draw_grid(o, L);
   draw_frame(o, L);
   draw_tick_labels(o, L);
   draw_titles(o, L, cell);
   if (!r.has_data) draw_no_data(o, L.plot);
-  draw_data(o, p, styles, Mapping{&L.xa, &L.ya, xu.divisor, L.plot}, index);
+  draw_data(o, p, styles, Mapping{&L.xa, &L.ya, xu.divisor, L.plot}, clip_id);
   draw_legend(o, styles.legend, L.legend, L.plot.right() + kLegendGap, L.plot.y);
   o.s += "</g>\n";
 }

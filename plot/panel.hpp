@@ -4,9 +4,11 @@
 #include "plot/figure.hpp"
 #include "plot/svg_writer.hpp"
 
+#include <string>
+
 namespace thermnet::plot {
 
-/// Draws panel `p` (the index-th of its figure, which names its clip path) into `cell`.
-void render_panel(SvgWriter& o, const Panel& p, int index, Rect cell);
+/// Draws panel `p` into `cell`; `clip_id` is the id of its clip path (unique in the document).
+void render_panel(SvgWriter& o, const Panel& p, const std::string& clip_id, Rect cell);
 
 } // namespace thermnet::plot

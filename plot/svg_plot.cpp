@@ -5,6 +5,8 @@
 #include "plot/text.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <string>
 
 namespace thermnet::plot {
 namespace {
@@ -46,10 +48,14 @@ std::string render_svg(const Figure& fig) {
     o.text(fit_text(title, width - 16, kFigureTitleFont, true));
     o.s += "</text>\n";
   }
+  std::string prefix;
+  for (const char c : fig.id_prefix)
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') prefix += c;
   const double cell_w = width / cols;
   for (int i = 0; i < n; ++i) {
     const Rect cell{(i % cols) * cell_w, title_h + (i / cols) * panel_h, cell_w, panel_h};
-    render_panel(o, fig.panels[static_cast<std::size_t>(i)], i, cell);
+    render_panel(o, fig.panels[static_cast<std::size_t>(i)], prefix + "clip" + std::to_string(i),
+                 cell);
   }
   o.s += "</svg>\n";
   return o.s;

@@ -43,7 +43,7 @@ echo "== 1+2. nominal model against the data, and diagnosis"
 # the same findings as with forward differences in a tenth less time (docs/aerial_camera.md).
 # shellcheck disable=SC2086 # DIAG_CASES is a list of options
 "$T" diagnose "$M/camera.tnet" $DIAG_CASES --threads "$THREADS" --top 3 --jacobian sensitivities \
-  --json "$OUT/diag_nominal.json" \
+  --json "$OUT/diag_nominal.json" --html "$OUT/aerial_diagnose.html" \
   --write "$M/extended_diagnosed.tnet" --plot "$OUT/aerial_diagnose.svg"
 quiet "$T" calibrate "$M/camera.tnet" --method lm --samples 1 --threads "$THREADS" --json "$OUT/nominal.json"
 $PY - "$OUT/diag_nominal.json" <<'PYEOF'

@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# diagnose --html and calibrate --html: the report page holds every finding, candidate, node,
+# whiteness series and plot of the --json report of the same run (html_report_check.py), is
+# self-contained (no script, nothing to fetch), escapes what the model and its files name (a data
+# file and a param description with <script> and &), and is refused, before anything runs, where
+# --json would be: a directory, an unwritable place, the model or its data, another output.
+# The model and its data: html_report_fixture.sh.
+# Usage: html_report_cli.sh PATH/TO/thermnet
+. "$(dirname "$0")/../lib/harness.sh" "$@"
+
+PY=/usr/bin/python3
+CHECK="$HERE/html_report_check.py"
+. "$HERE/html_report_fixture.sh"
+test -s "$DATA1" || { bad "the fixture's data were written"; finish; exit 1; }
+cp m.tnet m.orig
+
+# ----------------------------------------------------------------------------- diagnose
+run diagnose m.tnet --threads 2 --json d.json --html d.html
+check "diagnose --json --html: exit 0, both written" eval 'test "$rc" -eq 0 -a -s d.json -a -s d.html'
+check "  ... the diagnosis found the missing loss (a finding to show)" \
+  "$PY" -c "import json,sys; sys.exit(0 if json.load(open('d.json'))['findings'] else 1)"
+check "  ... every finding, candidate, node and plot of the JSON is on the page, self-contained" \
+  eval '"$PY" "$CHECK" diagnose d.html d.json >check.txt 2>&1 || { cat check.txt >err.txt; false; }'
+check "  ... the data file's name is escaped (no <script, the escaped text present)" \
+  eval '! grep -qi "<script" d.html && grep -qF "d&lt;script&gt;alert(1)&amp;1.csv" d.html'
+cat >same_statement.py <<'EOF'
+import json, sys
+f = json.load(open(sys.argv[1]))["findings"][0]
+sys.exit(0 if f["statement"] and f["statement"] in open(sys.argv[2]).read() else 1)
+EOF
+"$TN" diagnose m.tnet --threads 2 --write ext.tnet >/dev/null 2>err.txt
+check "  ... the finding's statement on the page is the one --write writes" \
+  "$PY" same_statement.py d.json ext.tnet
+
+run diagnose short.tnet --criterion prediction --threads 2 --json p.json --html p.html --top 1
+check "diagnose --criterion prediction --html: exit 0" eval 'test "$rc" -eq 0 -a -s p.html'
+check "  ... the innovations' whiteness series and plots of the JSON are on the page" \
+  eval '"$PY" "$CHECK" diagnose p.html p.json >check.txt 2>&1 || { cat check.txt >err.txt; false; }'
+check "  ... it names the innovations" grep -q "innovations" p.html
+
+# ----------------------------------------------------------------------------- calibrate
+run calibrate m.tnet --method lm --json c.json --html c.html
+check "calibrate --method lm --html: exit 0" eval 'test "$rc" -eq 0 -a -s c.html'
+check "  ... every param, case and plot of the JSON is on the page, self-contained" \
+  eval '"$PY" "$CHECK" calibrate c.html c.json >check.txt 2>&1 || { cat check.txt >err.txt; false; }'
+check "  ... the param's description is escaped" \
+  eval '! grep -qi "<script" c.html && grep -qF "&lt;script&gt;alert(&apos;param&apos;)&lt;/script&gt; &amp; the a-b link" c.html'
+cat >interval.py <<'EOF'
+import json, sys
+r = json.load(open(sys.argv[1]))
+v, se = r["params"]["Gab"], r["std_errors"]["Gab"]
+sys.exit(0 if f"{v - 1.96 * se:.4g} … {v + 1.96 * se:.4g}" in open(sys.argv[2]).read() else 1)
+EOF
+check "  ... lm's interval: the fitted value ± 1.96 standard errors" "$PY" interval.py c.json c.html
+run calibrate m.tnet --method mc --samples 64 --seed 3 --tolerance 30 --json mc.json --html mc.html
+check "calibrate --method mc --html: exit 0, with the convergence plot" \
+  eval 'test "$rc" -eq 0 && grep -q "data-plot=\"convergence\"" mc.html'
+check "  ... every param, case and plot of the JSON is on the page" \
+  eval '"$PY" "$CHECK" calibrate mc.html mc.json >check.txt 2>&1 || { cat check.txt >err.txt; false; }'
+run calibrate m.tnet --criterion prediction --json cp.json --html cp.html
+check "calibrate --criterion prediction --html: exit 0, the innovations' tests on the page" \
+  eval 'test "$rc" -eq 0 && "$PY" "$CHECK" calibrate cp.html cp.json >check.txt 2>&1 &&
+        grep -q "innovations" cp.html'
+
+# ----------------------------------------------------------------------------- refusals
+mkdir -p adir
+for cmd in diagnose calibrate; do
+  run "$cmd" m.tnet --html adir
+  check "$cmd --html onto a directory: exit 2, 'is a directory'" \
+    eval 'test "$rc" -eq 2 && grep -q "is a directory" err.txt'
+  run "$cmd" m.tnet --html no_such_dir/r.html
+  check "$cmd --html into a missing folder: exit 2 naming it" \
+    eval 'test "$rc" -eq 2 && grep -q "cannot write .no_such_dir/r.html." err.txt'
+  run "$cmd" m.tnet --html m.tnet
+  check "$cmd --html onto the model: exit 2 naming it, the model untouched" \
+    eval 'test "$rc" -eq 2 && grep -q "would overwrite the model" err.txt && cmp -s m.tnet m.orig'
+  run "$cmd" m.tnet --html d2.csv
+  check "$cmd --html onto its data: exit 2 naming it" \
+    eval 'test "$rc" -eq 2 && grep -q "would overwrite the data file" err.txt'
+  run "$cmd" m.tnet --html same.html --json same.html
+  check "$cmd --html and --json on one file: exit 2 naming both" \
+    eval "test \"\$rc\" -eq 2 && grep -q \"same file\" err.txt && test ! -e same.html"
+done
+if [ "$(id -u)" -ne 0 ]; then
+  mkdir -p ro && chmod a-w ro
+  run diagnose m.tnet --html ro/r.html
+  check "diagnose --html into a read-only folder: exit 2" test "$rc" -eq 2
+fi
+# Atomic: a report that exists stays whole until the new one is complete; no temporary is left.
+echo old >keep.html
+ln -s keep.html link.html
+run calibrate m.tnet --method lm --html link.html
+check "calibrate --html through a symlink: written where it points, the link kept" \
+  eval 'test "$rc" -eq 0 && test -L link.html && grep -q "<!DOCTYPE html>" keep.html'
+check "no temporary file left behind" test -z "$(find . -name '.*.tmp.*')"
+
+finish
