@@ -3,6 +3,9 @@
 
 #include "kernel/core/exact_linear.hpp"
 
+#include "kernel/core/absolute_zero.hpp"
+#include "kernel/core/system_evaluator.hpp"
+
 #include <Eigen/Dense>
 #include <fmt/format.h>
 #include <unsupported/Eigen/MatrixFunctions>
@@ -27,6 +30,7 @@ public:
     return cache_.back();
   }
   std::size_t computed() const { return cache_.size(); }
+  const Eigen::MatrixXd& matrix() const { return A_; }
 
 private:
   Eigen::MatrixXd A_;
@@ -151,6 +155,7 @@ SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t
     const Eigen::VectorXd ga = g(t + h / 3.0), gb = g(t + 2.0 * h / 3.0);
     const Eigen::VectorXd g0 = 2.0 * ga - gb, g1 = 2.0 * gb - ga;
     const LinearStep& s = steps.over(h);
+    const Eigen::VectorXd x_before = x;
     x = s.Phi * x + s.Psi0 * g0 + s.Psi1 * (g1 - g0);
     ++stats.steps;
     if (!x.allFinite())
@@ -159,6 +164,27 @@ SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t
                                     "network is unstable)",
                                     tn),
                         "integrate_exact", -1, tn, {});
+    // Like every integration, a run that drives a node below 0 K fails there, naming it.
+    if (const int i = detail::coldest_below_absolute_zero(T.data(), sys.temperature_count());
+        i >= 0) {
+      // When it crossed 0 K: bisected on the exact solution inside the interval.
+      double lo = 0.0, hi = h;
+      for (int k = 0; k < 60 && hi - lo > 1e-9 * h; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        const LinearStep part = linear_step(steps.matrix(), mid);
+        const Eigen::VectorXd at =
+            part.Phi * x_before + part.Psi0 * g0 + part.Psi1 * ((g1 - g0) * (mid / h));
+        (at(i) < 0.0 ? hi : lo) = mid;
+      }
+      const detail::SystemEvaluator ev(sys);
+      detail::fail_below_absolute_zero(ev,
+                                       {.unknown = i,
+                                        .crossing = t + hi,
+                                        .kelvin = T[static_cast<std::size_t>(i)],
+                                        .reached = tn,
+                                        .steady = false},
+                                       "integrate_exact");
+    }
     t = tn;
     if (out) emit(t);
   }

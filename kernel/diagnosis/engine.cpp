@@ -179,7 +179,9 @@ Evaluated Engine::evaluated(const Entry& e, const Base& base, Refit refit) const
         if (!std::isnan(v)) out.r.back().push_back(refit.r[row++]);
     }
   f.values = refit.p;
-  f.fit_failed = !refit.moved;
+  // Failed: no step from any start, and the start itself no better than the model it extends
+  // (an offset's start, the mean residual, is often already its optimum: not a failure).
+  f.fit_failed = !refit.moved && !(refit.sse < base.sse_all);
   if (!e.c.start_T.empty()) f.start = "the node it adds " + start_words(e.c, refit.p);
   f.std_errors = std::move(refit.se);
   out.degenerate = e.h->degenerate(e.c, refit.p);

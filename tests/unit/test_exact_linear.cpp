@@ -49,7 +49,7 @@ double exact_vs_cvode(const std::string& text) {
 }
 
 const char* const kHeader = R"(
-boundary out T = pwl(0: 5, 3000: 12, 7000: 0) [degC]
+boundary out T = pwl(0: 5, 3000: 12, 7000: 0)
 node a C = 800 T0 = 20
 node b C = 400 T0 = 15
 conductance g1 a out G = 0.5
@@ -94,4 +94,22 @@ TEST_CASE("exact linear path: networks it must leave to the integrator") {
                                 "radiation rad a out A = 1 eps1 = 0.9 eps2 = 1\n"
                                 "case c { duration = 10000; output = 100 }\n";
   CHECK_FALSE(network_of(radiating).piecewise_linear());
+}
+
+TEST_CASE("exact linear path: a node driven below 0 K fails there, as with the integrator") {
+  const std::string text = std::string(kHeader) + R"(
+heater h a P = -2000
+case c { duration = 10000; output = 100 }
+)";
+  Network net = network_of(text);
+  REQUIRE(net.piecewise_linear());
+  thermnet::SimulationOptions opt;
+  opt.solver.exact_linear_max = 64;
+  try {
+    (void)thermnet::simulate(net, opt);
+    FAIL("the run went below 0 K silently");
+  } catch (const thermnet::SolverError& e) {
+    CHECK(std::string(e.what()).find("absolute zero") != std::string::npos);
+    CHECK(std::string(e.what()).find("a") != std::string::npos);
+  }
 }
