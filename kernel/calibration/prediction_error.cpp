@@ -300,7 +300,8 @@ CaseInnovations PredictionProblem::filter_case(std::size_t c,
   // A nonlinear network without events (radiation, temperature-dependent links) is linearised at
   // the filtered mean for each step (local linearisation, as CTSM-R does): no integrator restarts.
   const bool affine = net.affine();
-  const bool local_linear = !affine && net.event_count() == 0 && m == net.size();
+  const bool local_linear =
+      settings_.local_linearisation && !affine && net.event_count() == 0 && m == net.size();
   std::vector<Eigen::VectorXd> z;
   std::optional<Discretisations> disc;
   if (affine && !data.times.empty()) {

@@ -22,6 +22,10 @@ struct PredictionSettings {
   /// Mean propagation between samples (tight: the likelihood's finite differences need it).
   SolverOptions solver = {1e-12, 1e-12};
   int threads = 0; ///< cases and gradient components in parallel (0: all cores)
+  /// A nonlinear network without events linearised at the filtered mean for each step (local
+  /// linearisation, as CTSM-R does) instead of integrated from it: much faster, slightly
+  /// different likelihoods (diagnosis's structure search uses it; calibrate does not).
+  bool local_linearisation = false;
 };
 
 /// A parameter of the criterion: a structural one or a noise intensity.

@@ -206,6 +206,7 @@ private:
     Fitted out;
     PredictionSettings settings;
     settings.initial_sd = opt_.initial_sd;
+    settings.local_linearisation = true;
     settings.threads = opt_.threads;
     try {
       const SpecMaker make = maker(s);
