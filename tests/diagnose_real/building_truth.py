@@ -40,7 +40,7 @@ P_ON = 2800.0           # W, the heater when on
 DIST_SD = 120.0         # W, the spread of the unmeasured heat input into the room
 
 
-def _ou(rng, n, dt, tau, sd):
+def ou(rng, n, dt, tau, sd):
     """An Ornstein-Uhlenbeck series of n samples dt apart: spread sd, correlation time tau."""
     a = np.exp(-dt / tau)
     x = np.empty(n)
@@ -56,7 +56,7 @@ def inputs(rng):
     n = int(HOURS * 3600 / STEP) + 1
     t = np.arange(n) * STEP
     hour = t / 3600.0
-    To = 4.0 + 3.0 * np.sin(2 * np.pi * (hour - 9.0) / 24.0) + _ou(rng, n, STEP, 12 * 3600, 2.0)
+    To = 4.0 + 3.0 * np.sin(2 * np.pi * (hour - 9.0) / 24.0) + ou(rng, n, STEP, 12 * 3600, 2.0)
     # PRBS: each state held a random multiple of 30 min (1 to 8 of them).
     Qh = np.zeros(n)
     k, on = 0, rng.random() < 0.5
@@ -67,7 +67,7 @@ def inputs(rng):
     # Clear sky between 7 h and 17 h (a winter day), under clouds drifting over an hour.
     day = (hour % 24.0 - 7.0) / 10.0
     clear = np.where((day > 0) & (day < 1), 450.0 * np.sin(np.pi * np.clip(day, 0, 1)), 0.0)
-    cloud = np.clip(0.6 + _ou(rng, n, STEP, 3600.0, 0.35), 0.1, 1.0)
+    cloud = np.clip(0.6 + ou(rng, n, STEP, 3600.0, 0.35), 0.1, 1.0)
     I = clear * cloud
     return t, To, Qh, I
 
@@ -98,7 +98,7 @@ def generate(seed=50):
     rng = np.random.default_rng(seed)
     t, To, Qh, I = inputs(rng)
     minutes = np.arange(0, t[-1] + 60.0, 60.0)
-    dist = _ou(rng, minutes.size, 60.0, 3600.0, DIST_SD)
+    dist = ou(rng, minutes.size, 60.0, 3600.0, DIST_SD)
     A, B = rhs_matrices(TRUTH)
 
     def u_at(s):

@@ -46,19 +46,11 @@ import numpy as np
 from scipy.linalg import expm
 from scipy.stats import beta
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from building_truth import ou  # noqa: E402
+
 TIMEOUT_S = 600
 UNITS = {"C": "J/K", "G": "W/K", "R": "K/W", "A": "m^2"}
-
-
-def ou(rng, n, dt, tau, sd):
-    """An Ornstein-Uhlenbeck series of n samples dt apart: spread sd, correlation time tau."""
-    a = np.exp(-dt / tau)
-    x = np.empty(n)
-    x[0] = rng.normal(0, sd)
-    e = rng.normal(0, sd * np.sqrt(1 - a * a), n)
-    for k in range(1, n):
-        x[k] = a * x[k - 1] + e[k]
-    return x
 
 
 def prbs(rng, n, min_hold, max_hold, first_off=False):
