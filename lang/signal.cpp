@@ -48,9 +48,16 @@ double Signal::at(double time) const {
   if (kind == Kind::constant || t.empty()) return t.empty() ? constant : v.front();
   if (time <= t.front()) return v.front();
   if (time >= t.back()) return v.back();
-  // First corner strictly after `time`; the segment is [k-1, k).
-  auto it = std::upper_bound(t.begin(), t.end(), time);
-  auto k = static_cast<std::size_t>(it - t.begin());
+  // First corner strictly after `time`; the segment is [k-1, k). Tried first: the last reading's
+  // segment and the next one (a run reads its inputs forward in time).
+  std::size_t k = shape_->hint.k.load(std::memory_order_relaxed);
+  if (k > 0 && k < t.size() && t[k - 1] <= time && time < t[k]) {
+  } else if (k + 1 < t.size() && k > 0 && t[k] <= time && time < t[k + 1]) {
+    ++k;
+  } else {
+    k = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), time) - t.begin());
+  }
+  shape_->hint.k.store(k, std::memory_order_relaxed);
   if (kind == Kind::step) return v[k - 1];
   double w = (time - t[k - 1]) / (t[k] - t[k - 1]);
   return v[k - 1] + w * (v[k] - v[k - 1]);

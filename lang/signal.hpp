@@ -4,6 +4,7 @@
 
 #include "lang/source.hpp"
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -32,6 +33,16 @@ struct Signal {
     std::shared_ptr<const TimeProgram> program;
     double scale = 1.0;  ///< factor on the program's value (expression)
     double offset = 0.0; ///< added after the factor (expression; 273.15 for a bare degC value)
+    /// The segment the last reading fell in (a hint for the next: readings mostly move forward);
+    /// atomic, as an expression's signals are shared by the threads that read it.
+    struct Hint {
+      mutable std::atomic<std::size_t> k{0}; ///< index of the corner after the last reading
+      Hint() = default;
+      /// A copy starts without a hint.
+      Hint(const Hint&) {}
+      /// Keeps its own hint.
+      Hint& operator=(const Hint&) { return *this; }
+    } hint;
     /// Where the expression was written (its statement's start, the expression; both empty when
     /// unknown): a run that finds it out of range or not finite names that place, which for a
     /// case's override is the case's line, not the element's declaration.

@@ -73,7 +73,7 @@ template <typename Visit> void postfix(const ast::File& file, ast::Index root, V
 } // namespace
 
 double TimeProgram::at(double t) const {
-  std::array<double, 64> small{};
+  std::array<double, 64> small; // NOLINT: written before read (a stack machine)
   std::vector<double> large;
   double* stack = small.data();
   if (max_depth > small.size()) {

@@ -17,8 +17,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 
@@ -113,6 +115,7 @@ PredictionProblem::PredictionProblem(const lang::Model& model, const Calibration
 }
 
 void PredictionProblem::add_noise_params() {
+  cache_ = make_cache();
   if (cases_.empty()) throw std::invalid_argument("no case with data to filter");
   std::vector<double> x0;
   for (const auto& p : params_)
@@ -174,7 +177,7 @@ std::size_t PredictionProblem::points() const {
   return n;
 }
 
-namespace {
+namespace prediction_detail {
 
 /// A measured series as the filter sees it: y = H x + offset (a node's temperature, or a
 /// sensor's reading through its lag, offset and gain: affine in the unknowns).
@@ -225,6 +228,12 @@ void observe(Network& net, MeasuredSeries s, const std::vector<double>& x0, Obse
   o.offset = h0 - hx;
 }
 
+} // namespace prediction_detail
+
+namespace {
+
+using prediction_detail::Observation;
+
 /// The discretisations of a constant system matrix, by sampling interval (a uniformly sampled
 /// record needs one).
 class Discretisations {
@@ -245,108 +254,193 @@ private:
 
 } // namespace
 
-CaseInnovations PredictionProblem::filter_case(std::size_t c,
-                                               const std::vector<double>& theta) const {
-  if (theta.size() != params_.size())
-    throw std::invalid_argument(fmt::format("{} values for the prediction problem's {} params",
-                                            theta.size(), params_.size()));
-  const std::vector<double> x(theta.begin(), theta.begin() + static_cast<long>(structural_));
-  Network net(make_(c, x));
-  NetworkStateSpace ss(net);
+/// A case's network at structural values x: its unknowns' noise slots, start, readings and, for an
+/// affine network, the system matrix and the deterministic trajectory at the sample times.
+struct PredictionProblem::CaseSetup {
+  std::size_t c = 0;
+  std::vector<double> x;
+  std::unique_ptr<Network> net;          // null once cached (an affine case needs it no more)
+  std::unique_ptr<NetworkStateSpace> ss; // over *net
+  int m = 0;                             // filter states
+  std::vector<std::size_t> process;      // node unknown i -> its sigma_w among process_nodes_
+  Eigen::VectorXd x0;                    // start of the states
+  std::vector<Observation> obs;          // the readings filtered (variance unset)
+  bool affine = false, local_linear = false;
+  Eigen::MatrixXd A; // affine: the constant system matrix
+  Eigen::MatrixXd Z; // affine: the deterministic states, a column a sample
+};
+
+/// The most recent affine setups (a few gradients' worth), searched by case and structural values.
+struct PredictionProblem::SetupCache {
+  std::mutex mutex;
+  std::deque<std::shared_ptr<const CaseSetup>> entries;
+  static constexpr std::size_t kCapacity = 8;
+};
+
+std::shared_ptr<PredictionProblem::SetupCache> PredictionProblem::make_cache() {
+  return std::make_shared<SetupCache>();
+}
+
+std::shared_ptr<PredictionProblem::CaseSetup>
+PredictionProblem::setup(std::size_t c, const std::vector<double>& x) const {
+  auto s = std::make_shared<CaseSetup>();
+  s->c = c;
+  s->x = x;
+  s->net = std::make_unique<Network>(make_(c, x));
+  Network& net = *s->net;
+  s->ss = std::make_unique<NetworkStateSpace>(net);
   const std::vector<int> unknown = unknown_of_spec(net);
   const MeasuredData& data = data_[c];
-  CaseInnovations out;
-  out.case_name = cases_[c];
-  out.times = data.times;
-  const int m = ss.size();
-  Eigen::MatrixXd Qc = Eigen::MatrixXd::Zero(m, m);
+  s->m = s->ss->size();
   for (int i = 0; i < net.temperature_count(); ++i) {
     const auto it = std::find(process_nodes_.begin(), process_nodes_.end(), net.unknown_name(i));
     if (it == process_nodes_.end())
       throw std::invalid_argument(fmt::format("case '{}' has node '{}' that its first case lacks",
                                               cases_[c], net.unknown_name(i)));
-    const double sw = theta[structural_ + static_cast<std::size_t>(it - process_nodes_.begin())];
-    Qc(i, i) = sw * sw;
+    s->process.push_back(static_cast<std::size_t>(it - process_nodes_.begin()));
   }
   const std::vector<double> T0 = start_state(net, settings_.solver);
-  std::vector<Observation> obs;
-  for (std::size_t s = 0; s < data.series.size(); ++s) {
-    const auto& ser = data.series[s];
+  for (std::size_t k = 0; k < data.series.size(); ++k) {
+    const auto& ser = data.series[k];
     const auto it = std::find(measured_nodes_.begin(), measured_nodes_.end(), ser.node);
     if (it == measured_nodes_.end()) continue;
     if (unknown[static_cast<std::size_t>(ser.node_index)] < 0) continue;
     Observation o;
-    o.series = s;
+    o.series = k;
     o.node = static_cast<std::size_t>(it - measured_nodes_.begin());
-    const double sv = theta[structural_ + process_nodes_.size() + o.node];
-    o.variance = sv * sv;
-    observe(net, ser, T0, o);
-    obs.push_back(std::move(o));
-    out.nodes.push_back(ser.node);
-    out.measured.push_back(ser.values);
-    out.predicted.emplace_back(data.times.size(), kNaN);
-    out.sd.emplace_back(data.times.size(), kNaN);
+    prediction_detail::observe(net, ser, T0, o);
+    s->obs.push_back(std::move(o));
   }
-  Eigen::VectorXd x0(m);
-  for (int i = 0; i < m; ++i)
-    x0(i) = T0[static_cast<std::size_t>(i)];
-  const double sd0 = settings_.initial_sd;
-  KalmanFilter filter(x0, Eigen::MatrixXd::Identity(m, m) * (sd0 * sd0));
+  s->x0.resize(s->m);
+  for (int i = 0; i < s->m; ++i)
+    s->x0(i) = T0[static_cast<std::size_t>(i)];
+  s->affine = net.affine();
+  s->local_linear =
+      settings_.local_linearisation && !s->affine && net.event_count() == 0 && s->m == net.size();
+  if (!s->affine) return s;
   // An affine network (linear, time-invariant couplings) is x' = A x + b(t): the mean of every
   // prediction step follows the deterministic trajectory z, x(k+1|k) = z(k+1) + Phi (x(k|k) -
   // z(k)), so that one integration of the whole case replaces one per sample, and Phi and Qd of
-  // a sampling interval are computed once. Otherwise each step integrates the network from the
-  // filtered mean (an extended Kalman filter).
-  // A nonlinear network without events (radiation, temperature-dependent links) is linearised at
-  // the filtered mean for each step (local linearisation, as CTSM-R does): no integrator restarts.
-  const bool affine = net.affine();
-  const bool local_linear =
-      settings_.local_linearisation && !affine && net.event_count() == 0 && m == net.size();
-  std::vector<Eigen::VectorXd> z;
-  std::optional<Discretisations> disc;
-  if (affine && !data.times.empty()) {
+  // a sampling interval are computed once.
+  if (!data.times.empty()) {
     SolverOptions exact = settings_.solver;
     exact.exact_linear_max = 64;
-    z.reserve(data.times.size());
+    s->Z.resize(s->m, static_cast<Eigen::Index>(data.times.size()));
     std::vector<double> T = T0;
-    std::size_t k = 0;
-    for (; k < data.times.size() && data.times[k] <= 0.0; ++k)
-      z.push_back(x0);
-    if (k < data.times.size())
+    Eigen::Index k = 0;
+    for (; k < s->Z.cols() && data.times[static_cast<std::size_t>(k)] <= 0.0; ++k)
+      s->Z.col(k) = s->x0;
+    if (k < s->Z.cols())
       integrate(
           net, T, 0.0, data.times.back(),
           std::vector<double>(data.times.begin() + static_cast<long>(k), data.times.end()),
           [&](double, const std::vector<double>& X) {
-            z.push_back(Eigen::Map<const Eigen::VectorXd>(X.data(), m));
+            if (k < s->Z.cols()) s->Z.col(k) = Eigen::Map<const Eigen::VectorXd>(X.data(), s->m);
+            ++k;
           },
           exact);
-    if (z.size() != data.times.size())
+    if (k != s->Z.cols())
       throw std::runtime_error("the deterministic trajectory misses sample times");
-    disc.emplace(ss.system_matrix(0.0, x0), Qc);
   }
+  s->A = s->ss->system_matrix(0.0, s->x0);
+  return s;
+}
+
+CaseInnovations PredictionProblem::filter_case(std::size_t c, const std::vector<double>& theta,
+                                               bool series) const {
+  if (theta.size() != params_.size())
+    throw std::invalid_argument(fmt::format("{} values for the prediction problem's {} params",
+                                            theta.size(), params_.size()));
+  const std::vector<double> x(theta.begin(), theta.begin() + static_cast<long>(structural_));
+  // An affine case's setup at these structural values may be cached (a gradient's evaluations
+  // that move a noise param only); another network is set up afresh (its filter integrates it).
+  std::shared_ptr<const CaseSetup> fixed;
+  std::shared_ptr<CaseSetup> own;
+  {
+    const std::lock_guard<std::mutex> lock(cache_->mutex);
+    for (const auto& e : cache_->entries)
+      if (e->c == c && e->x == x) fixed = e;
+  }
+  if (!fixed) {
+    own = setup(c, x);
+    if (own->affine) {
+      own->ss.reset();
+      own->net.reset();
+      fixed = own;
+      const std::lock_guard<std::mutex> lock(cache_->mutex);
+      cache_->entries.push_back(fixed);
+      if (cache_->entries.size() > SetupCache::kCapacity) cache_->entries.pop_front();
+    }
+  }
+  const CaseSetup& s = fixed ? *fixed : *own;
+  const MeasuredData& data = data_[c];
+  CaseInnovations out;
+  out.case_name = cases_[c];
+  out.times = data.times;
+  const int m = s.m;
+  Eigen::MatrixXd Qc = Eigen::MatrixXd::Zero(m, m);
+  for (std::size_t i = 0; i < s.process.size(); ++i) {
+    const double sw = theta[structural_ + s.process[i]];
+    Qc(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) = sw * sw;
+  }
+  std::vector<Observation> obs = s.obs;
+  for (auto& o : obs) {
+    const double sv = theta[structural_ + process_nodes_.size() + o.node];
+    o.variance = sv * sv;
+    const auto& ser = data.series[o.series];
+    out.nodes.push_back(ser.node);
+    if (!series) continue;
+    out.measured.push_back(ser.values);
+    out.predicted.emplace_back(data.times.size(), kNaN);
+    out.sd.emplace_back(data.times.size(), kNaN);
+  }
+  if (!series) out.times.clear();
+  const double sd0 = settings_.initial_sd;
+  KalmanFilter filter(s.x0, Eigen::MatrixXd::Identity(m, m) * (sd0 * sd0));
+  // Otherwise each step integrates the network from the filtered mean (an extended Kalman
+  // filter); a nonlinear network without events (radiation, temperature-dependent links) is
+  // linearised at the filtered mean for each step (local linearisation, as CTSM-R does): no
+  // integrator restarts.
+  std::optional<Discretisations> disc;
+  if (s.affine) disc.emplace(s.A, Qc);
   double t = 0.0;
-  Eigen::VectorXd z_prev = x0;
+  Eigen::Index prev = -1; // the sample the filter stands at (-1: the start)
   std::vector<std::size_t> which;
   for (std::size_t k = 0; k < data.times.size(); ++k) {
     if (data.times[k] > t) {
-      if (affine) {
-        const Discretised& d = disc->over(data.times[k] - t);
-        filter.x() = z[k] + d.Phi * (filter.x() - z_prev);
-        filter.predict_covariance(d);
-      } else if (local_linear) {
+      if (s.affine) {
+        const auto at = static_cast<Eigen::Index>(k);
+        if (prev < 0)
+          filter.predict_about(disc->over(data.times[k] - t), s.x0, s.Z.col(at));
+        else
+          filter.predict_about(disc->over(data.times[k] - t), s.Z.col(prev), s.Z.col(at));
+      } else if (s.local_linear) {
         Eigen::MatrixXd A;
-        filter.x() = local_linear_step(net, filter.x(), t, data.times[k], A);
+        filter.x() = local_linear_step(*own->net, filter.x(), t, data.times[k], A);
         filter.predict_covariance(discretise(A, Qc, data.times[k] - t));
       } else {
-        ss.predict(filter, t, data.times[k], Qc, settings_.solver);
+        own->ss->predict(filter, t, data.times[k], Qc, settings_.solver);
       }
     }
     t = data.times[k];
-    if (affine) z_prev = z[k];
+    prev = static_cast<Eigen::Index>(k);
     which.clear();
     for (std::size_t o = 0; o < obs.size(); ++o)
       if (!std::isnan(data.series[obs[o].series].values[k])) which.push_back(o);
     if (which.empty()) continue;
+    if (which.size() == 1) { // one reading: the update without allocations
+      const std::size_t o = which.front();
+      const Observation& ob = obs[o];
+      double predicted = 0.0, S = 0.0;
+      out.log_likelihood += filter.update_scalar(ob.H, ob.offset, data.series[ob.series].values[k],
+                                                 ob.variance, predicted, S);
+      if (series) {
+        out.predicted[o][k] = predicted;
+        out.sd[o][k] = std::sqrt(S);
+      }
+      ++out.points;
+      continue;
+    }
     const auto p = static_cast<Eigen::Index>(which.size());
     Eigen::MatrixXd H(p, m);
     Eigen::VectorXd y(p), var(p), offset(p);
@@ -358,7 +452,7 @@ CaseInnovations PredictionProblem::filter_case(std::size_t c,
       var(r) = o.variance;
     }
     const Innovation in = filter.update(H, offset, y, var);
-    for (Eigen::Index r = 0; r < p; ++r) {
+    for (Eigen::Index r = 0; series && r < p; ++r) {
       const std::size_t o = which[static_cast<std::size_t>(r)];
       out.predicted[o][k] = in.predicted(r);
       out.sd[o][k] = std::sqrt(in.S(r, r));
@@ -373,7 +467,7 @@ double PredictionProblem::log_likelihood(const std::vector<double>& theta) const
   double ll = 0.0;
   try {
     for (std::size_t c = 0; c < cases_.size(); ++c)
-      ll += filter_case(c, theta).log_likelihood;
+      ll += filter_case(c, theta, false).log_likelihood;
   } catch (const std::exception&) {
     return -std::numeric_limits<double>::infinity();
   }
@@ -384,7 +478,7 @@ std::vector<CaseInnovations>
 PredictionProblem::innovations(const std::vector<double>& theta) const {
   std::vector<CaseInnovations> out;
   for (std::size_t c = 0; c < cases_.size(); ++c)
-    out.push_back(filter_case(c, theta));
+    out.push_back(filter_case(c, theta, true));
   return out;
 }
 
@@ -397,6 +491,8 @@ PredictionFit fit_prediction(const PredictionProblem& problem, std::vector<doubl
   };
   QuasiNewtonOptions qo;
   qo.threads = problem.settings().threads;
+  qo.max_iterations = problem.settings().max_iterations;
+  qo.ftol = problem.settings().ftol;
   std::size_t stage_evaluations = 0;
   if (deterministic_stage && problem.structural() > 0) {
     // Stage 1, the deterministic fit: the structural params and the measurement noise with
@@ -456,8 +552,21 @@ PredictionFit fit_prediction(const PredictionProblem& problem, std::vector<doubl
     if (u(static_cast<Eigen::Index>(j)) < 1e-6 || u(static_cast<Eigen::Index>(j)) > 1 - 1e-6)
       fit.notes.push_back(
           fmt::format("{} ends on its bound ({:.4g})", problem.params()[j].name, fit.theta[j]));
-  if (!std_errors || n == 0) return fit;
-  const Eigen::MatrixXd H = scaled_hessian(f, boxes, fit.theta, 1e-4, qo.threads);
+  if (std_errors) add_standard_errors(problem, fit);
+  return fit;
+}
+
+void add_standard_errors(const PredictionProblem& problem, PredictionFit& fit) {
+  const auto boxes = problem.boxes();
+  const std::size_t n = boxes.size();
+  fit.std_errors.assign(n, kNaN);
+  if (!fit.ok || n == 0) return;
+  const ScalarObjective f = [&problem](const std::vector<double>& th) {
+    return -problem.log_likelihood(th);
+  };
+  const WorkingCoordinates wc(boxes);
+  const Eigen::VectorXd u = wc.to_u(fit.theta);
+  const Eigen::MatrixXd H = scaled_hessian(f, boxes, fit.theta, 1e-4, problem.settings().threads);
   fit.evaluations += 2 * n * n + 1;
   // Parameters on a bound or without curvature (a noise intensity the data cannot see) have no
   // standard error; the others' come from the inverse Hessian of their block.
@@ -476,7 +585,7 @@ PredictionFit fit_prediction(const PredictionProblem& problem, std::vector<doubl
       (ldlt.vectorD().array() <= 0).any()) {
     fit.notes.push_back("the likelihood's Hessian is not positive definite: no standard errors "
                         "(params the data cannot tell apart)");
-    return fit;
+    return;
   }
   if (m < static_cast<Eigen::Index>(n))
     fit.notes.push_back(fmt::format("{} of {} parameters (on a bound, or without effect on the "
@@ -492,7 +601,6 @@ PredictionFit fit_prediction(const PredictionProblem& problem, std::vector<doubl
       fit.correlation[pi][static_cast<std::size_t>(free[j])] =
           cov(i, j) / std::sqrt(cov(i, i) * cov(j, j));
   }
-  return fit;
 }
 
 double chi_square_upper(double x, int df) {

@@ -10,6 +10,7 @@
 #include "kernel/calibration/least_squares.hpp"
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,8 @@ struct PredictionSettings {
   /// linearisation, as CTSM-R does) instead of integrated from it: much faster, slightly
   /// different likelihoods (diagnosis's structure search uses it; calibrate does not).
   bool local_linearisation = false;
+  int max_iterations = 200; ///< most quasi-Newton iterations of a fit (each stage)
+  double ftol = 1e-9;       ///< a fit stops when an iteration gains less than ftol (1 + |lnL|)
 };
 
 /// A parameter of the criterion: a structural one or a noise intensity.
@@ -87,8 +90,16 @@ public:
   /// The one-step-ahead predictions of every case at theta; throws on failure.
   std::vector<CaseInnovations> innovations(const std::vector<double>& theta) const;
 
+  /// What filtering a case needs that depends on the structural params only (defined in the
+  /// source file).
+  struct CaseSetup;
+
 private:
-  CaseInnovations filter_case(std::size_t c, const std::vector<double>& theta) const;
+  struct SetupCache;
+  static std::shared_ptr<SetupCache> make_cache();
+  /// One case filtered at theta: its likelihood, and with `series` its predictions and spreads.
+  CaseInnovations filter_case(std::size_t c, const std::vector<double>& theta, bool series) const;
+  std::shared_ptr<CaseSetup> setup(std::size_t c, const std::vector<double>& x) const;
   void add_noise_params();
 
   std::vector<PredictionParam> params_;
@@ -98,6 +109,9 @@ private:
   std::vector<MeasuredData> data_;
   PredictionSettings settings_;
   std::vector<std::string> process_nodes_, measured_nodes_;
+  // The setups of affine cases at the structural values last met, shared by the evaluations
+  // of a gradient that move the noise params only (and by the threads).
+  std::shared_ptr<SetupCache> cache_;
 };
 
 /// The maximum-likelihood estimate.
@@ -124,6 +138,10 @@ struct PredictionFit {
 /// start from a fitted model, as the diagnosis refits candidates).
 PredictionFit fit_prediction(const PredictionProblem& problem, std::vector<double> start = {},
                              bool std_errors = true, bool deterministic_stage = true);
+
+/// Sets fit.std_errors and fit.correlation from the likelihood's Hessian at fit.theta (2 n^2 + 1
+/// evaluations), with a note where it is not positive definite.
+void add_standard_errors(const PredictionProblem& problem, PredictionFit& fit);
 
 /// The likelihood-ratio test of a model against a nested smaller one.
 struct LikelihoodRatio {

@@ -122,18 +122,23 @@ SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t
   SolverStats stats;
   stats.integrator = "exact-linear";
   stats.linear_solver = "dense";
-  const auto g = [&](double t) {
+  // g(t) into `into`, without allocating (this loop runs once per sample of a long record).
+  const auto g = [&](double t, Eigen::VectorXd& into) {
     sys.heat_balance(t, ref.data(), F.data());
     ++stats.rhs_evals;
-    return Eigen::VectorXd(Cinv.cwiseProduct(Eigen::Map<const Eigen::VectorXd>(F.data(), n)) -
-                           A_ref);
+    into = Cinv.cwiseProduct(Eigen::Map<const Eigen::VectorXd>(F.data(), n)) - A_ref;
   };
+  Eigen::VectorXd ga(n), gb(n), g0(n), dg(n), x_before(n);
   // The grid: t0, the breakpoints and the output times, in order.
   std::vector<double> grid = sys.breakpoints(t0, t1);
+  const auto sorted_end = static_cast<std::ptrdiff_t>(grid.size());
   for (double t : output_times)
     if (t > t0 && t <= t1) grid.push_back(t);
   grid.push_back(t1);
-  std::sort(grid.begin(), grid.end());
+  if (std::is_sorted(grid.begin() + sorted_end, grid.end()))
+    std::inplace_merge(grid.begin(), grid.begin() + sorted_end, grid.end());
+  else
+    std::sort(grid.begin(), grid.end());
   grid.erase(std::unique(grid.begin(), grid.end()), grid.end());
   std::size_t next_out = 0;
   while (next_out < output_times.size() && output_times[next_out] < t0)
@@ -152,11 +157,15 @@ SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t
     if (!(h > 0.0)) continue;
     // The input is linear inside the interval (it may jump at either end): read it at a third
     // and two thirds of the way and extended to both ends.
-    const Eigen::VectorXd ga = g(t + h / 3.0), gb = g(t + 2.0 * h / 3.0);
-    const Eigen::VectorXd g0 = 2.0 * ga - gb, g1 = 2.0 * gb - ga;
+    g(t + h / 3.0, ga);
+    g(t + 2.0 * h / 3.0, gb);
+    g0 = 2.0 * ga - gb;
+    dg = 3.0 * (gb - ga); // g1 - g0, with g1 = 2 gb - ga
     const LinearStep& s = steps.over(h);
-    const Eigen::VectorXd x_before = x;
-    x = s.Phi * x + s.Psi0 * g0 + s.Psi1 * (g1 - g0);
+    x_before = x;
+    x.noalias() = s.Phi.lazyProduct(x_before);
+    x.noalias() += s.Psi0.lazyProduct(g0);
+    x.noalias() += s.Psi1.lazyProduct(dg);
     ++stats.steps;
     if (!x.allFinite())
       throw SolverError(fmt::format("the exact solution of the linear network is not finite at "
@@ -173,7 +182,7 @@ SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t
         const double mid = 0.5 * (lo + hi);
         const LinearStep part = linear_step(steps.matrix(), mid);
         const Eigen::VectorXd at =
-            part.Phi * x_before + part.Psi0 * g0 + part.Psi1 * ((g1 - g0) * (mid / h));
+            part.Phi * x_before + part.Psi0 * g0 + part.Psi1 * (dg * (mid / h));
         (at(i) < 0.0 ? hi : lo) = mid;
       }
       const detail::SystemEvaluator ev(sys);

@@ -6,6 +6,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -67,6 +68,40 @@ Innovation KalmanFilter::update(const Eigen::MatrixXd& H, const Eigen::VectorXd&
   P_ = IKH * P_ * IKH.transpose() + K * variance.asDiagonal() * K.transpose();
   P_ = 0.5 * (P_ + P_.transpose());
   return in;
+}
+
+double KalmanFilter::update_scalar(const Eigen::RowVectorXd& h, double offset, double y,
+                                   double variance, double& predicted, double& S) {
+  const Eigen::Index m = x_.size();
+  if (h.size() != m) throw std::invalid_argument("a Kalman update needs one row per measurement");
+  v_.resize(m); // P h'
+  v_.noalias() = P_.lazyProduct(h.transpose());
+  predicted = h.dot(x_) + offset;
+  S = h.dot(v_) + variance;
+  const double innovation = y - predicted;
+  if (!(S > 0.0)) return -std::numeric_limits<double>::infinity();
+  w_.resize(m); // the gain K = P h' / S
+  w_ = v_ / S;
+  x_ += w_ * innovation;
+  // Joseph form (I - K h) P (I - K h)' + K r K' = P - K (P h')' - (P h') K' + S K K'.
+  P_.noalias() -= w_ * v_.transpose();
+  P_.noalias() -= v_ * w_.transpose();
+  P_.noalias() += (S * w_) * w_.transpose();
+  M_ = P_.transpose();
+  P_ = 0.5 * (P_ + M_);
+  return -0.5 * (std::log(2.0 * std::numbers::pi) + std::log(S) + innovation * innovation / S);
+}
+
+void KalmanFilter::predict_about(const Discretised& d, const Eigen::Ref<const Eigen::VectorXd>& z0,
+                                 const Eigen::Ref<const Eigen::VectorXd>& z1) {
+  v_ = x_ - z0;
+  x_.noalias() = d.Phi.lazyProduct(v_);
+  x_ += z1;
+  M_.noalias() = d.Phi.lazyProduct(P_);
+  P_.noalias() = M_.lazyProduct(d.Phi.transpose());
+  P_ += d.Qd;
+  M_ = P_.transpose();
+  P_ = 0.5 * (P_ + M_);
 }
 
 } // namespace thermnet

@@ -51,10 +51,20 @@ public:
   /// offset and gain) with variances `variance`; Joseph form.
   Innovation update(const Eigen::MatrixXd& H, const Eigen::VectorXd& offset,
                     const Eigen::VectorXd& y, const Eigen::VectorXd& variance);
+  /// One affine measurement y = h x + offset with variance `variance` (Joseph form), without
+  /// allocating: returns the log-likelihood, the prediction h x + offset and its variance S.
+  double update_scalar(const Eigen::RowVectorXd& h, double offset, double y, double variance,
+                       double& predicted, double& S);
+  /// x <- z1 + Phi (x - z0) and P <- Phi P Phi' + Qd without allocating (an affine model's step
+  /// about its deterministic trajectory z).
+  void predict_about(const Discretised& d, const Eigen::Ref<const Eigen::VectorXd>& z0,
+                     const Eigen::Ref<const Eigen::VectorXd>& z1);
 
 private:
   Eigen::VectorXd x_;
   Eigen::MatrixXd P_;
+  Eigen::VectorXd v_, w_; // workspace of the allocation-free steps
+  Eigen::MatrixXd M_;
 };
 
 } // namespace thermnet

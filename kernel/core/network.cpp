@@ -283,16 +283,29 @@ void Network::init_events(double t, const double* T) {
 }
 
 std::vector<double> Network::breakpoints(double t0, double t1) const {
-  std::vector<double> all;
-  for (const auto& e : elements_)
-    e->breakpoints(all);
+  // Each input's corners are increasing, and the tables of one data file share them: the runs are
+  // merged (a run equal to what is already there adds nothing), not the whole sorted again.
+  std::vector<double> out, run;
+  const auto merge = [&](std::vector<double>& r) {
+    if (!std::is_sorted(r.begin(), r.end())) std::sort(r.begin(), r.end());
+    const auto lo = std::upper_bound(r.begin(), r.end(), t0);
+    const auto hi = std::upper_bound(lo, r.end(), t1);
+    if (lo == hi || std::includes(out.begin(), out.end(), lo, hi)) return;
+    const auto mid = static_cast<std::ptrdiff_t>(out.size());
+    out.insert(out.end(), lo, hi);
+    std::inplace_merge(out.begin(), out.begin() + mid, out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  };
+  for (const auto& e : elements_) {
+    run.clear();
+    e->breakpoints(run);
+    merge(run);
+  }
   for (const auto& node : spec_.nodes)
-    if (node.boundary) all.insert(all.end(), node.T.corners().begin(), node.T.corners().end());
-  std::vector<double> out;
-  for (double b : all)
-    if (b > t0 && b <= t1) out.push_back(b);
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
+    if (node.boundary) {
+      run.assign(node.T.corners().begin(), node.T.corners().end());
+      merge(run);
+    }
   return out;
 }
 
