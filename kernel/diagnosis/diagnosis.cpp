@@ -58,7 +58,8 @@ DiagnosisReport diagnose(const lang::Model& model, const DiagnosisOptions& optio
     rep.structural.remains = !last->at_floor && last->metrics.rmse >= 2.0 * rep.noise_floor;
   }
   rep.curves = engine.curves(best);
-  rep.batches = engine.batches();
+  // (the likelihood steps' batches, added by the selection, come after the engine's)
+  rep.batches.insert(rep.batches.begin(), engine.batches().begin(), engine.batches().end());
   rep.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   rep.cpu_s = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   return rep;

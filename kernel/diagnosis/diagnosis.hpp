@@ -118,7 +118,7 @@ struct Finding {
   bool fit_failed = false;
   /// How the node it adds starts in each case, in words (empty: it adds none)
   std::string start;
-  double holdout_z = 0.0;              ///< held-out gain over its reference fit, z
+  double holdout_z = 0.0; ///< held-out gain over its reference fit, z
   /// The smallest relative drop of the held-out RMS error over the validation blocks against its
   /// reference fits (0.3: every block predicted with 30 % less error)
   double block_gain = 0.0;
@@ -162,6 +162,8 @@ struct RefitBatch {
   std::size_t simulations = 0; ///< case simulations the refits ran (in this process)
   /// of those, the ones that integrated parameter sensitivities (a Jacobian with the residuals)
   std::size_t sensitivity_runs = 0;
+  /// prediction criterion: the likelihoods evaluated (each filters every case once)
+  std::size_t likelihoods = 0;
   double wall_s = 0.0; ///< wall time, s
   double cpu_s = 0.0;  ///< CPU time of the process (every thread), s
 };

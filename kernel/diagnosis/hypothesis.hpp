@@ -111,6 +111,11 @@ public:
   /// Candidates from the evidence (scored by the screen where the kind allows); runs beside the
   /// other kinds' propose, on its own thread.
   virtual std::vector<Candidate> propose(const Evidence& ev) const = 0;
+  /// The candidates the likelihood criterion tests: propose()'s, plus those its output-error
+  /// screen turned away where the kind can be tested without it (default: propose()'s).
+  virtual std::vector<Candidate> propose_for_likelihood(const Evidence& ev) const {
+    return propose(ev);
+  }
   /// The alternative mechanisms its candidates name (e.g. linear, radiation), in the order the
   /// report lists them; candidates of one site with different mechanisms are compared, and one is
   /// kept (default: none).

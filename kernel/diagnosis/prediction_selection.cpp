@@ -10,7 +10,9 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <ctime>
 #include <limits>
 #include <map>
 #include <set>
@@ -21,6 +23,11 @@ namespace {
 constexpr double kAlpha = 0.05;         // significance level of a step's tests (before Bonferroni)
 constexpr double kResolvedError = 1e-3; // K: a simulation error no thermal test resolves
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// The candidates of a step are fitted briefly (this many quasi-Newton iterations at most, stopped
+// when one gains less than this share of the likelihood), the best kFullFits of them fully.
+constexpr int kBriefIterations = 20;
+constexpr double kBriefTolerance = 1e-6;
+constexpr std::size_t kFullFits = 2;
 
 /// A structure of the selection: the declared model, the findings applied so far and optionally a
 /// free candidate, with the ranged params and the applied findings' values free.
@@ -65,11 +72,47 @@ public:
       const Evidence ev = step == 0 ? ev_ : engine_.evidence_at(engine_.make_base(applied));
       const std::vector<std::pair<const Hypothesis*, Candidate>> cands = shortlist(ev, applied);
       if (cands.empty()) break;
+      const auto wall0 = std::chrono::steady_clock::now();
+      const std::clock_t cpu0 = std::clock();
+      RefitBatch batch;
+      batch.base_findings = applied.size();
+      batch.refits = cands.size();
+      const std::string stage = fmt::format("likelihood step {}: fitting the candidates", step + 1);
+      // Every candidate is fitted briefly from the model it extends; the few with the highest
+      // likelihood then fully, from both starts (most candidates gain nothing, and a brief fit's
+      // likelihood is a lower bound of its maximum: a candidate left at it is never made
+      // significant by it).
       std::vector<Fitted> fits;
       for (const auto& [h, c] : cands) {
-        fits.push_back(fit({&applied, h, &c}, base.by_name));
+        if (opt_.progress) opt_.progress({stage, fits.size(), cands.size()});
+        fits.push_back(fit({&applied, h, &c}, base.by_name, Effort::brief));
+        batch.likelihoods += fits.back().fit.evaluations;
         ++sum.tested;
       }
+      std::vector<std::size_t> order(cands.size());
+      for (std::size_t i = 0; i < order.size(); ++i)
+        order[i] = i;
+      const auto ll = [&](std::size_t i) {
+        return fits[i].fit.ok ? fits[i].fit.log_likelihood
+                              : -std::numeric_limits<double>::infinity();
+      };
+      std::stable_sort(order.begin(), order.end(),
+                       [&](std::size_t a, std::size_t b) { return ll(a) > ll(b); });
+      for (std::size_t k = 0; k < std::min(kFullFits, order.size()); ++k) {
+        const std::size_t i = order[k];
+        if (!fits[i].fit.ok) break;
+        Fitted full = fit({&applied, cands[i].first, &cands[i].second}, base.by_name);
+        batch.likelihoods += full.fit.evaluations;
+        if (full.fit.ok && full.fit.log_likelihood >= fits[i].fit.log_likelihood)
+          fits[i] = std::move(full);
+      }
+      if (opt_.progress) opt_.progress({stage, fits.size(), cands.size()});
+      const auto close_batch = [&] {
+        batch.wall_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+        batch.cpu_s = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+        rep.batches.push_back(batch);
+      };
       const double threshold = kAlpha / static_cast<double>(cands.size());
       std::size_t best = cands.size();
       std::vector<Finding> findings(cands.size());
@@ -98,8 +141,20 @@ public:
         if (i != best && fits[i].fit.ok) rep.rejected.push_back(findings[i]);
       rep.refitted += cands.size();
       rep.screened += cands.size();
-      if (best == cands.size()) break;
+      if (best == cands.size()) {
+        close_batch();
+        break;
+      }
+      // Standard errors for the finding taken only: a Hessian costs 2 n^2 likelihoods, more than
+      // the fit itself, and a rejected candidate's are not reported.
+      const std::size_t fitted = fits[best].fit.evaluations;
+      standard_errors({&applied, cands[best].first, &cands[best].second}, fits[best]);
+      batch.likelihoods += fits[best].fit.evaluations - fitted;
+      close_batch();
       Finding f = findings[best];
+      f.std_errors.assign(fits[best].fit.std_errors.begin() + static_cast<long>(offset),
+                          fits[best].fit.std_errors.begin() +
+                              static_cast<long>(offset + own_of(f)));
       f.rank = static_cast<int>(rep.findings.size()) + 1;
       const std::size_t own = cands[best].second.names.size();
       const std::vector<double>& th = fits[best].fit.theta;
@@ -141,6 +196,8 @@ private:
       n.push_back(c.name);
     return n;
   }
+
+  static std::size_t own_of(const Finding& f) { return f.candidate.names.size(); }
 
   // Parameters of the applied findings, all together.
   static std::size_t applied_count(const std::vector<Applied>& applied) {
@@ -185,8 +242,11 @@ private:
     return q;
   }
 
-  // Maximum-likelihood fit of a structure, started from `warm` (values by name) where known.
-  Fitted fit(Structure s, const std::map<std::string, double>& warm) {
+  // How hard a fit tries: briefly from one start, or fully from two.
+  enum class Effort { brief, full };
+
+  // The prediction problem of a structure.
+  PredictionProblem problem(Structure s, Effort effort = Effort::full) const {
     std::vector<PredictionParam> structural;
     for (const auto& p : calib_.params()) {
       PredictionParam q;
@@ -203,31 +263,108 @@ private:
     if (s.c)
       for (std::size_t j = 0; j < s.c->names.size(); ++j)
         structural.push_back(candidate_param(*s.c, j, s.applied->size() + 1, s.c->start[j]));
-    Fitted out;
     PredictionSettings settings;
     settings.initial_sd = opt_.initial_sd;
     settings.local_linearisation = true;
     settings.threads = opt_.threads;
+    if (effort == Effort::brief) {
+      settings.max_iterations = kBriefIterations;
+      settings.ftol = kBriefTolerance;
+    }
+    return PredictionProblem(structural, maker(s), case_names(ev_), data_, settings);
+  }
+
+  // The standard errors of a fitted structure (from its likelihood's Hessian).
+  void standard_errors(Structure s, Fitted& f) const {
+    try {
+      add_standard_errors(problem(s), f.fit);
+    } catch (const std::exception&) {
+      f.fit.std_errors.assign(f.fit.theta.size(), kNaN);
+    }
+  }
+
+  // Maximum-likelihood fit of a structure, started from `warm` (values by name) where known,
+  // without standard errors. A brief fit moves the candidate's own params and the noise from
+  // `warm`; a full one everything, from `warm` and from the deterministic stage.
+  Fitted fit(Structure s, const std::map<std::string, double>& warm, Effort effort = Effort::full) {
+    Fitted out;
     try {
       const SpecMaker make = maker(s);
-      const PredictionProblem pp(structural, make, case_names(ev_), data_, settings);
-      std::vector<double> start = pp.start();
-      for (std::size_t k = 0; k < pp.params().size(); ++k)
-        if (auto it = warm.find(pp.params()[k].name); it != warm.end())
-          start[k] = std::clamp(it->second, pp.params()[k].box.lo, pp.params()[k].box.hi);
-      // The declared structure from its declared values (the deterministic stage first); a
-      // candidate from the fitted model it extends, its own parameters at the kind's start.
-      out.fit = fit_prediction(pp, start, true, true);
-      if (!warm.empty()) {
-        // A candidate's likelihood has local maxima: from the fitted model it extends (its noise
-        // already absorbing what the candidate explains) the search can stall at a bound, from
-        // the deterministic stage it can end below the nested model (the house's heater mass).
-        // Both are tried; the higher maximum is kept.
-        const PredictionFit direct = fit_prediction(pp, start, true, false);
-        if (direct.ok && (!out.fit.ok || direct.log_likelihood > out.fit.log_likelihood))
-          out.fit = direct;
+      const PredictionProblem pp = problem(s, effort);
+      const auto start_at = [&pp](const std::map<std::string, double>& values) {
+        std::vector<double> start = pp.start();
+        for (std::size_t k = 0; k < pp.params().size(); ++k)
+          if (auto it = values.find(pp.params()[k].name); it != values.end())
+            start[k] = std::clamp(it->second, pp.params()[k].box.lo, pp.params()[k].box.hi);
+        return start;
+      };
+      const std::vector<double> start = start_at(warm);
+      if (effort == Effort::brief) {
+        out.fit = brief_fit(s, pp, start);
+      } else {
+        // The declared structure from its declared values (the deterministic stage first); a
+        // candidate from the fitted model it extends, its own parameters at the kind's start.
+        out.fit = fit_prediction(pp, start, false, true);
+        if (!warm.empty()) {
+          // A candidate's likelihood has local maxima: from the fitted model it extends (its
+          // noise already absorbing what the candidate explains) the search can stall at a bound,
+          // from the deterministic stage it can end below the nested model (the house's heater
+          // mass). Both are tried; the higher maximum is kept.
+          const PredictionFit direct = fit_prediction(pp, start, false, false);
+          if (direct.ok && (!out.fit.ok || direct.log_likelihood > out.fit.log_likelihood)) {
+            const std::size_t det = out.fit.evaluations;
+            out.fit = direct;
+            out.fit.evaluations += det;
+          } else if (direct.ok) {
+            out.fit.evaluations += direct.evaluations;
+          }
+        }
       }
       if (!out.fit.ok) return out;
+      describe_fit(pp, make, out);
+    } catch (const std::exception&) {
+      out.fit.ok = false;
+    }
+    return out;
+  }
+
+  // A candidate's own params and the noise fitted from `start` (every other value held there):
+  // a lower bound of the structure's likelihood, in a few iterations. The fit is returned in the
+  // layout of the whole structure `pp` (its parameter count that of the whole structure, as the
+  // likelihood-ratio test of the full fit counts them).
+  PredictionFit brief_fit(Structure s, const PredictionProblem& pp,
+                          const std::vector<double>& start) const {
+    const std::size_t own = s.c ? s.c->names.size() : 0;
+    const std::size_t held = pp.structural() - own;
+    const std::vector<double> fixed(start.begin(), start.begin() + static_cast<long>(held));
+    const std::vector<PredictionParam> free(pp.params().begin() + static_cast<long>(held),
+                                            pp.params().begin() +
+                                                static_cast<long>(pp.structural()));
+    const SpecMaker whole = maker(s);
+    const SpecMaker make = [whole, fixed](std::size_t ci, const std::vector<double>& x) {
+      std::vector<double> all = fixed;
+      all.insert(all.end(), x.begin(), x.end());
+      return whole(ci, all);
+    };
+    const PredictionProblem part(free, make, case_names(ev_), data_, pp.settings());
+    std::vector<double> part_start(start.begin() + static_cast<long>(held), start.end());
+    if (part_start.size() != part.params().size()) // (the same network: the same noise params)
+      throw std::logic_error("a brief fit's problem differs from its structure's");
+    PredictionFit r = fit_prediction(part, part_start, false, false);
+    std::vector<double> theta = fixed;
+    theta.insert(theta.end(), r.theta.begin(), r.theta.end());
+    r.theta = std::move(theta);
+    r.std_errors.assign(r.theta.size(), kNaN);
+    r.parameters = pp.params().size();
+    const double k = static_cast<double>(r.parameters);
+    r.aic = -2 * r.log_likelihood + 2 * k;
+    r.bic = -2 * r.log_likelihood + k * std::log(static_cast<double>(r.points));
+    return r;
+  }
+
+  // The summary, whiteness and simulation error of a fit of pp.
+  void describe_fit(const PredictionProblem& pp, const SpecMaker& make, Fitted& out) const {
+    {
       for (std::size_t k = 0; k < pp.params().size(); ++k) {
         out.by_name[pp.params()[k].name] = out.fit.theta[k];
         out.summary.values.emplace_back(pp.params()[k].name, out.fit.theta[k]);
@@ -240,10 +377,7 @@ private:
       out.summary.aic = out.fit.aic;
       out.summary.bic = out.fit.bic;
       simulation_error(pp, make, out);
-    } catch (const std::exception&) {
-      out.fit.ok = false;
     }
-    return out;
   }
 
   // The simulation's RMSE and R² at the fitted structural values (the output-error fields).
@@ -278,12 +412,19 @@ private:
   std::vector<std::pair<const Hypothesis*, Candidate>>
   shortlist(const Evidence& ev, const std::vector<Applied>& applied) const {
     std::vector<std::pair<const Hypothesis*, Candidate>> all;
+    const auto& declared = ev_.cases.front().spec;
     for (const auto& h : hyps_) {
       if (h->recalibrates()) continue;
-      for (auto& c : h->propose(ev)) {
+      for (auto& c : h->propose_for_likelihood(ev)) {
         // A sensor's lag is a state the filter observes through the sensor; an offset or a gain
         // is left to the output-error criterion.
         if (c.measurement_side && c.kind != "sensor_lag") continue;
+        // An element an applied finding added (a split's heater) is not a site of the model's
+        // own; a node it added (the envelope a split may heat) is.
+        if (!c.element.empty() &&
+            std::none_of(declared.elements.begin(), declared.elements.end(),
+                         [&](const lang::ElementSpec& e) { return e.name == c.element; }))
+          continue;
         if (!c.start_T.empty()) c = with_start_share(c);
         bool taken = false;
         for (const auto& a : applied)

@@ -203,6 +203,13 @@ std::string diagnosis_timing_text(const DiagnosisReport& r) {
                               r.wall_s, r.cpu_s, r.setup_wall_s, r.screened, r.refitted);
   for (std::size_t i = 0; i < r.batches.size(); ++i) {
     const RefitBatch& b = r.batches[i];
+    if (b.likelihoods > 0) {
+      s += fmt::format("  likelihood step {}: {} candidate{} on {} finding{}: {} likelihoods, "
+                       "{:.1f} s wall, {:.1f} s CPU\n",
+                       b.base_findings + 1, b.refits, b.refits == 1 ? "" : "s", b.base_findings,
+                       b.base_findings == 1 ? "" : "s", b.likelihoods, b.wall_s, b.cpu_s);
+      continue;
+    }
     const std::string sens =
         b.sensitivity_runs ? fmt::format(" ({} with sensitivities)", b.sensitivity_runs) : "";
     s += fmt::format("  refits {}: {} {}on {} finding{}: {} simulations{}, {:.1f} s wall, {:.1f} s "

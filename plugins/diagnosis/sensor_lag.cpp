@@ -15,7 +15,16 @@ namespace {
 
 class SensorLag final : public Hypothesis {
 public:
-  std::vector<Candidate> propose(const Evidence& ev) const override {
+  std::vector<Candidate> propose(const Evidence& ev) const override { return proposals(ev, false); }
+
+  // A lag has one parameter, and the filter sees it whatever the simulation's error looks like:
+  // every measured node's is tested (from two sampling intervals where the screen found none).
+  std::vector<Candidate> propose_for_likelihood(const Evidence& ev) const override {
+    return proposals(ev, true);
+  }
+
+private:
+  static std::vector<Candidate> proposals(const Evidence& ev, bool unscreened) {
     std::vector<Candidate> out;
     if (ev.cases.empty()) return out;
     const auto& nodes = ev.cases.front().spec.nodes;
@@ -36,24 +45,28 @@ public:
             any = true;
           }
         }
-      if (!any || ss <= 0.0 || rs <= 0.0) continue;
+      const bool screened = any && ss > 0.0 && rs > 0.0;
+      if (!screened && !(unscreened && any)) continue;
       Candidate c;
       c.kind = "sensor_lag";
       c.nodes = {nodes[static_cast<std::size_t>(a)].name};
       c.names = {"tau"};
       c.lo = {1e-3};
       c.hi = {1e6};
-      c.start = {std::clamp(rs / ss, 1e-2, 1e5)};
+      c.start = {screened ? std::clamp(rs / ss, 1e-2, 1e5)
+                          : std::clamp(2.0 * sampling_interval(ev), 1e-2, 1e5)};
       c.measurement_side = true;
-      c.screen = rs * rs / ss;
+      c.screen = screened ? rs * rs / ss : 0.0;
       c.index = {a};
-      c.evidence =
-          fmt::format("{} measured lags the simulation by about {:.3g} s", c.nodes[0], c.start[0]);
+      c.evidence = screened ? fmt::format("{} measured lags the simulation by about {:.3g} s",
+                                          c.nodes[0], c.start[0])
+                            : fmt::format("{} is measured: its sensor may lag it", c.nodes[0]);
       out.push_back(std::move(c));
     }
     return out;
   }
 
+public:
   void correct(const Candidate& c, const std::vector<double>& p, int node,
                const std::vector<double>& t, std::vector<double>& x) const override {
     if (node != c.index[0] || x.empty()) return;
