@@ -160,22 +160,31 @@ Engine::Fit Engine::fit(const Hypothesis& h, const Candidate& c, const std::vect
   // of every fold's refit), a fold's without one.
   o.secant_updates = opt_.sensitivities;
   o.final_jacobian = opt_.sensitivities && part.what == Part::all;
-  const LeastSquaresResult res = solve_least_squares(problem, std::move(from), o);
+  LeastSquaresResult res = solve_least_squares(problem, std::move(from), o);
   Fit f;
   if (!res.ok) return f;
   f.ok = true;
   f.moved = res.accepted > 0;
   f.p = res.x;
   f.sse = res.sse;
-  f.r = res.r;
-  f.J = res.jacobian;
+  // (moved, not copied: a copy of the residuals and the Jacobian lived beside the covariance's
+  // own copies, a few times the measured points per thread)
+  f.r = std::move(res.r);
+  f.J = std::move(res.jacobian);
   f.sims = lowest.take(f.p);
   f.se.assign(start.size(), std::numeric_limits<double>::quiet_NaN());
-  if (std_errors && f.J.rows() == static_cast<long>(f.r.size()) && f.J.cols() == np) {
-    const LeastSquaresCovariance cov = least_squares_covariance(problem, f.p, f.J, f.sse);
-    if (cov.determined()) f.se = cov.std_errors;
-  }
+  if (std_errors) set_std_errors(c, f);
   return f;
+}
+
+void Engine::set_std_errors(const Candidate& c, Fit& f) const {
+  // (the covariance reads the problem's parameter boxes only: no residual function is needed)
+  const CandidateResiduals problem(
+      c, [](const std::vector<double>&, std::vector<double>&) { return false; });
+  const auto np = static_cast<long>(f.se.size()); // (the start's size, as fit() assigns it)
+  if (f.J.rows() != static_cast<long>(f.r.size()) || f.J.cols() != np) return;
+  const LeastSquaresCovariance cov = least_squares_covariance(problem, f.p, f.J, f.sse);
+  if (cov.determined()) f.se = cov.std_errors;
 }
 
 Eigen::MatrixXd Engine::residual_jacobian(const Entry& e, const Base& base,

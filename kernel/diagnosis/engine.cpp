@@ -196,17 +196,21 @@ Engine::Fit Engine::fit_all_data(const Hypothesis& h, const Candidate& c, const 
   // time constant: from one start a refit can stay where it began, the building envelope's wall
   // at its first guess); the lowest SSE is kept. A restart that beats the fits so far within a
   // third of the iterations goes on from there with the full count.
-  Fit best = fit(h, c, c.start, Part{}, base, max_iter, rtol);
+  // The standard errors are those of the fit kept, found once at the end: a restart's covariance
+  // (its own copies of the Jacobian) is not made beside the fits still alive.
+  Fit best = fit(h, c, c.start, Part{}, base, max_iter, rtol, nullptr, false);
   bool moved = best.ok && best.moved;
   for (const auto& s : h.restarts(c)) {
-    Fit a = fit(h, c, s, Part{}, base, std::max(3, max_iter / 3), rtol);
+    Fit a = fit(h, c, s, Part{}, base, std::max(3, max_iter / 3), rtol, nullptr, false);
     if (!a.ok) continue;
     moved = moved || a.moved;
     if (best.ok && !(a.sse < best.sse)) continue;
-    Fit more = fit(h, c, a.p, Part{}, base, max_iter, rtol);
+    best = Fit{}; // (replaced by `more` or `a` whatever comes: its Jacobian need not live on)
+    Fit more = fit(h, c, a.p, Part{}, base, max_iter, rtol, nullptr, false);
     best = more.ok && more.sse <= a.sse ? std::move(more) : std::move(a);
   }
   best.moved = moved;
+  if (best.ok) set_std_errors(c, best);
   return best;
 }
 

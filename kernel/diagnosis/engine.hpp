@@ -198,6 +198,8 @@ private:
   Fit fit(const Hypothesis& h, const Candidate& c, const std::vector<double>& start, Part part,
           const Base& base, int max_iter, double rtol, const Fit* warm = nullptr,
           bool std_errors = true) const;
+  /// Sets f.se from its Jacobian (NaN left where the parameters are not all determined).
+  void set_std_errors(const Candidate& c, Fit& f) const;
   // engine.cpp
   Refit refit(const Entry& e, const Base& base, bool joint) const;
   Fit fit_all_data(const Hypothesis& h, const Candidate& c, const Base& base, int max_iter,

@@ -28,7 +28,7 @@ Base with_holdout(Base base, std::vector<double> holdout_r) {
 
 } // namespace
 
-Base Selection::select_forward(DiagnosisReport& rep, Base& last) const {
+Base Selection::select_forward(DiagnosisReport& rep, Base& last) {
   std::vector<Applied> applied;
   Base best = engine_.declared();
   if (!first_.empty()) {
@@ -39,6 +39,14 @@ Base Selection::select_forward(DiagnosisReport& rep, Base& last) const {
     best = engine_.make_base(applied);
   }
   Base base = first_.empty() ? best : with_holdout(best, res_[first_.front()].holdout_r);
+  // The first refits' residuals are not read again (the later steps compare their own refits, and
+  // the report takes only their findings): released, as each step's own are when it ends (two
+  // vectors of the measured points per refit, most of a large data file's memory).
+  for (Evaluated& e : res_) {
+    std::vector<std::vector<double>>().swap(e.r);
+    std::vector<double>().swap(e.holdout_r);
+    std::vector<double>().swap(e.holdout_rho);
+  }
   // The ranged params are not recalibrated again once a finding has recalibrated them.
   const bool params_applied = !applied.empty() && applied.front().h->recalibrates();
   while (!applied.empty() && rep.findings.size() < opt_.top && !base.at_floor) {

@@ -106,7 +106,7 @@ private:
   void note_joint(Finding& f, std::size_t recal) const;
   void rank_first(std::size_t recal);
   bool refit_tied_variants(std::size_t recal, DiagnosisReport& rep);
-  Base select_forward(DiagnosisReport& rep, Base& last) const;
+  Base select_forward(DiagnosisReport& rep, Base& last);
   /// The refits of `next` on `base`: every candidate but the counterparts, then the counterparts
   /// beside a proxy that gains (beside_gaining); the others stay unfitted (no values).
   std::vector<Evaluated> evaluate_next(const std::vector<Entry>& next, const Base& base,
