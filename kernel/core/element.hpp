@@ -66,6 +66,9 @@ public:
   /// For an affine element: true when its time-varying part is linear between its breakpoints
   /// (a constant, step, pwl or table input, or a sum of constant multiples of them).
   virtual bool piecewise_linear_inputs() const { return true; }
+  /// True when its heat flows are affine in the unknowns with a Jacobian constant between its
+  /// breakpoints, changing only at them (affine() elements, a link switched by a step schedule).
+  virtual bool jacobian_piecewise_constant() const { return affine(); }
   /// What it reads, K, for a sensor (an element whose schema `observes`); nothing otherwise.
   virtual std::optional<double> sensor_reading(const double* /*T*/) const { return std::nullopt; }
   /// Adds into dF how its heat flows change per unit of a parameter at (t, T) when its keys

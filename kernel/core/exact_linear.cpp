@@ -1,9 +1,11 @@
 // integrate_exact(): a linear network stepped from breakpoint to breakpoint (and output time) by
-// its exact discretisation, one matrix exponential per distinct interval length.
+// its exact discretisation, one matrix exponential per distinct interval length and system matrix
+// (a network whose couplings switch at breakpoints has one matrix per state of its switches).
 
 #include "kernel/core/exact_linear.hpp"
 
 #include "kernel/core/absolute_zero.hpp"
+#include "kernel/core/symmetric_modes.hpp"
 #include "kernel/core/system_evaluator.hpp"
 
 #include <Eigen/Dense>
@@ -12,45 +14,95 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
 namespace thermnet {
 namespace {
 
-/// The steps of A over the interval lengths met (a uniformly sampled record needs one or two).
+/// The steps of A over the interval lengths met (a uniformly sampled record needs one or two; a
+/// record with jittered sample times one per sample): through its modes when the network is
+/// reciprocal (SymmetricModes: two small products a step), else by matrix exponentials.
 class Steps {
 public:
-  explicit Steps(Eigen::MatrixXd A) : A_(std::move(A)) {}
+  /// The steps of A = C^-1 J, through its modes when `modes` and it has them.
+  Steps(Eigen::MatrixXd A, const Eigen::VectorXd& C, bool modes)
+      : A_(std::move(A)), modes_(modes ? SymmetricModes::of(A_, C) : std::nullopt) {}
   const LinearStep& over(double h) {
     for (const LinearStep& s : cache_)
       if (std::abs(s.h - h) <= 1e-12 * h) return s;
     if (cache_.size() >= 64) cache_.erase(cache_.begin());
-    cache_.push_back(linear_step(A_, h));
+    cache_.push_back(modes_ ? modes_->step(h) : linear_step(A_, h));
+    ++computed_;
     return cache_.back();
   }
-  std::size_t computed() const { return cache_.size(); }
+  std::size_t computed() const { return computed_; }
   const Eigen::MatrixXd& matrix() const { return A_; }
 
 private:
   Eigen::MatrixXd A_;
+  std::optional<SymmetricModes> modes_;
   std::vector<LinearStep> cache_;
+  std::size_t computed_ = 0;
 };
 
-/// The system matrix C^-1 J of `sys` at (t, T), dense.
-Eigen::MatrixXd system_matrix(ThermalSystem& sys, double t, const double* T,
-                              const Eigen::VectorXd& Cinv) {
+/// Writes the system matrix C^-1 J of `sys` at (t, T) into A (n x n, dense); `jac` is scratch.
+void system_matrix_into(ThermalSystem& sys, double t, const double* T, const Eigen::VectorXd& Cinv,
+                        std::vector<double>& jac, Eigen::MatrixXd& A) {
   const int n = sys.size();
   const SparsityPattern& pat = sys.jacobian_pattern();
-  std::vector<double> jac(static_cast<std::size_t>(pat.nnz()));
+  jac.resize(static_cast<std::size_t>(pat.nnz()));
   sys.jacobian(t, T, jac.data());
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
+  A.setZero(n, n);
   for (int i = 0; i < n; ++i)
     for (int k = pat.row_ptr[static_cast<std::size_t>(i)];
          k < pat.row_ptr[static_cast<std::size_t>(i) + 1]; ++k)
       A(i, pat.col_idx[static_cast<std::size_t>(k)]) += Cinv(i) * jac[static_cast<std::size_t>(k)];
+}
+
+/// The system matrix C^-1 J of `sys` at (t, T), dense.
+Eigen::MatrixXd system_matrix(ThermalSystem& sys, double t, const double* T,
+                              const Eigen::VectorXd& Cinv) {
+  std::vector<double> jac;
+  Eigen::MatrixXd A;
+  system_matrix_into(sys, t, T, Cinv, jac, A);
   return A;
 }
+
+/// One constant system matrix of a piecewise-affine system, its steps, and A T_ref (the input is
+/// g(t) = C^-1 F(t, T_ref) - A T_ref at any T_ref while A holds).
+struct Piece {
+  Steps steps;
+  Eigen::VectorXd A_ref;
+};
+
+/// The pieces met in a run (a lid open or closed: two), found by their matrix.
+class Pieces {
+public:
+  /// Pieces whose steps use the modes when `modes` (Steps).
+  explicit Pieces(bool modes) : modes_(modes) {}
+  /// The piece of matrix A, made when first met (A_ref = A ref).
+  Piece& of(const Eigen::MatrixXd& A, const Eigen::VectorXd& C, const Eigen::VectorXd& ref) {
+    for (auto& p : pieces_)
+      if (p->steps.matrix() == A) return *p;
+    if (pieces_.size() >= 16) pieces_.erase(pieces_.begin());
+    pieces_.push_back(std::make_unique<Piece>(Piece{Steps(A, C, modes_), A * ref}));
+    return *pieces_.back();
+  }
+  /// Steps computed in all pieces.
+  std::size_t computed() const {
+    std::size_t c = 0;
+    for (const auto& p : pieces_)
+      c += p->steps.computed();
+    return c;
+  }
+
+private:
+  bool modes_;
+  std::vector<std::unique_ptr<Piece>> pieces_;
+};
 
 } // namespace
 
@@ -99,9 +151,10 @@ Eigen::VectorXd local_linear_step(ThermalSystem& sys, const Eigen::VectorXd& x, 
 }
 
 SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t0, double t1,
-                            const std::vector<double>& output_times, const OutputCallback& out) {
-  if (!sys.piecewise_linear())
-    throw std::invalid_argument("integrate_exact: the system is not piecewise linear");
+                            const std::vector<double>& output_times, const OutputCallback& out,
+                            bool modes) {
+  if (!sys.piecewise_affine())
+    throw std::invalid_argument("integrate_exact: the system is not piecewise affine");
   const int n = sys.size();
   const auto un = static_cast<std::size_t>(n);
   if (T.size() != un) throw std::invalid_argument("integrate_exact: wrong size of the state");
@@ -109,15 +162,19 @@ SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t
   for (int i = 0; i < n; ++i)
     if (!(C[static_cast<std::size_t>(i)] > 0.0))
       throw std::invalid_argument("integrate_exact: an algebraic node has no dynamics");
-  // A = C^-1 J (constant), and g(t) = C^-1 F(t, T_ref) - A T_ref at any T_ref (F is affine).
-  Eigen::VectorXd Cinv(n);
-  for (int i = 0; i < n; ++i)
-    Cinv(i) = 1.0 / C[static_cast<std::size_t>(i)];
-  const Eigen::MatrixXd A = system_matrix(sys, t0, T.data(), Cinv);
-  Steps steps(A);
+  // A = C^-1 J (constant, or constant between breakpoints), and g(t) = C^-1 F(t, T_ref) - A T_ref
+  // at any T_ref (F is affine while A holds).
+  const Eigen::VectorXd Cv = Eigen::Map<const Eigen::VectorXd>(C.data(), n);
+  const Eigen::VectorXd Cinv = Cv.cwiseInverse();
+  const bool one_matrix = sys.piecewise_linear();
   const std::vector<double> ref = T;
   const Eigen::Map<const Eigen::VectorXd> ref_v(ref.data(), n);
-  const Eigen::VectorXd A_ref = A * ref_v;
+  std::vector<double> jac;
+  Eigen::MatrixXd A;
+  system_matrix_into(sys, t0, T.data(), Cinv, jac, A);
+  Pieces pieces(modes);
+  Piece* piece = &pieces.of(A, Cv, ref_v);
+  long jac_evals = 1;
   std::vector<double> F(un);
   SolverStats stats;
   stats.integrator = "exact-linear";
@@ -126,7 +183,7 @@ SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t
   const auto g = [&](double t, Eigen::VectorXd& into) {
     sys.heat_balance(t, ref.data(), F.data());
     ++stats.rhs_evals;
-    into = Cinv.cwiseProduct(Eigen::Map<const Eigen::VectorXd>(F.data(), n)) - A_ref;
+    into = Cinv.cwiseProduct(Eigen::Map<const Eigen::VectorXd>(F.data(), n)) - piece->A_ref;
   };
   Eigen::VectorXd ga(n), gb(n), g0(n), dg(n), x_before(n);
   // The grid: t0, the breakpoints and the output times, in order.
@@ -155,13 +212,18 @@ SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t
   for (double tn : grid) {
     const double h = tn - t;
     if (!(h > 0.0)) continue;
+    if (!one_matrix) { // the matrix inside this interval (the grid holds every breakpoint)
+      system_matrix_into(sys, t + 0.5 * h, ref.data(), Cinv, jac, A);
+      ++jac_evals;
+      piece = &pieces.of(A, Cv, ref_v);
+    }
     // The input is linear inside the interval (it may jump at either end): read it at a third
     // and two thirds of the way and extended to both ends.
     g(t + h / 3.0, ga);
     g(t + 2.0 * h / 3.0, gb);
     g0 = 2.0 * ga - gb;
     dg = 3.0 * (gb - ga); // g1 - g0, with g1 = 2 gb - ga
-    const LinearStep& s = steps.over(h);
+    const LinearStep& s = piece->steps.over(h);
     x_before = x;
     x.noalias() = s.Phi.lazyProduct(x_before);
     x.noalias() += s.Psi0.lazyProduct(g0);
@@ -180,7 +242,7 @@ SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t
       double lo = 0.0, hi = h;
       for (int k = 0; k < 60 && hi - lo > 1e-9 * h; ++k) {
         const double mid = 0.5 * (lo + hi);
-        const LinearStep part = linear_step(steps.matrix(), mid);
+        const LinearStep part = linear_step(piece->steps.matrix(), mid);
         const Eigen::VectorXd at =
             part.Phi * x_before + part.Psi0 * g0 + part.Psi1 * (dg * (mid / h));
         (at(i) < 0.0 ? hi : lo) = mid;
@@ -197,8 +259,8 @@ SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t
     t = tn;
     if (out) emit(t);
   }
-  stats.jac_evals = 1;
-  stats.linear_setups = static_cast<long>(steps.computed());
+  stats.jac_evals = jac_evals;
+  stats.linear_setups = static_cast<long>(pieces.computed());
   return stats;
 }
 

@@ -37,11 +37,13 @@ LinearStep linear_step(const Eigen::MatrixXd& A, double h);
 Eigen::VectorXd local_linear_step(ThermalSystem& sys, const Eigen::VectorXd& x, double t0,
                                   double t1, Eigen::MatrixXd& A);
 
-/// Integrates a piecewise-linear system (ThermalSystem::piecewise_linear()) exactly from t0 to t1:
+/// Integrates a piecewise-affine system (ThermalSystem::piecewise_affine()) exactly from t0 to t1:
 /// T holds the initial state on entry and the final state on exit; `out` is called at every time
 /// of `output_times` within [t0, t1]. Throws std::invalid_argument when the system is not
-/// piecewise linear or has an algebraic node.
+/// piecewise affine or has an algebraic node. With `modes`, a reciprocal network's steps come from
+/// its eigenmodes (SolverOptions::exact_modes).
 SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t0, double t1,
-                            const std::vector<double>& output_times, const OutputCallback& out);
+                            const std::vector<double>& output_times, const OutputCallback& out,
+                            bool modes = true);
 
 } // namespace thermnet

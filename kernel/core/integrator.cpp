@@ -447,8 +447,8 @@ SolverStats run_transient(ThermalSystem& sys, std::vector<double>& T, double t0,
 SolverStats integrate(ThermalSystem& sys, std::vector<double>& T, double t0, double t1,
                       const std::vector<double>& output_times, const OutputCallback& out,
                       const SolverOptions& opt) {
-  if (opt.exact_linear_max > 0 && sys.size() <= opt.exact_linear_max && sys.piecewise_linear())
-    return integrate_exact(sys, T, t0, t1, output_times, out);
+  if (opt.exact_linear_max > 0 && sys.size() <= opt.exact_linear_max && sys.piecewise_affine())
+    return integrate_exact(sys, T, t0, t1, output_times, out, opt.exact_modes);
   return run_transient(sys, T, t0, t1, output_times, out, opt, nullptr);
 }
 

@@ -435,9 +435,13 @@ bool Network::affine() const {
 }
 
 bool Network::piecewise_linear() const {
-  if (!affine()) return false;
+  return affine() && piecewise_affine();
+}
+
+bool Network::piecewise_affine() const {
+  if (event_count_ > 0) return false;
   for (const auto& e : elements_)
-    if (!e->piecewise_linear_inputs()) return false;
+    if (!e->jacobian_piecewise_constant() || !e->piecewise_linear_inputs()) return false;
   for (const auto& node : spec_.nodes)
     if (node.boundary && !node.T.piecewise_linear()) return false;
   return std::all_of(capacities_.begin(), capacities_.end(), [](double c) { return c > 0.0; });

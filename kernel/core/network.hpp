@@ -79,6 +79,9 @@ public:
   /// affine(), every input linear between breakpoints (no expression of the time), and every
   /// unknown with a capacity (no arithmetic node): what integrate_exact() solves.
   bool piecewise_linear() const override;
+  /// piecewise_linear() but with each element's Jacobian constant only between its breakpoints
+  /// (Element::jacobian_piecewise_constant()).
+  bool piecewise_affine() const override;
 
 private:
   friend class NetworkDerivatives; // differentiates the pieces along parameters

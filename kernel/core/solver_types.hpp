@@ -30,9 +30,12 @@ struct SolverOptions {
   /// typical size, absolute) accuracy when it is looser than rtol/atol; their error does not
   /// control the steps, which are the state's.
   double sensitivity_tolerance = 1e-4;
-  /// Solve a piecewise-linear system (ThermalSystem::piecewise_linear()) of at most this many
+  /// Solve a piecewise-affine system (ThermalSystem::piecewise_affine()) of at most this many
   /// unknowns by its exact discretisation instead of CVODE (0: never; exact_linear.hpp).
   int exact_linear_max = 0;
+  /// On that path, step a reciprocal network through its eigenmodes (SymmetricModes: cheap for
+  /// any interval length) rather than one matrix exponential per interval length.
+  bool exact_modes = true;
 };
 
 /// Counters of a solve (printed by --stats).

@@ -55,6 +55,10 @@ public:
   /// True when F(t, T) = J T + f(t) with J constant, f linear between breakpoints and no events
   /// (integrate() may then solve it exactly: exact_linear.hpp). Default: false.
   virtual bool piecewise_linear() const { return false; }
+  /// piecewise_linear(), or the same with J constant only between breakpoints (a link switched by
+  /// a step schedule): integrate() may still solve it exactly, one J per piece. Default: as
+  /// piecewise_linear().
+  virtual bool piecewise_affine() const { return piecewise_linear(); }
 
   /// After the integrators failed at time t of a run over [t0, t1] (out of steps when
   /// `out_of_steps`): throws a located error when an input explains it (an expression with a pole

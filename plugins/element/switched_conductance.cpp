@@ -14,6 +14,10 @@ public:
     const double g = G_ * on_.at(t);
     stamp_link(F, J, a_, b_, g * (T[a_] - T[b_]), g, -g, slots_);
   }
+  /// Under a step schedule (or a constant) the link is linear with G on fixed between corners.
+  bool jacobian_piecewise_constant() const override {
+    return on_.kind() == lang::Signal::Kind::constant || on_.kind() == lang::Signal::Kind::step;
+  }
   void breakpoints(std::vector<double>& out) const override {
     out.insert(out.end(), on_.corners().begin(), on_.corners().end());
   }

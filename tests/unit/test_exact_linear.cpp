@@ -6,6 +6,7 @@
 #include "kernel/core/exact_linear.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/simulation.hpp"
+#include "kernel/core/symmetric_modes.hpp"
 #include "lang/model.hpp"
 
 #include <doctest/doctest.h>
@@ -112,4 +113,62 @@ case c { duration = 10000; output = 100 }
     CHECK(std::string(e.what()).find("absolute zero") != std::string::npos);
     CHECK(std::string(e.what()).find("a") != std::string::npos);
   }
+}
+
+TEST_CASE("exact linear path: a link switched by a step schedule, one matrix per state") {
+  // A lid opened twice (and half-open once), output times off its corners, a heater stepping
+  // inside an open period: the system matrix changes at the corners only.
+  const std::string text = std::string(kHeader) + R"(
+switched_conductance lid a out G = 2.5 on = step(0: 0, 1234: 1, 2500: 0, 6100: 0.5, 7000: 1, 8000: 0)
+heater h a P = step(0: 10, 6500: 40)
+case c { duration = 10000; output = 333 }
+)";
+  Network net = network_of(text);
+  CHECK_FALSE(net.piecewise_linear());
+  CHECK(net.piecewise_affine());
+  CHECK(exact_vs_cvode(text) < 1e-5);
+  thermnet::SimulationOptions opt;
+  opt.solver.exact_linear_max = 64;
+  const auto run = thermnet::simulate(net, opt);
+  CHECK(run.stats.jac_evals > 1); // a matrix read on every interval
+}
+
+TEST_CASE("exact linear path: a link switched by a ramp is left to the integrator") {
+  const std::string text = std::string(kHeader) + R"(
+switched_conductance lid a out G = 2.5 on = pwl(0: 0, 5000: 1)
+case c { duration = 10000; output = 100 }
+)";
+  Network net = network_of(text);
+  CHECK_FALSE(net.piecewise_affine());
+  thermnet::SimulationOptions opt;
+  opt.solver.exact_linear_max = 64;
+  CHECK(thermnet::simulate(net, opt).stats.integrator != "exact-linear");
+}
+
+TEST_CASE("symmetric modes: the steps of a reciprocal network equal the matrix exponential's") {
+  // Three nodes of capacities 1e-1 .. 1e4 J/K (modes from 1e-4 to 30 1/s), a fourth coupled weakly
+  // (a mode near 0), one without a path to a boundary (an eigenvalue 0 exactly).
+  Eigen::MatrixXd J(4, 4);
+  J << -3.2, 1.2, 2.0, 0.0, //
+      1.2, -1.3, 0.1, 0.0,  //
+      2.0, 0.1, -2.1, 1e-6, //
+      0.0, 0.0, 1e-6, -1e-6;
+  const Eigen::Vector4d C(0.1, 50.0, 1e4, 3.0);
+  const Eigen::MatrixXd A = C.cwiseInverse().asDiagonal() * J;
+  const auto modes = thermnet::SymmetricModes::of(A, C);
+  REQUIRE(modes.has_value());
+  for (double h : {1e-3, 0.37, 3.0, 2999.9}) {
+    INFO("h = " << h);
+    const auto a = modes->step(h), b = thermnet::linear_step(A, h);
+    CHECK((a.Phi - b.Phi).cwiseAbs().maxCoeff() <
+          1e-11 * std::max(1.0, b.Phi.cwiseAbs().maxCoeff()));
+    CHECK((a.Psi0 - b.Psi0).cwiseAbs().maxCoeff() <
+          1e-11 * std::max(1.0, b.Psi0.cwiseAbs().maxCoeff()));
+    CHECK((a.Psi1 - b.Psi1).cwiseAbs().maxCoeff() <
+          1e-11 * std::max(1.0, b.Psi1.cwiseAbs().maxCoeff()));
+  }
+  // Not reciprocal (a sensor's lag reads a node without acting on it): no modes.
+  Eigen::MatrixXd L = A;
+  L(3, 0) = 0.5;
+  CHECK_FALSE(thermnet::SymmetricModes::of(L, C).has_value());
 }
