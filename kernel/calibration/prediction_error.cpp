@@ -186,7 +186,6 @@ struct Observation {
   std::size_t node = 0;   ///< index into the measured nodes (its noise)
   Eigen::RowVectorXd H;   ///< d reading / d unknowns
   double offset = 0.0;    ///< the reading at zero unknowns
-  double variance = 0.0;  ///< measurement noise, K^2
 };
 
 /// The sensor element a series is read through in `net`: the data's own, else the only sensor of
@@ -264,7 +263,7 @@ struct PredictionProblem::CaseSetup {
   int m = 0;                             // filter states
   std::vector<std::size_t> process;      // node unknown i -> its sigma_w among process_nodes_
   Eigen::VectorXd x0;                    // start of the states
-  std::vector<Observation> obs;          // the readings filtered (variance unset)
+  std::vector<Observation> obs;          // the readings filtered (their noise is in theta)
   bool affine = false, local_linear = false;
   Eigen::MatrixXd A; // affine: the constant system matrix
   Eigen::MatrixXd Z; // affine: the deterministic states, a column a sample
@@ -388,10 +387,13 @@ CaseInnovations PredictionProblem::filter_case(std::size_t c, const std::vector<
     const double sw = theta[structural_ + s.process[i]];
     Qc(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) = sw * sw;
   }
-  std::vector<Observation> obs = s.obs;
-  for (auto& o : obs) {
+  // The readings as set up (read in place: each holds a heap row), their variances from theta.
+  const std::vector<Observation>& obs = s.obs;
+  std::vector<double> variance;
+  variance.reserve(obs.size());
+  for (const auto& o : obs) {
     const double sv = theta[structural_ + process_nodes_.size() + o.node];
-    o.variance = sv * sv;
+    variance.push_back(sv * sv);
     const auto& ser = data.series[o.series];
     out.nodes.push_back(ser.node);
     if (!series) continue;
@@ -438,7 +440,7 @@ CaseInnovations PredictionProblem::filter_case(std::size_t c, const std::vector<
       const Observation& ob = obs[o];
       double predicted = 0.0, S = 0.0;
       out.log_likelihood += filter.update_scalar(ob.H, ob.offset, data.series[ob.series].values[k],
-                                                 ob.variance, predicted, S);
+                                                 variance[o], predicted, S);
       if (series) {
         out.predicted[o][k] = predicted;
         out.sd[o][k] = std::sqrt(S);
@@ -450,11 +452,12 @@ CaseInnovations PredictionProblem::filter_case(std::size_t c, const std::vector<
     Eigen::MatrixXd H(p, m);
     Eigen::VectorXd y(p), var(p), offset(p);
     for (Eigen::Index r = 0; r < p; ++r) {
-      const Observation& o = obs[which[static_cast<std::size_t>(r)]];
+      const std::size_t w = which[static_cast<std::size_t>(r)];
+      const Observation& o = obs[w];
       H.row(r) = o.H;
       offset(r) = o.offset;
       y(r) = data.series[o.series].values[k];
-      var(r) = o.variance;
+      var(r) = variance[w];
     }
     const Innovation in = filter.update(H, offset, y, var);
     for (Eigen::Index r = 0; series && r < p; ++r) {
