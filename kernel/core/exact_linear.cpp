@@ -5,6 +5,7 @@
 #include "kernel/core/exact_linear.hpp"
 
 #include "kernel/core/absolute_zero.hpp"
+#include "kernel/core/sorted_runs.hpp"
 #include "kernel/core/symmetric_modes.hpp"
 #include "kernel/core/system_evaluator.hpp"
 
@@ -187,16 +188,11 @@ SolverStats integrate_exact(ThermalSystem& sys, std::vector<double>& T, double t
   };
   Eigen::VectorXd ga(n), gb(n), g0(n), dg(n), x_before(n);
   // The grid: t0, the breakpoints and the output times, in order.
-  std::vector<double> grid = sys.breakpoints(t0, t1);
-  const auto sorted_end = static_cast<std::ptrdiff_t>(grid.size());
+  std::vector<double> grid = sys.breakpoints(t0, t1), run;
   for (double t : output_times)
-    if (t > t0 && t <= t1) grid.push_back(t);
-  grid.push_back(t1);
-  if (std::is_sorted(grid.begin() + sorted_end, grid.end()))
-    std::inplace_merge(grid.begin(), grid.begin() + sorted_end, grid.end());
-  else
-    std::sort(grid.begin(), grid.end());
-  grid.erase(std::unique(grid.begin(), grid.end()), grid.end());
+    if (t > t0 && t <= t1) run.push_back(t);
+  run.push_back(t1);
+  merge_sorted_run(grid, run.begin(), run.end());
   std::size_t next_out = 0;
   while (next_out < output_times.size() && output_times[next_out] < t0)
     ++next_out;

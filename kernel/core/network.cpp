@@ -1,4 +1,5 @@
 #include "kernel/core/network.hpp"
+#include "kernel/core/sorted_runs.hpp"
 
 #include "lang/model.hpp"
 
@@ -289,12 +290,7 @@ std::vector<double> Network::breakpoints(double t0, double t1) const {
   const auto merge = [&](std::vector<double>& r) {
     if (!std::is_sorted(r.begin(), r.end())) std::sort(r.begin(), r.end());
     const auto lo = std::upper_bound(r.begin(), r.end(), t0);
-    const auto hi = std::upper_bound(lo, r.end(), t1);
-    if (lo == hi || std::includes(out.begin(), out.end(), lo, hi)) return;
-    const auto mid = static_cast<std::ptrdiff_t>(out.size());
-    out.insert(out.end(), lo, hi);
-    std::inplace_merge(out.begin(), out.begin() + mid, out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
+    merge_sorted_run(out, lo, std::upper_bound(lo, r.end(), t1));
   };
   for (const auto& e : elements_) {
     run.clear();
