@@ -5,12 +5,12 @@
 //
 // Usage: thermnet_bench_front_end [--no-prefault] MODEL.tnet [CASE]
 // --no-prefault leaves every page to the loading thread, so the peak RSS is what the front end
-// touches by itself: the basis of the prefault size in cli/huge_page_heap.cpp.
+// touches by itself: the basis of the prefault size in app/huge_page_heap.cpp.
 // Prints one line per stage (wall and CPU seconds, peak RSS so far) and a summary line
 // `front end: N MB in W s wall (R MB/s), peak RSS P MB (X times the file)` read by bench/run.py.
-// The heap is set up as `thermnet` sets it up (cli/huge_page_heap.hpp).
+// The heap is set up as `thermnet` sets it up (app/huge_page_heap.hpp).
 
-#include "cli/huge_page_heap.hpp"
+#include "app/huge_page_heap.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "kernel/core/network.hpp"
 #include "lang/model.hpp"
@@ -49,7 +49,7 @@ double peak_rss_mb() {
 } // namespace
 
 int main(int argc, char** argv) {
-  thermnet::cli::reserve_huge_page_heap(std::size_t{1} << 30);
+  thermnet::app::reserve_huge_page_heap(std::size_t{1} << 30);
   const bool prefault = !(argc > 1 && std::string_view(argv[1]) == "--no-prefault");
   if (!prefault) --argc, ++argv;
   if (argc < 2) {
@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
   const std::string case_name = argc > 2 ? argv[2] : "";
   const auto bytes = std::filesystem::file_size(path);
   const double mb = static_cast<double>(bytes) / 1e6;
-  if (prefault) thermnet::cli::prefault_heap_for(bytes); // as cli/model_loading.cpp does
+  if (prefault) thermnet::app::prefault_heap_for(bytes); // as app/model_loading.cpp does
   const double w0 = wall_now(), c0 = cpu_now();
   double w = w0, c = c0;
   auto stage = [&](const char* name) {

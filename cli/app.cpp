@@ -4,19 +4,19 @@
 
 #include "cli/app.hpp"
 
+#include "app/command_line.hpp"
+#include "app/exit_status.hpp"
+#include "app/model_loading.hpp"
+#include "app/output_stream.hpp"
 #include "cli/calibrate_command.hpp"
 #include "cli/check_command.hpp"
-#include "cli/command_line.hpp"
 #include "cli/design_command.hpp"
 #include "cli/diagnose_command.hpp"
 #include "cli/estimate_command.hpp"
-#include "cli/exit_status.hpp"
 #include "cli/import_command.hpp"
 #include "cli/kinds_command.hpp"
 #include "cli/lint_command.hpp"
 #include "cli/lsp_command.hpp"
-#include "cli/model_loading.hpp"
-#include "cli/output_stream.hpp"
 #include "cli/sensitivity_command.hpp"
 #include "cli/simulate_command.hpp"
 #include "cli/sweep_command.hpp"
@@ -31,6 +31,7 @@
 #include <unistd.h>
 
 namespace thermnet::cli {
+using namespace app;
 namespace {
 
 /// The exit status once standard output is flushed and closed: what was printed there must have

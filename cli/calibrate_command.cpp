@@ -10,18 +10,18 @@
 
 #include "cli/calibrate_command.hpp"
 
-#include "cli/calibration_html.hpp"
-#include "cli/calibration_report.hpp"
-#include "cli/exit_status.hpp"
-#include "cli/model_loading.hpp"
-#include "cli/option_rules.hpp"
-#include "cli/output_files.hpp"
-#include "cli/param_overrides.hpp"
-#include "cli/prediction_calibration.hpp"
-#include "cli/prediction_options.hpp"
-#include "cli/progress_bar.hpp"
+#include "app/calibration_html.hpp"
+#include "app/calibration_report.hpp"
+#include "app/exit_status.hpp"
+#include "app/model_loading.hpp"
+#include "app/option_rules.hpp"
+#include "app/output_files.hpp"
+#include "app/param_overrides.hpp"
+#include "app/prediction_calibration.hpp"
+#include "app/prediction_options.hpp"
+#include "app/progress_bar.hpp"
+#include "app/whiteness_figure.hpp"
 #include "cli/run_command.hpp"
-#include "cli/whiteness_figure.hpp"
 #include "kernel/calibration/optimizer.hpp"
 #include "kernel/core/process_group.hpp"
 #include "lang/rewrite/model_files.hpp"
@@ -37,6 +37,7 @@
 #include <thread>
 
 namespace thermnet::cli {
+using namespace app;
 namespace {
 
 struct CalibrateOptions {

@@ -3,12 +3,12 @@
 
 #include "cli/check_command.hpp"
 
-#include "cli/checked_run.hpp"
-#include "cli/exit_status.hpp"
-#include "cli/model_loading.hpp"
-#include "cli/output_files.hpp"
-#include "cli/param_overrides.hpp"
-#include "cli/requirement_report.hpp"
+#include "app/checked_run.hpp"
+#include "app/exit_status.hpp"
+#include "app/model_loading.hpp"
+#include "app/output_files.hpp"
+#include "app/param_overrides.hpp"
+#include "app/requirement_report.hpp"
 #include "cli/run_command.hpp"
 
 #include <fmt/format.h>
@@ -16,6 +16,7 @@
 #include <iostream>
 
 namespace thermnet::cli {
+using namespace app;
 namespace {
 
 struct CheckOptions {

@@ -6,14 +6,14 @@
 
 #include "cli/design_command.hpp"
 
-#include "cli/design_search.hpp"
-#include "cli/exit_status.hpp"
-#include "cli/model_loading.hpp"
-#include "cli/option_rules.hpp"
-#include "cli/output_files.hpp"
-#include "cli/param_overrides.hpp"
-#include "cli/requirement_report.hpp"
-#include "cli/result_output.hpp"
+#include "app/design_search.hpp"
+#include "app/exit_status.hpp"
+#include "app/model_loading.hpp"
+#include "app/option_rules.hpp"
+#include "app/output_files.hpp"
+#include "app/param_overrides.hpp"
+#include "app/requirement_report.hpp"
+#include "app/result_output.hpp"
 #include "cli/run_command.hpp"
 #include "lang/evaluator.hpp"
 #include "lang/rewrite/model_files.hpp"
@@ -28,6 +28,7 @@
 #include <set>
 
 namespace thermnet::cli {
+using namespace app;
 namespace {
 
 struct DesignOptions {

@@ -1,14 +1,7 @@
 #pragma once
 /// `thermnet diagnose`: what the simulation gets wrong, the cause, the extension and the gain.
 
-#include "kernel/diagnosis/diagnosis.hpp"
-#include "lang/rewrite/model_files.hpp"
-#include "plot/figure.hpp"
-
 #include <CLI/CLI.hpp>
-
-#include <string>
-#include <vector>
 
 namespace thermnet::cli {
 
@@ -16,31 +9,5 @@ namespace thermnet::cli {
 /// ran, whatever it found; 1 for a model or data problem; 2 for usage errors and unwritable
 /// outputs).
 void add_diagnose_command(CLI::App& app, int& status);
-
-/// The model with a finding applied, as files to write: the root (at `out`) with the new
-/// statements appended under a comment that says why (capacity overrides go into every case
-/// block), and rewritten copies of the included files that declare params the finding
-/// recalibrated; throws rewrite::RewriteError when `out` names an input of the model.
-std::vector<rewrite::RewrittenFile>
-extended_model_files(const lang::Model& model, const Finding& finding, const std::string& out);
-/// The root file's text of extended_model_files() (the copies of included files aside).
-std::string extended_model_text(const lang::Model& model, const Finding& finding);
-
-/// The --plot figure: measured, before and after curves of the worst nodes of every case, one
-/// distinct colour per node (at most 8 nodes), titled with the model's name.
-std::string diagnosis_svg(const DiagnosisReport& report, const std::string& model_name,
-                          std::size_t worst = 3);
-
-/// The figure of diagnosis_svg(): one panel per case, measured and simulated curves of the
-/// `worst` nodes (by baseline RMSE), the curves with the findings applied when `with_after`.
-plot::Figure diagnosis_figure(const DiagnosisReport& report, const std::string& title,
-                              std::size_t worst, bool with_after);
-
-/// The comment --write puts above a finding's lines: its kind, nodes, evidence and gain.
-std::string finding_comment(const Finding& finding);
-
-/// The lines that add a finding to the model, for a person: finding_comment(), the top-level
-/// statements --write appends (or the params it rewrites) and the lines of each case block.
-std::string finding_lines(const Finding& finding);
 
 } // namespace thermnet::cli

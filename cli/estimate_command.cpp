@@ -1,11 +1,11 @@
 #include "cli/estimate_command.hpp"
 
-#include "cli/csv_writer.hpp"
-#include "cli/exit_status.hpp"
-#include "cli/model_loading.hpp"
-#include "cli/output_files.hpp"
-#include "cli/output_stream.hpp"
-#include "cli/param_overrides.hpp"
+#include "app/csv_writer.hpp"
+#include "app/exit_status.hpp"
+#include "app/model_loading.hpp"
+#include "app/output_files.hpp"
+#include "app/output_stream.hpp"
+#include "app/param_overrides.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
@@ -28,6 +28,7 @@
 #include <vector>
 
 namespace thermnet::cli {
+using namespace app;
 namespace {
 
 struct EstimateOptions {

@@ -1,9 +1,9 @@
 #include "cli/import_command.hpp"
 
-#include "cli/exit_status.hpp"
-#include "cli/model_loading.hpp"
-#include "cli/output_files.hpp"
-#include "cli/output_stream.hpp"
+#include "app/exit_status.hpp"
+#include "app/model_loading.hpp"
+#include "app/output_files.hpp"
+#include "app/output_stream.hpp"
 #include "cli/run_command.hpp"
 #include "import/importer.hpp"
 #include "lang/display_text.hpp"
@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 namespace thermnet::cli {
+using namespace app;
 namespace {
 
 struct ImportCommandOptions {

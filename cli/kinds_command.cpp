@@ -1,7 +1,7 @@
 #include "cli/kinds_command.hpp"
 
-#include "cli/exit_status.hpp"
-#include "cli/lsp/schema_text.hpp"
+#include "app/exit_status.hpp"
+#include "app/schema_text.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/calibration/optimizer.hpp"
 #include "kernel/core/element_registry.hpp"
@@ -17,6 +17,7 @@
 #include <optional>
 
 namespace thermnet::cli {
+using namespace app;
 namespace {
 
 struct KindsOptions {
@@ -39,15 +40,15 @@ std::string describe(const ElementPlugin& p, bool markdown) {
   if (markdown) {
     out += fmt::format("## `{}`\n\n{} ({} terminal{}).\n\n", s.kind, s.doc, s.terminals,
                        s.terminals == 1 ? "" : "s");
-    out += lsp::key_table_markdown(s);
+    out += app::key_table_markdown(s);
   } else {
     out += fmt::format("{} ({} terminal{}): {}\n", s.kind, s.terminals, s.terminals == 1 ? "" : "s",
                        s.doc);
     for (const auto& k : s.keys)
-      out += fmt::format("  {:<8} [{}] {}{}: {}\n", k.name, lsp::key_unit(k), lsp::key_default(k),
+      out += fmt::format("  {:<8} [{}] {}{}: {}\n", k.name, app::key_unit(k), app::key_default(k),
                          k.range_text().empty() ? "" : ", " + k.range_text(), k.doc);
   }
-  if (const std::string groups = lsp::alternatives_text(s); !groups.empty())
+  if (const std::string groups = app::alternatives_text(s); !groups.empty())
     out += markdown ? fmt::format("\nGive exactly one of: {}.\n", groups)
                     : fmt::format("  give exactly one of: {}\n", groups);
   out += "\n";

@@ -1,7 +1,7 @@
 #include "cli/lint_command.hpp"
 
-#include "cli/exit_status.hpp"
-#include "cli/model_loading.hpp"
+#include "app/exit_status.hpp"
+#include "app/model_loading.hpp"
 #include "cli/run_command.hpp"
 
 #include <fmt/format.h>
@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 namespace thermnet::cli {
+using namespace app;
 namespace {
 
 struct LintOptions {

@@ -1,7 +1,7 @@
 #include "cli/lsp_command.hpp"
 
-#include "cli/lsp/lsp_server.hpp"
 #include "cli/run_command.hpp"
+#include "editors/lsp/lsp_server.hpp"
 
 #include <iostream>
 #include <memory>

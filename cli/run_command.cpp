@@ -1,7 +1,7 @@
 #include "cli/run_command.hpp"
 
-#include "cli/model_loading.hpp"
-#include "cli/output_stream.hpp"
+#include "app/model_loading.hpp"
+#include "app/output_stream.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/solver_types.hpp"
 #include "kernel/diagnosis/diagnosis.hpp"
@@ -17,6 +17,7 @@
 #include <stdexcept>
 
 namespace thermnet::cli {
+using namespace app;
 namespace {
 
 int report(const std::string& who, const std::exception& e, int status) {

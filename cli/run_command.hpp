@@ -2,7 +2,7 @@
 /// The edge where a command's errors become messages and exit statuses (0 ok, 1 input wrong or
 /// operation failed, 2 usage or a file that cannot be read or written).
 
-#include "cli/exit_status.hpp"
+#include "app/exit_status.hpp"
 #include "lang/source.hpp"
 
 #include <functional>
@@ -24,6 +24,6 @@ using CommandBody = std::function<int(lang::SourceManager& sources)>;
 /// gives `invalid_argument_status`. Anything else is left to main()'s
 /// last-resort handler.
 int run_command(const std::string& who, const CommandBody& body,
-                int invalid_argument_status = exit_failure);
+                int invalid_argument_status = app::exit_failure);
 
 } // namespace thermnet::cli

@@ -1,10 +1,12 @@
 #include "cli/sensitivity_command.hpp"
 
-#include "cli/exit_status.hpp"
-#include "cli/model_loading.hpp"
-#include "cli/option_rules.hpp"
-#include "cli/output_files.hpp"
-#include "cli/param_overrides.hpp"
+#include "app/sensitivity_report.hpp"
+
+#include "app/exit_status.hpp"
+#include "app/model_loading.hpp"
+#include "app/option_rules.hpp"
+#include "app/output_files.hpp"
+#include "app/param_overrides.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/calibration/sensitivity.hpp"
 #include "kernel/core/simulation.hpp"
@@ -19,6 +21,7 @@
 #include <memory>
 
 namespace thermnet::cli {
+using namespace app;
 namespace {
 
 struct SensitivityCommandOptions {
@@ -86,41 +89,6 @@ int run_sensitivity(const SensitivityCommandOptions& o, lang::SourceManager& sou
 }
 
 } // namespace
-
-nlohmann::json sensitivity_json(const lang::Model& model, const SensitivityReport& r) {
-  nlohmann::json factors = nlohmann::json::array();
-  for (std::size_t j = 0; j < r.factors.size(); ++j) {
-    const SensitivityFactor& f = r.factors[j];
-    nlohmann::json s = nlohmann::json::object();
-    for (std::size_t i = 0; i < r.outputs.size(); ++i)
-      s[r.outputs[i]] = r.matrix[j][i];
-    nlohmann::json e = {{"name", f.name},
-                        {"kind", f.kind},
-                        {"scale", f.scale},
-                        {"total", r.total[j]},
-                        {"sensitivities", s}};
-    e["value"] = std::isnan(f.value) ? nlohmann::json(nullptr)
-                 : f.temperature     ? nlohmann::json(f.value - lang::kZeroCelsius)
-                                     : nlohmann::json(f.value);
-    if (f.temperature) e["unit"] = "degC";
-    if (f.lo) e["lo"] = *f.lo;
-    if (f.hi) e["hi"] = *f.hi;
-    factors.push_back(e);
-  }
-  nlohmann::json ranking = nlohmann::json::array();
-  for (std::size_t j : r.ranking)
-    ranking.push_back(r.factors[j].name);
-  return {{"model", model.name()},
-          {"definition", "S = RMS over time of dT/dp * (hi - lo) for ranged params, * |p| "
-                         "otherwise (central differences, 1 % steps), K"},
-          {"cases", r.cases},
-          {"outputs", r.outputs},
-          {"factors", factors},
-          {"matrix", r.matrix},
-          {"ranking", ranking},
-          {"simulations", r.simulations},
-          {"notes", r.notes}};
-}
 
 void add_sensitivity_command(CLI::App& app, int& status) {
   auto o = std::make_shared<SensitivityCommandOptions>();

@@ -1,17 +1,17 @@
 #include "cli/simulate_command.hpp"
 
-#include "cli/energy_report.hpp"
-#include "cli/exit_status.hpp"
-#include "cli/heat_flow_report.hpp"
-#include "cli/model_loading.hpp"
-#include "cli/node_summary.hpp"
-#include "cli/option_rules.hpp"
-#include "cli/output_stream.hpp"
-#include "cli/param_overrides.hpp"
-#include "cli/requirement_report.hpp"
-#include "cli/result_output.hpp"
+#include "app/energy_report.hpp"
+#include "app/exit_status.hpp"
+#include "app/heat_flow_report.hpp"
+#include "app/model_loading.hpp"
+#include "app/node_summary.hpp"
+#include "app/option_rules.hpp"
+#include "app/output_stream.hpp"
+#include "app/param_overrides.hpp"
+#include "app/requirement_report.hpp"
+#include "app/result_output.hpp"
+#include "app/uncertainty.hpp"
 #include "cli/run_command.hpp"
-#include "cli/uncertainty.hpp"
 #include "kernel/core/simulation.hpp"
 #include "lang/units.hpp"
 
@@ -26,6 +26,7 @@
 #include <optional>
 
 namespace thermnet::cli {
+using namespace app;
 namespace {
 
 struct SimulateOptions {
@@ -50,7 +51,7 @@ struct SimulateOptions {
   double rtol = 1e-6;
   double atol = 1e-6;
   std::string linear_solver = "auto";
-  std::size_t samples = 0; // > 0: uncertainty bands (cli/uncertainty.hpp)
+  std::size_t samples = 0; // > 0: uncertainty bands (app/uncertainty.hpp)
   std::uint64_t seed = 1;
   std::vector<double> percentiles{5, 50, 95};
   int threads = 0;

@@ -1,14 +1,14 @@
 #include "cli/sweep_command.hpp"
 
-#include "cli/csv_writer.hpp"
-#include "cli/exit_status.hpp"
-#include "cli/model_loading.hpp"
-#include "cli/node_summary.hpp"
-#include "cli/option_rules.hpp"
-#include "cli/output_files.hpp"
-#include "cli/output_stream.hpp"
-#include "cli/param_overrides.hpp"
-#include "cli/result_output.hpp"
+#include "app/csv_writer.hpp"
+#include "app/exit_status.hpp"
+#include "app/model_loading.hpp"
+#include "app/node_summary.hpp"
+#include "app/option_rules.hpp"
+#include "app/output_files.hpp"
+#include "app/output_stream.hpp"
+#include "app/param_overrides.hpp"
+#include "app/result_output.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/core/process_group.hpp"
 #include "kernel/core/simulation.hpp"
@@ -25,6 +25,7 @@
 #include <string_view>
 
 namespace thermnet::cli {
+using namespace app;
 namespace {
 
 using lang::kZeroCelsius;

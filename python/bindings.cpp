@@ -2,7 +2,7 @@
 // runs with the GIL released; JSON reports become dicts through the json module, so they carry
 // exactly what the CLI writes.
 
-#include "cli/model_loading.hpp"
+#include "app/model_loading.hpp"
 #include "kernel/core/solver_types.hpp"
 #include "lang/units.hpp"
 #include "python/model_session.hpp"
@@ -94,7 +94,7 @@ PYBIND11_MODULE(_thermnet, m) {
   m.def(
       "load_plugin",
       [](const std::string& path) {
-        if (auto err = thermnet::cli::load_plugin(path))
+        if (auto err = thermnet::app::load_plugin(path))
           throw std::runtime_error(fmt::format("cannot load plugin '{}': {}", path, *err));
       },
       py::arg("path"),

@@ -2,11 +2,11 @@
 
 #include "python/model_session.hpp"
 
-#include "cli/calibration_report.hpp"
-#include "cli/model_loading.hpp"
-#include "cli/option_rules.hpp"
-#include "cli/param_overrides.hpp"
-#include "cli/sensitivity_command.hpp"
+#include "app/calibration_report.hpp"
+#include "app/model_loading.hpp"
+#include "app/option_rules.hpp"
+#include "app/param_overrides.hpp"
+#include "app/sensitivity_report.hpp"
 #include "kernel/calibration/optimizer.hpp"
 #include "kernel/calibration/sensitivity.hpp"
 #include "kernel/core/element_registry.hpp"
@@ -91,7 +91,7 @@ ModelSession::checked(std::unique_ptr<lang::SourceManager> sources,
 std::shared_ptr<const ModelSession> ModelSession::load(const std::string& path) {
   auto sources = std::make_unique<lang::SourceManager>();
   lang::DiagnosticEngine diags(*sources);
-  auto model = cli::load_model(path, *sources, diags);
+  auto model = app::load_model(path, *sources, diags);
   return checked(std::move(sources), std::move(model), diags, path);
 }
 
@@ -103,7 +103,7 @@ std::shared_ptr<const ModelSession> ModelSession::from_text(const std::string& t
   lang::set_path_policy(lang::policy_for_model(path));
   auto model =
       lang::Model::from_text(path, text, element_catalog(), *sources, diags,
-                             cli::load_options(cli::ModelPlugins::if_allowed, "thermnet (Python)"));
+                             app::load_options(app::ModelPlugins::if_allowed, "thermnet (Python)"));
   return checked(std::move(sources), std::move(model), diags, path);
 }
 
@@ -121,15 +121,15 @@ std::vector<std::string> ModelSession::case_names() const {
 SimulationResult ModelSession::simulate(const SimulateRequest& q) const {
   lang::set_path_policy(policy_); // files are read under this model's policy
   // The command line's rules, by the same code: `thermnet simulate`'s options and its --set.
-  cli::require(cli::relative_tolerance_rule, q.rtol, "rtol");
-  cli::require(cli::absolute_tolerance_rule, q.atol, "atol");
-  if (q.duration) cli::require(cli::positive_number_rule, *q.duration, "duration");
-  if (q.output) cli::require(cli::positive_number_rule, *q.output, "output");
+  app::require(app::relative_tolerance_rule, q.rtol, "rtol");
+  app::require(app::absolute_tolerance_rule, q.atol, "atol");
+  if (q.duration) app::require(app::positive_number_rule, *q.duration, "duration");
+  if (q.output) app::require(app::positive_number_rule, *q.output, "output");
   lang::Overrides values;
   for (const auto& [name, value] : q.params) {
     const std::string option = fmt::format("params['{}']", name);
-    const cli::SetTarget target = cli::resolve_target(*model_, name, option);
-    cli::add_override(values, target, cli::checked_value(target, value, option), option);
+    const app::SetTarget target = app::resolve_target(*model_, name, option);
+    app::add_override(values, target, app::checked_value(target, value, option), option);
   }
   SimulationOptions opt;
   opt.duration = q.duration;
@@ -160,9 +160,9 @@ nlohmann::ordered_json ModelSession::calibrate(const CalibrateRequest& q) const 
       msg += fmt::format("; did you mean '{}'?", *s);
     throw std::invalid_argument(msg);
   }
-  cli::require(cli::positive_number_rule, q.tolerance, "tolerance");
-  cli::refuse_repeated_cases(q.cases);
-  cli::require(cli::non_negative_whole_rule, q.threads, "threads");
+  app::require(app::positive_number_rule, q.tolerance, "tolerance");
+  app::refuse_repeated_cases(q.cases);
+  app::require(app::non_negative_whole_rule, q.threads, "threads");
   try {
     CalibrationProblem problem(*model_, q.cases);
     if (problem.dimension() == 0)
@@ -175,8 +175,8 @@ nlohmann::ordered_json ModelSession::calibrate(const CalibrateRequest& q) const 
     settings.seed = q.seed;
     settings.threads = q.threads;
     OptimizerResult r = plugin->create()->run(problem, settings);
-    cli::note_undefined_r2(r);
-    return cli::result_json(r, problem, cli::ReportContext{q.seed, q.tolerance, model_->path()});
+    app::note_undefined_r2(r);
+    return app::result_json(r, problem, app::ReportContext{q.seed, q.tolerance, model_->path()});
   } catch (const lang::ModelError& e) {
     throw load_error_of(e, *sources_);
   }
@@ -185,9 +185,9 @@ nlohmann::ordered_json ModelSession::calibrate(const CalibrateRequest& q) const 
 nlohmann::json ModelSession::diagnose(const std::vector<std::string>& cases, int threads,
                                       std::size_t top) const {
   lang::set_path_policy(policy_); // files are read under this model's policy
-  cli::require(cli::non_negative_whole_rule, threads, "threads");
-  cli::require(cli::positive_whole_rule, static_cast<double>(top), "top");
-  cli::refuse_repeated_cases(cases);
+  app::require(app::non_negative_whole_rule, threads, "threads");
+  app::require(app::positive_whole_rule, static_cast<double>(top), "top");
+  app::refuse_repeated_cases(cases);
   DiagnosisOptions opt;
   opt.cases = cases;
   opt.threads = threads;
@@ -202,14 +202,14 @@ nlohmann::json ModelSession::diagnose(const std::vector<std::string>& cases, int
 nlohmann::json ModelSession::sensitivity(const std::vector<std::string>& cases, bool elements,
                                          int threads) const {
   lang::set_path_policy(policy_); // files are read under this model's policy
-  cli::require(cli::non_negative_whole_rule, threads, "threads");
-  cli::refuse_repeated_cases(cases);
+  app::require(app::non_negative_whole_rule, threads, "threads");
+  app::refuse_repeated_cases(cases);
   SensitivityOptions opt;
   opt.cases = cases;
   opt.elements = elements;
   opt.threads = threads;
   try {
-    return cli::sensitivity_json(*model_, compute_sensitivities(*model_, opt));
+    return app::sensitivity_json(*model_, compute_sensitivities(*model_, opt));
   } catch (const lang::ModelError& e) {
     throw load_error_of(e, *sources_);
   }

@@ -3,8 +3,8 @@
 // thread counts, cancellation), uniform01, parallel_for, the Latin hypercube and the model
 // rewriter. "Measurements" are thermnet's own simulation of known params plus Gaussian noise.
 
-#include "cli/calibration_report.hpp"
-#include "cli/progress_bar.hpp"
+#include "app/calibration_report.hpp"
+#include "app/progress_bar.hpp"
 #include "kernel/calibration/calibration_problem.hpp"
 #include "kernel/calibration/optimizer.hpp"
 #include "kernel/calibration/sample_search.hpp"
@@ -400,7 +400,7 @@ TEST_CASE("compare: simulated series at the measured times, for plots") {
   REQUIRE(cmp[0].simulated.size() == 2);
   CHECK(cmp[0].simulated[0].size() == cmp[0].measured.times.size());
   CHECK(std::abs(cmp[0].simulated[0].back() - cmp[0].measured.series[0].values.back()) < 0.5);
-  auto fig = cli::comparison_figure(cmp, "t");
+  auto fig = app::comparison_figure(cmp, "t");
   CHECK(fig.panels.size() == 2);
   CHECK(fig.panels[0].series.size() == 4);
 }
@@ -602,13 +602,13 @@ TEST_CASE("reports: table columns and JSON fields") {
   r.best = {2.0, 8.0};
   r.rmse = 0.1;
   r.r2 = 0.99;
-  const std::string table = cli::format_result_table(r, p);
+  const std::string table = app::format_result_table(r, p);
   for (const char* col : {"method", "samples", "evaluations", "accepted", "RMSE [K]", "R²",
                           "G [W/K]", "h [W/(m^2*K)]", "wall [s]"}) {
     CAPTURE(col);
     CHECK(table.find(col) != std::string::npos);
   }
-  auto j = cli::result_json(r, p, {});
+  auto j = app::result_json(r, p, {});
   for (const char* key :
        {"method", "samples", "evaluations", "accepted", "rmse", "r2", "params", "wall_s", "units"})
     CHECK(j.contains(key));
@@ -616,9 +616,9 @@ TEST_CASE("reports: table columns and JSON fields") {
   CHECK(j["units"] == "SI");
   CHECK(table.find("±") == std::string::npos); // no standard errors from a sampling method
   r.std_errors = {0.25, 1.5};                  // a least-squares fit gives them: in the table too
-  const std::string with_se = cli::format_result_table(r, p);
+  const std::string with_se = app::format_result_table(r, p);
   CHECK(with_se.find("2 ± 0.25") != std::string::npos);
   CHECK(with_se.find("8 ± 1.5") != std::string::npos);
-  CHECK(cli::format_progress(Progress{50, 200, 0.5}, 10.0).find("25%") != std::string::npos);
-  CHECK(cli::format_progress(Progress{50, 200, 0.5}, 10.0).find("ETA 0:30") != std::string::npos);
+  CHECK(app::format_progress(Progress{50, 200, 0.5}, 10.0).find("25%") != std::string::npos);
+  CHECK(app::format_progress(Progress{50, 200, 0.5}, 10.0).find("ETA 0:30") != std::string::npos);
 }

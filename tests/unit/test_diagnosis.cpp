@@ -5,7 +5,7 @@
 // step heater, an 8-node instrument with radiation, a pwl boundary and two cases, and a 20-node
 // plate for the speed check.
 
-#include "cli/diagnose_command.hpp"
+#include "app/diagnosis_output.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/simulation.hpp"
@@ -251,7 +251,7 @@ TEST_CASE("diagnose chain: hidden linear link n1-n4") {
     CHECK(j["baseline"]["nodes"]["n1"].contains(key));
   // --write: the extended model lints clean and fits the data.
   Loaded m(path);
-  const std::string ext = dir.write("ext.tnet", cli::extended_model_text(*m.model, f));
+  const std::string ext = dir.write("ext.tnet", app::extended_model_text(*m.model, f));
   CHECK(ext.size() > 0);
   Loaded e(ext);
   const auto r2 = diagnose(*e.model);
@@ -279,7 +279,7 @@ TEST_CASE("diagnose chain: capacity of n2 is wrong") {
   CHECK(f.candidate.nodes == std::vector<std::string>{"n2"});
   CHECK(value(f, "factor") == doctest::Approx(2.5).epsilon(0.1));
   Loaded m(path);
-  Loaded e(dir.write("ext.tnet", cli::extended_model_text(*m.model, f)));
+  Loaded e(dir.write("ext.tnet", app::extended_model_text(*m.model, f)));
   CHECK(diagnose(*e.model).baseline.rmse < 0.1);
 }
 
@@ -293,7 +293,7 @@ TEST_CASE("diagnose chain: heater delivers more than modelled") {
   CHECK(f.candidate.element == "film");
   CHECK(value(f, "factor") == doctest::Approx(20.0 / 15.0).epsilon(0.05));
   Loaded m(path);
-  Loaded e(dir.write("ext.tnet", cli::extended_model_text(*m.model, f)));
+  Loaded e(dir.write("ext.tnet", app::extended_model_text(*m.model, f)));
   CHECK(diagnose(*e.model).baseline.rmse < 0.1);
 }
 
@@ -377,7 +377,7 @@ std::string two_cases(double P, double P2, double CB, double CB2) {
 DiagnosisReport rediagnose(const TempDir& dir, const std::string& path, const Finding& f,
                            std::string& text) {
   Loaded m(path);
-  text = cli::extended_model_text(*m.model, f);
+  text = app::extended_model_text(*m.model, f);
   Loaded e(dir.write("ext.tnet", text));
   CHECK(e.diags.warning_count() == 0);
   return diagnose(*e.model);
@@ -517,7 +517,7 @@ TEST_CASE("diagnose chain: a shared ranged param is recalibrated") {
   CHECK(value(f, "Gc") == doctest::Approx(2.0).epsilon(0.05));
   CHECK(diagnosis_json(r)["findings"][0]["params"].contains("Gc"));
   Loaded m(path);
-  Loaded e(dir.write("ext.tnet", cli::extended_model_text(*m.model, f)));
+  Loaded e(dir.write("ext.tnet", app::extended_model_text(*m.model, f)));
   CHECK(diagnose(*e.model).baseline.rmse < 0.1);
 }
 
@@ -604,7 +604,7 @@ TEST_CASE("diagnose plate: 20 nodes, 2 cases, hidden link to a boundary") {
   CHECK(refits == r.refitted);
   CHECK(simulations > r.refitted);
   // The plot renders before/after curves.
-  const std::string svg = cli::diagnosis_svg(r, "plate");
+  const std::string svg = app::diagnosis_svg(r, "plate");
   CHECK(svg.find("<svg") != std::string::npos);
   CHECK(svg.find("after") != std::string::npos);
 }
@@ -625,7 +625,7 @@ TEST_CASE("diagnosis plot: one distinct colour per node of a panel, titled with 
   r.curves = {cv, cv};
   for (std::size_t worst : {3, 8, 12}) {
     CAPTURE(worst);
-    const std::string svg = cli::diagnosis_svg(r, "aerial_camera", worst);
+    const std::string svg = app::diagnosis_svg(r, "aerial_camera", worst);
     CHECK(svg.find("<title>aerial_camera — no finding</title>") != std::string::npos);
     CHECK(svg.find("/some/where") == std::string::npos);
     // The legend: each entry's swatch (stroke colour) is followed by its label.

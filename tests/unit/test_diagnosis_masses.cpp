@@ -4,7 +4,7 @@
 // truth's simulation plus noise. The diagnosis must name the effect with its size, and the model
 // it writes must lint without warnings and fit the data at the noise floor with no finding left
 // (a written model is diagnosed again like any other).
-#include "cli/diagnose_command.hpp"
+#include "app/diagnosis_output.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/simulation.hpp"
 #include "kernel/diagnosis/diagnosis.hpp"
@@ -85,7 +85,7 @@ const Finding& structural(const DiagnosisReport& r) {
 DiagnosisReport rediagnose(const test::TempDir& dir, const std::string& path, const Finding& f,
                            std::string& text) {
   test::LoadedModel m(path);
-  text = cli::extended_model_text(*m.model, f);
+  text = app::extended_model_text(*m.model, f);
   test::LoadedModel e(dir.write("ext.tnet", text), test::Lint::clean);
   INFO(text);
   CHECK(e.diags.warning_count() == 0);

@@ -1,7 +1,7 @@
 // Unit tests of the lm, ga and auto optimizers, the sensitivities and the uncertainty bands, on
 // small models whose "measurements" are thermnet's own simulation of known params plus noise.
 
-#include "cli/uncertainty.hpp"
+#include "app/uncertainty.hpp"
 #include "kernel/calibration/calibration_problem.hpp"
 #include "kernel/calibration/optimizer.hpp"
 #include "kernel/calibration/sensitivity.hpp"
@@ -321,12 +321,12 @@ TEST_CASE("uncertainty bands contain the nominal run and are deterministic") {
     CHECK(row[2] <= row[3]);
     CHECK(row[3] <= row[4]);
   }
-  const std::string csv = cli::format_bands_csv(b);
+  const std::string csv = app::format_bands_csv(b);
   CHECK(csv.substr(0, csv.find('\n')) ==
         "time,amb_min,amb_p5,amb_p50,amb_p95,amb_max,n_min,n_p5,n_p50,n_p95,n_max");
   opt.threads = 1;
-  CHECK(cli::format_bands_csv(run_uncertainty(*loaded.model, "", opt)) == csv);
-  CHECK(cli::plot_bands_svg(b, {"n"}, "bands").find("<svg") != std::string::npos);
+  CHECK(app::format_bands_csv(run_uncertainty(*loaded.model, "", opt)) == csv);
+  CHECK(app::plot_bands_svg(b, {"n"}, "bands").find("<svg") != std::string::npos);
 }
 
 TEST_CASE("percentiles interpolate between order statistics") {
@@ -334,5 +334,5 @@ TEST_CASE("percentiles interpolate between order statistics") {
   CHECK(percentile_of_sorted(v, 50) == 3.0);
   CHECK(percentile_of_sorted(v, 25) == 2.0);
   CHECK(percentile_of_sorted(v, 10) == doctest::Approx(1.4));
-  CHECK(cli::percentile_label(2.5) == "p2.5");
+  CHECK(app::percentile_label(2.5) == "p2.5");
 }

@@ -2,7 +2,7 @@
 // and data paths in the copies, the user's inputs never overwritten, the written model loading
 // with the new values, units kept in expressions, and outputs written all-or-nothing.
 
-#include "cli/output_files.hpp"
+#include "app/output_files.hpp"
 #include "kernel/core/element_registry.hpp"
 #include "lang/rewrite/model_files.hpp"
 
@@ -97,10 +97,10 @@ TEST_CASE("rewrite_model: the files declaring params and their includers, beside
                          "param Ca = 1.25 [kJ/K] range 0.1 [kJ/K] .. 2 [kJ/K] \"cap\"\n");
 
   SUBCASE("written, the model loads clean and declares the new values") {
-    std::vector<cli::OutputFile> out;
+    std::vector<app::OutputFile> out;
     for (const auto& f : files)
       out.push_back({f.path, f.text});
-    cli::write_output_files(out);
+    app::write_output_files(out);
     Loaded back(t.path("out/cal.tnet"));
     back.model->lint(back.diags);
     CHECK(back.diags.error_count() == 0);
@@ -170,10 +170,10 @@ TEST_CASE("rewrite_model: a copy never goes through a symlink (issue 51)") {
   CHECK(files[1].path == t.path("cal.mid-2.tnet"));
   CHECK(files[2].path == t.path("cal.params-2.tnet")); // a dangling symlink is skipped too
   CHECK(files[0].text.find("include \"cal.mid-2.tnet\"") != std::string::npos);
-  std::vector<cli::OutputFile> out;
+  std::vector<app::OutputFile> out;
   for (const auto& f : files)
-    out.push_back({f.path, f.text, f.chosen ? cli::Follow::never : cli::Follow::symlinks});
-  cli::write_output_files(out);
+    out.push_back({f.path, f.text, f.chosen ? app::Follow::never : app::Follow::symlinks});
+  app::write_output_files(out);
   CHECK(read(t.dir.path / "elsewhere/victim.txt") == "victim\n");
   CHECK(fs::is_symlink(t.path("cal.mid.tnet")));
   CHECK_FALSE(fs::exists(t.dir.path / "nowhere"));
@@ -192,17 +192,17 @@ TEST_CASE("rewrite_model: a copy never goes through a symlink (issue 51)") {
   CHECK(files[1].path == t.path("cal.mid-2.tnet"));
   out.clear();
   for (const auto& f : files)
-    out.push_back({f.path, f.text, f.chosen ? cli::Follow::never : cli::Follow::symlinks});
-  cli::write_output_files(out);
+    out.push_back({f.path, f.text, f.chosen ? app::Follow::never : app::Follow::symlinks});
+  app::write_output_files(out);
   CHECK(read(t.dir.path / "elsewhere/hard.tnet") == before);
   // Should a symlink appear at a chosen name after the names were chosen, the write refuses it.
   fs::remove(t.path("cal.params-2.tnet"));
   fs::create_symlink(t.path("elsewhere/victim.txt"), t.path("cal.params-2.tnet"));
-  CHECK_THROWS_AS(cli::write_output_files({{t.path("cal.params-2.tnet"), "x", cli::Follow::never}}),
-                  cli::OutputError);
+  CHECK_THROWS_AS(app::write_output_files({{t.path("cal.params-2.tnet"), "x", app::Follow::never}}),
+                  app::OutputError);
   CHECK(read(t.dir.path / "elsewhere/victim.txt") == "victim\n");
   // The user's own name is followed, as a shell redirection would.
-  cli::write_output_files({{t.path("cal.params-2.tnet"), "through\n"}});
+  app::write_output_files({{t.path("cal.params-2.tnet"), "through\n"}});
   CHECK(read(t.dir.path / "elsewhere/victim.txt") == "through\n");
 }
 
@@ -256,17 +256,17 @@ TEST_CASE("write_output_files: all or nothing") {
   TempDir dir{"atomic"};
   const std::string a = (dir.path / "a.txt").string();
   fs::create_directories(dir.path / "b.txt");
-  CHECK_THROWS_AS(cli::write_output_files({{a, "A\n"}, {(dir.path / "b.txt").string(), "B\n"}}),
-                  cli::OutputError);
+  CHECK_THROWS_AS(app::write_output_files({{a, "A\n"}, {(dir.path / "b.txt").string(), "B\n"}}),
+                  app::OutputError);
   CHECK_FALSE(fs::exists(a));
   std::size_t entries = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir.path))
     ++entries;
   CHECK(entries == 1); // only the directory b.txt: no temporary file left
-  CHECK_THROWS_AS(cli::write_output_files({{a, "1"}, {(dir.path / "." / "a.txt").string(), "2"}}),
-                  cli::OutputError);
+  CHECK_THROWS_AS(app::write_output_files({{a, "1"}, {(dir.path / "." / "a.txt").string(), "2"}}),
+                  app::OutputError);
   CHECK_FALSE(fs::exists(a));
-  cli::write_output_files({{a, "A\n"}, {(dir.path / "c.txt").string(), "C\n"}});
+  app::write_output_files({{a, "A\n"}, {(dir.path / "c.txt").string(), "C\n"}});
   CHECK(read(a) == "A\n");
   CHECK(read(dir.path / "c.txt") == "C\n");
 }

@@ -2,7 +2,7 @@
 // stderr and an exit status (0 ok, 1 input wrong or operation failed, 2 usage or a file that
 // cannot be read or written).
 
-#include "cli/output_files.hpp"
+#include "app/output_files.hpp"
 #include "cli/run_command.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/solver_types.hpp"
@@ -59,7 +59,7 @@ TEST_CASE("run_command: the body's status passes through, and it gets a source m
 }
 
 TEST_CASE("run_command: unwritable outputs and unreadable files are exit 2") {
-  Outcome o = run_throwing(cli::OutputError("cannot write 'x.csv': No such file or directory"));
+  Outcome o = run_throwing(app::OutputError("cannot write 'x.csv': No such file or directory"));
   CHECK(o.status == 2);
   CHECK(o.err == "thermnet test: error: cannot write 'x.csv': No such file or directory\n");
   CHECK(run_throwing(rewrite::RewriteError("-o 'a.tnet' would overwrite a file")).status == 2);
