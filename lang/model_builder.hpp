@@ -33,17 +33,25 @@ public:
   void load_root_text(const std::string& path, std::string text);
 
 private:
+  /// Reads a file into `text`; false with `error` set when it cannot be read.
   static bool read_file(const std::string& path, std::string& text, std::string& error);
 
+  /// The path made canonical (the path itself when that fails).
   static std::string canonical(const std::string& path);
   // --- reading ----------------------------------------------------------------------------------
 
+  /// Parses one file's text and collects its statements (following its includes).
   void load_text(const std::string& path, std::string text);
+  /// A path as written in `file`, relative to that file's folder.
   std::string relative_to(FileId file, const std::string& p) const;
 
+  /// The whole of a tagged piece of text.
   static Span span(FileId f, const ast::Tagged& t) { return Span{f, t.begin, t.end}; }
+  /// The start of a tagged piece of text.
   static Span at(FileId f, const ast::Tagged& t) { return Span{f, t.begin, t.begin}; }
 
+  /// Follows an include (refused in a cycle, past 64 levels or unreadable; a file read before is
+  /// not read again).
   void include(const ast::IncludeStmt& s, FileId f);
   // --- names ------------------------------------------------------------------------------------
 
@@ -111,11 +119,13 @@ private:
     void operator()(const ast::ForStmt&) const {}
   };
 
+  /// Registers a submodel definition and its params.
   void collect_submodel(const ast::SubmodelStmt& s, FileId f);
   /// Reports statements that may not stand where they are, and loop variables that hide a name.
   void check_block(const std::vector<ast::Statement>& body, FileId f, bool in_loop,
                    const SubmodelDecl* sub, std::vector<std::string_view>& vars);
 
+  /// Reports loop variables that hide a name (an enclosing loop's, a param, a terminal, a keyword).
   void check_loop(const ast::ForStmt& loop, FileId f, const SubmodelDecl* sub,
                   std::vector<std::string_view>& vars);
 
@@ -137,6 +147,7 @@ private:
 
   // --- expansion ------------------------------------------------------------------------------
 
+  /// After the last file: checks blocks and cycles, expands the structure and resolves terminals.
   void finish();
   /// Counts one generated declaration or loop iteration; false once the limit is passed.
   bool count(FileId f, const ast::Tagged& where);
@@ -146,6 +157,7 @@ private:
   /// before they run, so a huge one costs no time or memory.
   bool affordable(std::size_t n, FileId f, const ast::Tagged& where);
 
+  /// Expands one statement of the structure in `scope` (loops and instances recursively).
   void expand(const ast::Statement& s, FileId f, const Scope* scope);
   /// Runs the loop's body once per combination of its variables' values (iteratively: a header
   /// may name any number of variables). An iteration whose body declares nothing leaves no scope.
@@ -157,6 +169,7 @@ private:
   bool declared_names(const ast::Ref& name, FileId f, const Scope* scope, const ast::Tagged& stmt,
                       std::vector<std::string>& out);
 
+  /// Declares the nodes a node or boundary statement stands for.
   void declare_nodes(const ast::NodeStmt& s, FileId f, const Scope* scope);
   /// A declared name as the model keeps it: a plain name at the top level is the identifier in
   /// its file's text (the common case of big files); any other is copied to the model's store.
@@ -167,6 +180,7 @@ private:
   bool element_name(std::string_view name, int index, const Scope* instance, std::string_view base,
                     Span name_span, Span where, const Scope* scope);
 
+  /// Declares the elements (or the composite) a statement stands for.
   void declare_elements(const ast::ElementStmt* e, const ast::CompositeStmt* c, FileId f,
                         const Scope* scope);
 
@@ -178,6 +192,7 @@ private:
   void check_arguments(const ast::ElementStmt& s, const SubmodelDecl& sub, FileId f,
                        const Scope* scope, const std::string& name);
 
+  /// Expands an instance of a submodel: its params bound, its body under the instance's prefix.
   void instantiate(const ast::ElementStmt& s, const SubmodelDecl& sub, FileId f,
                    const Scope* scope);
 
