@@ -172,3 +172,23 @@ TEST_CASE("symmetric modes: the steps of a reciprocal network equal the matrix e
   L(3, 0) = 0.5;
   CHECK_FALSE(thermnet::SymmetricModes::of(L, C).has_value());
 }
+
+TEST_CASE("exact linear path: a switched network driven below 0 K fails there, naming the node") {
+  // The crossing is bisected with the matrix of the lid's state at the time, not the first one.
+  const std::string text = std::string(kHeader) + R"(
+switched_conductance lid a out G = 2.5 on = step(0: 0, 50: 1)
+heater h a P = -2000
+case c { duration = 10000; output = 100 }
+)";
+  Network net = network_of(text);
+  REQUIRE(net.piecewise_affine());
+  thermnet::SimulationOptions opt;
+  opt.solver.exact_linear_max = 64;
+  try {
+    (void)thermnet::simulate(net, opt);
+    FAIL("the run went below 0 K silently");
+  } catch (const thermnet::SolverError& e) {
+    CHECK(std::string(e.what()).find("absolute zero") != std::string::npos);
+    CHECK(e.time > 50.0); // crossed with the lid open
+  }
+}
