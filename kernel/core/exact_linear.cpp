@@ -88,13 +88,16 @@ public:
   Piece& of(const Eigen::MatrixXd& A, const Eigen::VectorXd& C, const Eigen::VectorXd& ref) {
     for (auto& p : pieces_)
       if (p->steps.matrix() == A) return *p;
-    if (pieces_.size() >= 16) pieces_.erase(pieces_.begin());
+    if (pieces_.size() >= 16) {
+      evicted_ += pieces_.front()->steps.computed();
+      pieces_.erase(pieces_.begin());
+    }
     pieces_.push_back(std::make_unique<Piece>(Piece{Steps(A, C, modes_), A * ref}));
     return *pieces_.back();
   }
   /// Steps computed in all pieces.
   std::size_t computed() const {
-    std::size_t c = 0;
+    std::size_t c = evicted_;
     for (const auto& p : pieces_)
       c += p->steps.computed();
     return c;
@@ -103,6 +106,7 @@ public:
 private:
   bool modes_;
   std::vector<std::unique_ptr<Piece>> pieces_;
+  std::size_t evicted_ = 0; // steps computed in pieces no longer kept
 };
 
 } // namespace
