@@ -7,6 +7,7 @@
 
 #include "kernel/diagnosis/composites.hpp"
 #include "kernel/diagnosis/diagnosis.hpp"
+#include "kernel/diagnosis/statistics.hpp"
 
 #include <Eigen/Dense>
 
@@ -32,15 +33,15 @@ struct Part {
 
 /// The model candidates are compared with: the declared model plus the findings applied so far.
 struct Base {
-  std::vector<Applied> applied;  ///< applied findings, in order
-  CaseSims raw;                  ///< simulated series of the model-side extensions (uncorrected)
-  CaseSims sims;                 ///< with the measurement-side corrections: compared with data
-  double sse_all = 0.0;          ///< SSE on all data, K^2
-  double sse_test = 0.0;         ///< SSE on the held-out points of every fold, K^2
-  std::vector<double> holdout_r; ///< residuals on the held-out points of every fold, K
-  std::vector<std::vector<double>> r; ///< residuals on all data, per measured series, K
-  FitMetrics metrics;                 ///< its fit
-  bool at_floor = false;              ///< its error is measurement noise only
+  std::vector<Applied> applied;   ///< applied findings, in order
+  CaseSims raw;                   ///< simulated series of the model-side extensions (uncorrected)
+  CaseSims sims;                  ///< with the measurement-side corrections: compared with data
+  double sse_all = 0.0;           ///< SSE on all data, K^2
+  double sse_test = 0.0;          ///< SSE on the held-out points of every fold, K^2
+  StoredResiduals holdout_r;      ///< residuals on the held-out points of every fold, K
+  std::vector<StoredResiduals> r; ///< residuals on all data, per measured series, K
+  FitMetrics metrics;             ///< its fit
+  bool at_floor = false;          ///< its error is measurement noise only
 };
 
 /// A hypothesis with one candidate (what the engine refits).
@@ -54,12 +55,12 @@ struct Entry {
 
 /// A refitted candidate: the finding and what the mechanism comparison needs.
 struct Evaluated {
-  Finding f;                          ///< the finding (empty values: the fit failed)
-  std::vector<std::vector<double>> r; ///< residuals on all data, per measured series
-  double holdout_sse = 0.0;           ///< SSE on the held-out points of every fold
-  std::vector<double> holdout_r;      ///< residuals on them (fold by fold, series order), K
-  std::vector<double> holdout_rho;    ///< their correlation (Refit::holdout_rho)
-  bool degenerate = false;            ///< the fit is another kind's candidate (not reported)
+  Finding f;                       ///< the finding (empty values: the fit failed)
+  std::vector<StoredResiduals> r;  ///< residuals on all data, per measured series
+  double holdout_sse = 0.0;        ///< SSE on the held-out points of every fold
+  StoredResiduals holdout_r;       ///< residuals on them (fold by fold, series order), K
+  std::vector<double> holdout_rho; ///< their correlation (Refit::holdout_rho)
+  bool degenerate = false;         ///< the fit is another kind's candidate (not reported)
 };
 
 /// What a candidate's refit computes (the costly part of Engine::evaluate()): all that processes
@@ -70,8 +71,9 @@ struct Refit {
   std::vector<double> p;           ///< fitted parameters (all data)
   std::vector<double> se;          ///< their standard errors (NaN when unknown)
   double sse = 0.0;                ///< SSE on all data, K^2
-  std::vector<double> r;           ///< residuals on all data (measured rows, series by series), K
-  std::vector<double> holdout_r;   ///< residuals on the held-out points of every fold, K
+  double holdout_sse = 0.0;        ///< SSE on the held-out points of every fold, K^2
+  StoredResiduals r;               ///< residuals on all data (measured rows, series by series), K
+  StoredResiduals holdout_r;       ///< residuals on the held-out points of every fold, K
   std::vector<double> holdout_rho; ///< their positive_autocorrelation within the held-out segments
 };
 
@@ -116,7 +118,7 @@ public:
   /// samples of one series, their lengths.
   const std::vector<std::size_t>& holdout_segments() const { return segments_; }
   /// Residuals on all data per measured series (the order of Evaluated::r).
-  std::vector<std::vector<double>> series_residuals(const CaseSims& sims) const;
+  std::vector<StoredResiduals> series_residuals(const CaseSims& sims) const;
 
   /// The declared model with findings applied at their values; `measured`: with its fit metrics
   /// and floor test too (a comparison that reads only the residuals goes without).

@@ -19,7 +19,7 @@ namespace {
 
 /// A base whose held-out residuals are those of its own validation folds (each fold's data
 /// predicted by a fit without them), as a candidate's are: the next step compares like with like.
-Base with_holdout(Base base, std::vector<double> holdout_r) {
+Base with_holdout(Base base, StoredResiduals holdout_r) {
   if (holdout_r.size() != base.holdout_r.size()) return base;
   base.holdout_r = std::move(holdout_r);
   base.sse_test = sum_of_squares(base.holdout_r);
@@ -43,8 +43,8 @@ Base Selection::select_forward(DiagnosisReport& rep, Base& last) {
   // the report takes only their findings): released, as each step's own are when it ends (two
   // vectors of the measured points per refit, most of a large data file's memory).
   for (Evaluated& e : res_) {
-    std::vector<std::vector<double>>().swap(e.r);
-    std::vector<double>().swap(e.holdout_r);
+    std::vector<StoredResiduals>().swap(e.r);
+    StoredResiduals().swap(e.holdout_r);
     std::vector<double>().swap(e.holdout_rho);
   }
   // The ranged params are not recalibrated again once a finding has recalibrated them.
@@ -67,7 +67,7 @@ Base Selection::select_forward(DiagnosisReport& rep, Base& last) {
     const std::size_t b = order.front();
     add_rivals(nres[b].f, b, next, nres);
     applied.push_back({next[b].h, next[b].c, nres[b].f.values});
-    std::vector<double> holdout_r;
+    StoredResiduals holdout_r;
     if (!reestimate(applied, nres[b].f, rep, holdout_r)) break;
     base = with_holdout(engine_.make_base(applied), std::move(holdout_r));
   }
@@ -189,7 +189,7 @@ std::vector<Entry> Selection::next_entries(const Base& base, const std::vector<A
 }
 
 bool Selection::reestimate(std::vector<Applied>& applied, Finding f, DiagnosisReport& rep,
-                           std::vector<double>& holdout_r) const {
+                           StoredResiduals& holdout_r) const {
   // The selected findings are re-estimated together (the earlier ones were fitted without this
   // one): their values, and this step's gain, come from the joint refit.
   const Compose all(applied);

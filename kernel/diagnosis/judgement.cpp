@@ -59,20 +59,19 @@ double Selection::threshold(const std::vector<Evaluated>& res) {
       res.begin(), res.end(), [](const Evaluated& e) { return !e.f.values.empty(); })));
 }
 
-Comparison Selection::compare_to(const Evaluated& e, const std::vector<double>& holdout_r,
-                                 const std::vector<std::vector<double>>& r) const {
+Comparison Selection::compare_to(const Evaluated& e, const StoredResiduals& holdout_r,
+                                 const std::vector<StoredResiduals>& r) const {
   // The output-error criterion's test of a candidate against one reference fit (its held-out and
   // all-data residuals): the held-out gain beyond the variation neither explains, and the largest
   // local gain beyond the practical floor.
   // And the gain in every validation block: a large gain on each stretch of data (or case) not
   // used to fit it is confirmed however few independent points correlated residuals hold (a
   // building's 140 h of 5-minute samples counted as about 5 by the z test).
-  Comparison c{holdout_gain_z(holdout_r, e.holdout_r, e.holdout_rho,
-                              engine_.evidence().noise_floor, engine_.holdout_segments()),
+  Comparison c{holdout_gain_z(holdout_r, e.holdout_r, e.holdout_rho, engine_.evidence().noise_floor,
+                              engine_.holdout_segments()),
                largest_window_gain(r, e.r)};
   c.block_gain = worst_block_gain(holdout_r, e.holdout_r, engine_.fold_points());
-  c.confirmed =
-      engine_.folds() >= kConfirmingBlocks && c.block_gain >= kConfirmingBlockGain;
+  c.confirmed = engine_.folds() >= kConfirmingBlocks && c.block_gain >= kConfirmingBlockGain;
   return c;
 }
 

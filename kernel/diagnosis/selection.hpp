@@ -116,7 +116,7 @@ private:
   std::size_t rerank_jointly(const std::vector<Applied>& applied, const Base& base,
                              const std::vector<Entry>& next, std::vector<Evaluated>& nres) const;
   bool reestimate(std::vector<Applied>& applied, Finding f, DiagnosisReport& rep,
-                  std::vector<double>& holdout_r) const;
+                  StoredResiduals& holdout_r) const;
   void redecide_mechanisms(std::vector<Applied>& applied, const Compose& all, Evaluated& joint,
                            DiagnosisReport& rep) const;
   void finish(DiagnosisReport& rep);
@@ -143,8 +143,8 @@ private:
   // judgement.cpp
   void judge(std::vector<Evaluated>& res, const Base& reference) const;
   /// The test of e against one reference fit (its held-out and all-data residuals).
-  Comparison compare_to(const Evaluated& e, const std::vector<double>& holdout_r,
-                        const std::vector<std::vector<double>>& r) const;
+  Comparison compare_to(const Evaluated& e, const StoredResiduals& holdout_r,
+                        const std::vector<StoredResiduals>& r) const;
   /// Applies a test to e: the smallest z and gain are kept; below z_min or the least gain, e is
   /// not significant.
   void judge_against(Evaluated& e, const Comparison& cmp, double z_min) const;

@@ -11,7 +11,15 @@
 
 namespace thermnet {
 
-double autocorrelation_time(const std::vector<std::vector<double>>& series, double cap) {
+double sum_of_squares(const StoredResiduals& r) {
+  double s = 0.0;
+  for (double x : r)
+    s += x * x;
+  return s;
+}
+
+template <class T>
+double autocorrelation_time(const std::vector<std::vector<T>>& series, double cap) {
   double lag0 = 0.0, lag1 = 0.0;
   for (const auto& s : series) {
     if (s.size() < 2) continue;
@@ -20,8 +28,9 @@ double autocorrelation_time(const std::vector<std::vector<double>>& series, doub
       mean += x;
     mean /= static_cast<double>(s.size());
     for (std::size_t k = 0; k < s.size(); ++k) {
-      lag0 += (s[k] - mean) * (s[k] - mean);
-      if (k + 1 < s.size()) lag1 += (s[k] - mean) * (s[k + 1] - mean);
+      const double a = s[k] - mean;
+      lag0 += a * a;
+      if (k + 1 < s.size()) lag1 += a * (s[k + 1] - mean);
     }
   }
   if (lag0 <= 0.0) return 1.0;
@@ -55,10 +64,9 @@ FitComparison compare_fits(const FitResiduals& a, const FitResiduals& b, double 
 
 namespace {
 
-/// The runs of a series: the given lengths, or the whole series.
-std::vector<std::size_t> runs_of(const std::vector<double>& values,
-                                 const std::vector<std::size_t>& segments) {
-  return segments.empty() ? std::vector<std::size_t>{values.size()} : segments;
+/// The runs of a series of n values: the given lengths, or the whole series.
+std::vector<std::size_t> runs_of(std::size_t n, const std::vector<std::size_t>& segments) {
+  return segments.empty() ? std::vector<std::size_t>{n} : segments;
 }
 
 /// sum over k of x[k] x[k + lag] for the n values from x (lag < n). A dot product of the series
@@ -71,10 +79,11 @@ double lagged_dot(const double* x, std::size_t n, std::size_t lag) {
 
 } // namespace
 
-std::vector<double> positive_autocorrelation(const std::vector<double>& values,
+template <class T>
+std::vector<double> positive_autocorrelation(const std::vector<T>& values,
                                              const std::vector<std::size_t>& segments,
                                              std::size_t max_lag) {
-  const std::vector<std::size_t> runs = runs_of(values, segments);
+  const std::vector<std::size_t> runs = runs_of(values.size(), segments);
   std::vector<double> c(values.size());
   double lag0 = 0.0;
   std::size_t from = 0, longest = 0;
@@ -108,29 +117,32 @@ std::vector<double> positive_autocorrelation(const std::vector<double>& values,
   return rho;
 }
 
-double holdout_gain_z(const std::vector<double>& reference, const std::vector<double>& candidate,
+template <class T>
+double holdout_gain_z(const std::vector<T>& reference, const std::vector<T>& candidate,
                       double noise, const std::vector<std::size_t>& segments) {
   if (reference.empty() || reference.size() != candidate.size() || !(noise > 0.0)) return 0.0;
   return holdout_gain_z(reference, candidate,
-                        positive_autocorrelation(candidate, runs_of(candidate, segments)), noise,
-                        segments);
+                        positive_autocorrelation(candidate, runs_of(candidate.size(), segments)),
+                        noise, segments);
 }
 
-double holdout_gain_z(const std::vector<double>& reference, const std::vector<double>& candidate,
+template <class T>
+double holdout_gain_z(const std::vector<T>& reference, const std::vector<T>& candidate,
                       const std::vector<double>& rho, double noise,
                       const std::vector<std::size_t>& segments) {
   if (reference.empty() || reference.size() != candidate.size() || !(noise > 0.0)) return 0.0;
-  const std::vector<std::size_t> runs = runs_of(reference, segments);
+  const std::vector<std::size_t> runs = runs_of(reference.size(), segments);
   double gain = 0.0, cand2 = 0.0, dd = 0.0, cross = 0.0;
   std::vector<double> d(reference.size());
   std::size_t from = 0;
   for (std::size_t len : runs) {
     if (from + len > reference.size()) break;
     for (std::size_t i = from; i < from + len; ++i) {
-      d[i] = reference[i] - candidate[i];
+      const double ref = reference[i], cand = candidate[i];
+      d[i] = ref - cand;
       dd += d[i] * d[i];
-      gain += reference[i] * reference[i] - candidate[i] * candidate[i];
-      cand2 += candidate[i] * candidate[i];
+      gain += ref * ref - cand * cand;
+      cand2 += cand * cand;
     }
     for (std::size_t lag = 1; lag <= rho.size() && lag < len; ++lag)
       cross += rho[lag - 1] * lagged_dot(d.data() + from, len, lag);
@@ -149,8 +161,9 @@ double significant_gain_z_for(std::size_t compared) {
   return std::min(significant_gain_z, z);
 }
 
-double largest_window_gain(const std::vector<std::vector<double>>& reference,
-                           const std::vector<std::vector<double>>& candidate, std::size_t window) {
+template <class T>
+double largest_window_gain(const std::vector<std::vector<T>>& reference,
+                           const std::vector<std::vector<T>>& candidate, std::size_t window) {
   double best = 0.0;
   for (std::size_t s = 0; s < reference.size() && s < candidate.size(); ++s) {
     const auto& r = reference[s];
@@ -158,9 +171,10 @@ double largest_window_gain(const std::vector<std::vector<double>>& reference,
     if (r.size() != c.size() || r.empty()) continue;
     const std::size_t w = std::min(window, r.size());
     double sr = 0.0, sc = 0.0;
+    const auto sq = [](double x) { return x * x; };
     for (std::size_t k = 0; k < r.size(); ++k) {
-      sr += r[k] * r[k], sc += c[k] * c[k];
-      if (k >= w) sr -= r[k - w] * r[k - w], sc -= c[k - w] * c[k - w];
+      sr += sq(r[k]), sc += sq(c[k]);
+      if (k >= w) sr -= sq(r[k - w]), sc -= sq(c[k - w]);
       if (k + 1 >= w)
         best = std::max(best, std::sqrt(std::max(sr, 0.0) / static_cast<double>(w)) -
                                   std::sqrt(std::max(sc, 0.0) / static_cast<double>(w)));
@@ -169,7 +183,8 @@ double largest_window_gain(const std::vector<std::vector<double>>& reference,
   return best;
 }
 
-double worst_block_gain(const std::vector<double>& reference, const std::vector<double>& candidate,
+template <class T>
+double worst_block_gain(const std::vector<T>& reference, const std::vector<T>& candidate,
                         const std::vector<std::size_t>& blocks) {
   std::size_t total = 0;
   for (std::size_t n : blocks)
@@ -181,8 +196,9 @@ double worst_block_gain(const std::vector<double>& reference, const std::vector<
   for (std::size_t n : blocks) {
     double ref = 0.0, cand = 0.0;
     for (std::size_t k = at; k < at + n; ++k) {
-      ref += reference[k] * reference[k];
-      cand += candidate[k] * candidate[k];
+      const double a = reference[k], b = candidate[k];
+      ref += a * a;
+      cand += b * b;
     }
     at += n;
     if (n == 0) continue;
@@ -190,5 +206,23 @@ double worst_block_gain(const std::vector<double>& reference, const std::vector<
   }
   return std::isfinite(worst) ? worst : -std::numeric_limits<double>::infinity();
 }
+
+// The residuals' two precisions: double (computed) and float (StoredResiduals).
+#define THERMNET_STATISTICS_FOR(T)                                                                 \
+  template double autocorrelation_time(const std::vector<std::vector<T>>&, double);                \
+  template std::vector<double> positive_autocorrelation(                                           \
+      const std::vector<T>&, const std::vector<std::size_t>&, std::size_t);                        \
+  template double holdout_gain_z(const std::vector<T>&, const std::vector<T>&, double,             \
+                                 const std::vector<std::size_t>&);                                 \
+  template double holdout_gain_z(const std::vector<T>&, const std::vector<T>&,                     \
+                                 const std::vector<double>&, double,                               \
+                                 const std::vector<std::size_t>&);                                 \
+  template double largest_window_gain(const std::vector<std::vector<T>>&,                          \
+                                      const std::vector<std::vector<T>>&, std::size_t);            \
+  template double worst_block_gain(const std::vector<T>&, const std::vector<T>&,                   \
+                                   const std::vector<std::size_t>&);
+THERMNET_STATISTICS_FOR(double)
+THERMNET_STATISTICS_FOR(float)
+#undef THERMNET_STATISTICS_FOR
 
 } // namespace thermnet

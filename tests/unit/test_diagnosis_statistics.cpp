@@ -29,17 +29,20 @@ TEST_CASE("diagnosis statistics: autocorrelation time and the comparison of two 
   CHECK(autocorrelation_time(white) == doctest::Approx(1.0).epsilon(0.1));
   CHECK(autocorrelation_time(ar) == doctest::Approx(9.0).epsilon(0.2));
   // Two fits whose residuals differ by a tiny systematic amount: not told apart.
-  FitResiduals a{white, 1.0}, b{white, 1.01};
+  std::vector<StoredResiduals> stored; // (the fits' residuals as the diagnosis keeps them)
+  for (const auto& v : white)
+    stored.emplace_back(v.begin(), v.end());
+  FitResiduals a{stored, 1.0}, b{stored, 1.01};
   for (auto& v : b.series)
     for (std::size_t k = 0; k < v.size(); ++k)
-      v[k] += 0.003 * std::sin(static_cast<double>(k) / 50.0);
+      v[k] += static_cast<float>(0.003 * std::sin(static_cast<double>(k) / 50.0));
   const FitComparison same = compare_fits(a, b, 0.1);
   CHECK(same.z < 3.0);
   CHECK_FALSE(same.separable);
   // A systematic error of the second fit as large as the noise: told apart, the first is better.
   for (auto& v : b.series)
     for (std::size_t k = 0; k < v.size(); ++k)
-      v[k] += 0.1 * std::sin(static_cast<double>(k) / 50.0);
+      v[k] += static_cast<float>(0.1 * std::sin(static_cast<double>(k) / 50.0));
   const FitComparison apart = compare_fits(a, b, 0.1);
   CHECK(apart.first_better);
   CHECK(apart.separable);
@@ -118,4 +121,37 @@ TEST_CASE("diagnosis report: an ambiguity set is written as the finding's candid
   // Without rivals neither field is written (the finding alone is not an ambiguity set).
   r.findings[0].rivals.clear();
   CHECK_FALSE(diagnosis_json(r)["findings"][0].contains("candidates"));
+}
+
+TEST_CASE("diagnosis statistics: residuals kept in single precision test as in double") {
+  // The diagnosis keeps every candidate's residuals as floats (StoredResiduals): each test gives
+  // what the doubles give, to the floats' rounding.
+  std::mt19937_64 rng(17);
+  std::normal_distribution<double> noise(0.0, 0.2);
+  const std::size_t n = 3000;
+  std::vector<double> ref(n), cand(n);
+  double x = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    x = 0.9 * x + noise(rng);
+    ref[k] = x + 0.3 * std::sin(static_cast<double>(k) / 60.0);
+    cand[k] = x;
+  }
+  const StoredResiduals fref(ref.begin(), ref.end()), fcand(cand.begin(), cand.end());
+  const std::vector<std::size_t> segments{1000, 2000};
+  const auto rho = positive_autocorrelation(cand, segments);
+  const auto frho = positive_autocorrelation(fcand, segments);
+  REQUIRE(rho.size() == frho.size());
+  REQUIRE_FALSE(rho.empty());
+  for (std::size_t k = 0; k < rho.size(); ++k)
+    CHECK(frho[k] == doctest::Approx(rho[k]).epsilon(1e-5));
+  const double z = holdout_gain_z(ref, cand, rho, 0.2, segments);
+  CHECK(z > 3.0);
+  CHECK(holdout_gain_z(fref, fcand, frho, 0.2, segments) == doctest::Approx(z).epsilon(1e-5));
+  CHECK(worst_block_gain(fref, fcand, segments) ==
+        doctest::Approx(worst_block_gain(ref, cand, segments)).epsilon(1e-5));
+  const std::vector<std::vector<double>> r2{ref}, c2{cand};
+  const std::vector<StoredResiduals> fr2{fref}, fc2{fcand};
+  CHECK(largest_window_gain(fr2, fc2) ==
+        doctest::Approx(largest_window_gain(r2, c2)).epsilon(1e-5));
+  CHECK(sum_of_squares(fref) == doctest::Approx(sum_of_squares(ref)).epsilon(1e-6));
 }

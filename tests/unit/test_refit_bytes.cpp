@@ -15,8 +15,8 @@ using thermnet::detail::unpack_refit;
 
 namespace {
 
-bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+template <class T> bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
 } // namespace
@@ -27,14 +27,16 @@ TEST_CASE("a refit comes back from its bytes bit for bit") {
   r.p = {0.1 + 0.2, 1e-300};
   r.se = {std::numeric_limits<double>::quiet_NaN(), 0.25};
   r.sse = 12.000000000000002;
-  r.r = {-0.5, 0.0, 3.0 / 7.0};
-  r.holdout_r = {2.0 / 3.0, -1.0 / 3.0};
+  r.holdout_sse = 0.1 + 0.7;
+  r.r = {-0.5f, 0.0f, 3.0f / 7.0f};
+  r.holdout_r = {2.0f / 3.0f, -1.0f / 3.0f};
   r.holdout_rho = {0.1 / 3.0};
   const Refit back = unpack_refit(pack_refit(r));
   CHECK(back.ok);
   CHECK(same_bits(back.p, r.p));
   CHECK(same_bits(back.se, r.se));
   CHECK(std::memcmp(&back.sse, &r.sse, sizeof(double)) == 0);
+  CHECK(std::memcmp(&back.holdout_sse, &r.holdout_sse, sizeof(double)) == 0);
   CHECK(same_bits(back.r, r.r));
   CHECK(same_bits(back.holdout_r, r.holdout_r));
   CHECK(same_bits(back.holdout_rho, r.holdout_rho));
@@ -42,7 +44,7 @@ TEST_CASE("a refit comes back from its bytes bit for bit") {
 
 TEST_CASE("a failed refit stays failed, and truncated bytes are an error") {
   Refit failed;
-  failed.holdout_r = {1.5}; // a fold scored before a later fold failed
+  failed.holdout_r = {1.5f}; // a fold scored before a later fold failed
   const Refit back = unpack_refit(pack_refit(failed));
   CHECK_FALSE(back.ok);
   CHECK(back.p.empty());
