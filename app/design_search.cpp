@@ -1,10 +1,7 @@
 #include "app/design_search.hpp"
 
 #include "kernel/core/parallel.hpp"
-
-#include <pagmo/algorithms/compass_search.hpp>
-#include <pagmo/population.hpp>
-#include <pagmo/problem.hpp>
+#include "plugins/optimizer/pagmo_sga.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -44,7 +41,7 @@ bool better(const DesignPoint& a, const DesignPoint& b) {
   return a.objective < b.objective;
 }
 
-/// The pagmo problem over the unit box: penalised objective.
+/// The search's problem over the unit box: penalised objective.
 struct PenaltyProblem {
   struct State {
     const DesignProblem* problem = nullptr;
@@ -55,26 +52,22 @@ struct PenaltyProblem {
   };
   std::shared_ptr<State> state;
 
-  std::vector<double> to_x(const pagmo::vector_double& u) const {
+  std::vector<double> to_x(const std::vector<double>& u) const {
     const auto& ps = state->problem->params();
     std::vector<double> x(u.size());
     for (std::size_t j = 0; j < u.size(); ++j)
       x[j] = *ps[j].lo + (*ps[j].hi - *ps[j].lo) * std::clamp(u[j], 0.0, 1.0);
     return x;
   }
-  pagmo::vector_double fitness(const pagmo::vector_double& u) const {
-    if (state->cancel && state->cancel->load()) return {failed_fitness};
+  double fitness(const std::vector<double>& u) const {
+    if (state->cancel && state->cancel->load()) return failed_fitness;
     DesignPoint p = state->problem->evaluate(to_x(u));
     ++state->evaluations;
     if (!p.ok) ++state->failed;
     const double f =
         p.ok ? p.objective / state->scale + penalty_weight * p.violation : failed_fitness;
     if (better(p, state->best)) state->best = std::move(p);
-    return {f};
-  }
-  std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
-    const std::size_t n = state->problem->params().size();
-    return {pagmo::vector_double(n, 0.0), pagmo::vector_double(n, 1.0)};
+    return f;
   }
 };
 
@@ -190,11 +183,12 @@ DesignResult design_search(const DesignProblem& problem, const DesignSettings& s
   if (state->best.ok && settings.evaluations > 0 && !(settings.cancel && settings.cancel->load())) {
     // Stage 2: compass search from the best point so far (its steps start at a tenth of each
     // range and halve down to a thousandth).
-    pagmo::problem prob{PenaltyProblem{state}};
-    pagmo::population pop{prob};
-    pop.push_back(to_unit(problem, state->best.x));
-    pagmo::compass_search algo(static_cast<unsigned>(settings.evaluations), 0.1, 1e-3, 0.5);
-    algo.evolve(pop);
+    const PenaltyProblem penalised{state};
+    CompassRequest request;
+    request.start = to_unit(problem, state->best.x);
+    request.max_evaluations = static_cast<unsigned>(settings.evaluations);
+    request.fitness = [&penalised](const std::vector<double>& u) { return penalised.fitness(u); };
+    load_pagmo_compass()(request);
   }
   result.best = state->best;
   result.evaluations = state->evaluations;

@@ -1,6 +1,6 @@
-// Finding and loading libthermnet_pagmo_sga (plugins/optimizer/pagmo_sga.hpp). It is looked for,
-// in order, where an installation puts it relative to the binary holding this code (the
-// executable or the Python module), beside that binary, and where the build tree made it.
+// Finding and loading libthermnet_pagmo_sga (plugins/optimizer/pagmo_sga.hpp) and its entry points.
+// It is looked for, in order, where an installation puts it relative to the binary holding this
+// code (the executable or the Python module), beside that binary, and where the build tree made it.
 
 #include "plugins/optimizer/pagmo_sga.hpp"
 
@@ -37,31 +37,38 @@ std::vector<std::filesystem::path> candidates() {
   return paths;
 }
 
-SgaEvolve load_once() {
+// The library, loaded once per process (RTLD_LOCAL: its pagmo stays its own).
+void* load_library() {
   std::string tried;
   for (const auto& path : candidates()) {
-    if (void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL)) {
-      if (void* entry = ::dlsym(handle, "thermnet_pagmo_sga_evolve"))
-        return reinterpret_cast<SgaEvolve>(entry);
-      throw std::runtime_error(
-          fmt::format("'{}' has no entry point thermnet_pagmo_sga_evolve", path.string()));
-    }
+    if (void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL)) return handle;
     const char* why = ::dlerror(); // names the path already
     tried += fmt::format("{}{}", tried.empty() ? "" : "; ", why ? why : path.string());
   }
-  throw std::runtime_error("the 'ga' optimizer needs " THERMNET_PAGMO_SGA_FILE_NAME
+  throw std::runtime_error("pagmo's algorithms ('ga', `design`) need " THERMNET_PAGMO_SGA_FILE_NAME
                            ", which could not be loaded: " +
                            tried);
+}
+
+// The library's entry point `name`.
+void* entry_point(const char* name) {
+  static std::mutex mutex;
+  static void* handle = nullptr;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (!handle) handle = load_library();
+  if (void* entry = ::dlsym(handle, name)) return entry;
+  throw std::runtime_error(
+      fmt::format("{} has no entry point {}", THERMNET_PAGMO_SGA_FILE_NAME, name));
 }
 
 } // namespace
 
 SgaEvolve load_pagmo_sga() {
-  static std::mutex mutex;
-  static SgaEvolve entry = nullptr;
-  std::lock_guard<std::mutex> lock(mutex);
-  if (!entry) entry = load_once();
-  return entry;
+  return reinterpret_cast<SgaEvolve>(entry_point("thermnet_pagmo_sga_evolve"));
+}
+
+CompassSearch load_pagmo_compass() {
+  return reinterpret_cast<CompassSearch>(entry_point("thermnet_pagmo_compass_search"));
 }
 
 } // namespace thermnet
