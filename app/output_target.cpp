@@ -6,6 +6,7 @@
 #include <climits>
 #include <cstdlib>
 #include <cstring>
+#include <fcntl.h>
 #include <filesystem>
 #include <optional>
 #include <sys/stat.h>
@@ -53,6 +54,15 @@ std::string follow_dangling(const std::string& named) {
   }
 }
 
+/// Refuses an output whose directory cannot take it: a file there is written as a temporary
+/// beside it and renamed, so the directory itself must be writable (checked for the effective
+/// user, before the run: a diagnosis must not run for minutes and then fail to write its report).
+void require_writable_directory(const std::string& named, const std::string& real_dir) {
+  if (::faccessat(AT_FDCWD, real_dir.c_str(), W_OK | X_OK, AT_EACCESS) != 0)
+    fail(named,
+         fmt::format("its folder '{}' cannot be written ({})", real_dir, std::strerror(errno)));
+}
+
 /// A file to be created at `path` (which does not exist): its real directory must exist.
 OutputTarget new_file(const std::string& named, const std::string& path) {
   const fs::path p(path);
@@ -63,6 +73,7 @@ OutputTarget new_file(const std::string& named, const std::string& path) {
   if (!real_dir)
     fail(named, errno == ENOENT ? fmt::format("the directory '{}' does not exist", dir)
                                 : std::string(std::strerror(errno)));
+  require_writable_directory(named, *real_dir);
   OutputTarget t;
   t.kind = OutputTarget::Kind::new_file;
   t.named = named;
@@ -135,6 +146,7 @@ OutputTarget resolve_output(const std::string& path, Follow follow) {
                            S_ISBLK(st.st_mode) ? "block device" : "socket"));
   const auto real = real_path_of(path);
   if (!real) fail(path, std::strerror(errno));
+  require_writable_directory(path, fs::path(*real).parent_path().string());
   t.kind = OutputTarget::Kind::regular_file;
   t.real = *real;
   t.mode = st.st_mode & 07777;

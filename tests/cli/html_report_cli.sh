@@ -81,10 +81,29 @@ for cmd in diagnose calibrate; do
   check "$cmd --html and --json on one file: exit 2 naming both" \
     eval "test \"\$rc\" -eq 2 && grep -q \"same file\" err.txt && test ! -e same.html"
 done
-if [ "$(id -u)" -ne 0 ]; then
-  mkdir -p ro && chmod a-w ro
-  run diagnose m.tnet --html ro/r.html
-  check "diagnose --html into a read-only folder: exit 2" test "$rc" -eq 2
+# A folder the user cannot write: refused before the diagnosis runs (no report on standard output),
+# for a new file and for an existing one. Run as root, the check runs as the unprivileged user
+# `nobody` (setpriv), whom the folder refuses as it refuses everyone but root.
+mkdir -p ro && echo old >ro/old.html && chmod 755 ro && chmod a-w ro
+as_user=()
+if [ "$(id -u)" -eq 0 ]; then
+  if command -v setpriv >/dev/null && id nobody >/dev/null 2>&1; then
+    as_user=(setpriv --reuid=nobody --regid=nogroup --clear-groups)
+    chmod -R a+rX . && chmod a-w ro # (the work folder is private: mktemp -d)
+  else
+    as_user=(skip)
+  fi
+fi
+if [ "${as_user[0]:-}" != skip ]; then
+  for target in ro/r.html ro/old.html; do
+    "${as_user[@]}" "$TN" diagnose m.tnet --html "$target" >out.txt 2>err.txt
+    rc=$?
+    check "diagnose --html $target in a read-only folder: exit 2 before the diagnosis, naming it" \
+      eval "test \"\$rc\" -eq 2 && grep -q \"cannot write .$target.*cannot be written\" err.txt && ! grep -q RMSE out.txt"
+  done
+  check "the file in the read-only folder is untouched" grep -qx old ro/old.html
+else
+  echo "SKIP: no setpriv or user nobody: the read-only folder is not checked as root"
 fi
 # Atomic: a report that exists stays whole until the new one is complete; no temporary is left.
 echo old >keep.html
