@@ -10,7 +10,8 @@
 # depend on time. Measured on the shared 2-core machine (the heap's fragmentation moves it by a
 # tenth): 1800-1891 bytes a row before the cuts of issue 51, 1385-1641 after them (the fit's
 # residuals and Jacobian moved instead of copied, one covariance per refit, the replaced fit
-# released before the next restart, the first step's residuals released once read). The bound,
+# released before the next restart, the first step's residuals released once read), 1331 once
+# every refit kept its residuals in single precision from its end (2026-11-29). The bound,
 # 2200 bytes a row, sits a third above the largest measured after the cuts so that
 # fragmentation never fails it: it fails when the candidates keep a third more per row (two more
 # residual vectors of the measured points for each of the joint refits), not on the margin
