@@ -253,13 +253,17 @@ void add_finding(HtmlPage& page, const Finding& f, const DiagnosisReport& r) {
   sig.caption = "Significance";
   sig.head = {"test", "value", "reads"};
   sig.align = {Align::left, Align::right, Align::left};
-  sig.rows.push_back({"held-out gain over its reference fit", "z = " + page_number(f.holdout_z, 3),
-                      "how many standard errors the held-out predictions improve"});
+  // (the likelihood criterion tests by the likelihood ratio alone: the output-error criterion's
+  // held-out z and local gain are not computed for its findings, and not shown as zeros)
+  if (!f.likelihood)
+    sig.rows.push_back({"held-out gain over its reference fit",
+                        "z = " + page_number(f.holdout_z, 3),
+                        "how many standard errors the held-out predictions improve"});
   sig.rows.push_back({"ΔBIC (after − before)", page_number(f.delta_bic, 4),
                       f.delta_bic < 0 ? "negative: the extension pays for its parameters"
                                       : "not negative: the extension does not pay for its "
                                         "parameters by BIC"});
-  if (std::isfinite(f.window_gain))
+  if (!f.likelihood && std::isfinite(f.window_gain))
     sig.rows.push_back({"largest local gain (10 samples)", page_number(f.window_gain, 3) + " K",
                         fmt::format("practical floor {} K", page_number(r.min_gain, 3))});
   if (f.likelihood) {
@@ -281,6 +285,9 @@ void add_finding(HtmlPage& page, const Finding& f, const DiagnosisReport& r) {
     std::string note;
     if (auto b = f.at_bounds.find(c.names[k]); b != f.at_bounds.end())
       note = "on its " + b->second + " bound: a limit, not an estimate";
+    else if (!std::isfinite(se))
+      note = "no standard error: the fit's curvature does not determine it (or, with other "
+             "parameters on bounds, it cannot be separated from them)";
     params.rows.push_back({c.names[k], page_number(v, 5), page_number(se, 3),
                            std::isfinite(se) ? fmt::format("{} … {}", page_number(v - 1.96 * se),
                                                            page_number(v + 1.96 * se))
@@ -349,7 +356,8 @@ void add_findings(HtmlPage& page, const DiagnosisReport& r) {
     for (const auto& f : r.alternatives)
       t.rows.push_back({what_of(f.candidate), values_words(f.candidate.names, f.values),
                         page_number(f.rmse_after), page_number(f.validation_rmse_after),
-                        page_number(f.holdout_z, 3), page_number(f.delta_bic, 4)});
+                        f.likelihood ? std::string("—") : page_number(f.holdout_z, 3),
+                        page_number(f.delta_bic, 4)});
     page.table(t);
     page.close_section();
   }
@@ -362,7 +370,8 @@ void add_findings(HtmlPage& page, const DiagnosisReport& r) {
     for (const auto& f : r.rejected)
       t.rows.push_back({what_of(f.candidate), values_words(f.candidate.names, f.values),
                         page_number(f.rmse_after), page_number(f.validation_rmse_after),
-                        page_number(f.holdout_z, 3), page_number(f.delta_bic, 4)});
+                        f.likelihood ? std::string("—") : page_number(f.holdout_z, 3),
+                        page_number(f.delta_bic, 4)});
     page.table(t);
     page.close_section();
   }

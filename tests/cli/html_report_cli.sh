@@ -37,6 +37,18 @@ check "diagnose --criterion prediction --html: exit 0" eval 'test "$rc" -eq 0 -a
 check "  ... the innovations' whiteness series and plots of the JSON are on the page" \
   eval '"$PY" "$CHECK" diagnose p.html p.json >check.txt 2>&1 || { cat check.txt >err.txt; false; }'
 check "  ... it names the innovations" grep -q "innovations" p.html
+cat >likelihood_rows.py <<'EOF'
+import json, sys
+findings = json.load(open(sys.argv[1]))["findings"]
+page = open(sys.argv[2]).read()
+# a finding of the likelihood criterion is tested by its likelihood ratio; the output-error
+# criterion's held-out z and local gain are not computed for it and must not read as zeros
+sys.exit(0 if findings and "likelihood ratio" in page
+         and "held-out gain over its reference fit" not in page
+         and "largest local gain" not in page else 1)
+EOF
+check "  ... a finding shows its likelihood-ratio test, not the output-error tests it never ran" \
+  "$PY" likelihood_rows.py p.json p.html
 
 # ----------------------------------------------------------------------------- calibrate
 run calibrate m.tnet --method lm --json c.json --html c.html
