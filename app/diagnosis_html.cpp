@@ -275,6 +275,24 @@ void add_finding(HtmlPage& page, const Finding& f, const DiagnosisReport& r) {
   }
   page.table(sig);
 
+  if (!r.curves.empty() && r.curves.front().steps.size() >= static_cast<std::size_t>(f.rank)) {
+    const auto k = static_cast<std::size_t>(f.rank);
+    auto fig = diagnosis_figure(r, "", 3, true, k - 1, k);
+    fig.columns = r.curves.size() > 1 ? 2 : 1;
+    fig.panel_height = r.curves.size() > 1 ? 260 : 320;
+    page.figure(std::move(fig),
+                f.rank == 1
+                    ? std::string("This finding's own step: measured (markers), the model as "
+                                  "declared (solid) and with this finding (dashed), worst "
+                                  "nodes, one panel per case.")
+                    : fmt::format("This finding's own step: measured (markers), the model "
+                                  "with finding{} 1{} (solid) and with this one too "
+                                  "(dashed), worst nodes, one panel per case.",
+                                  f.rank > 2 ? "s" : "",
+                                  f.rank > 2 ? fmt::format("–{}", f.rank - 1) : std::string()),
+                fmt::format("finding-{}-step", f.rank));
+  }
+
   HtmlTable params;
   params.caption = "Fitted parameters (SI)";
   params.head = {"parameter", "fitted", "standard error", "95 % interval (±1.96 SE)", "note"};
@@ -334,7 +352,7 @@ void add_findings(HtmlPage& page, const DiagnosisReport& r) {
     add_finding(page, f, r);
   if (!r.findings.empty()) {
     page.open_section("before-after", "Before and after");
-    auto fig = diagnosis_figure(r, "", 3, true);
+    auto fig = diagnosis_figure(r, "", 3, true, 0, r.findings.size());
     fig.columns = r.curves.size() > 1 ? 2 : 1;
     fig.panel_height = r.curves.size() > 1 ? 300 : 380;
     page.figure(

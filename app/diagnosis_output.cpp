@@ -116,7 +116,7 @@ std::string diagnosis_svg(const DiagnosisReport& r, const std::string& model_nam
 }
 
 plot::Figure diagnosis_figure(const DiagnosisReport& r, const std::string& title, std::size_t worst,
-                              bool with_after) {
+                              bool with_after, std::size_t from, std::size_t to) {
   std::vector<std::pair<std::string, double>> nodes;
   for (const auto& [name, m] : r.baseline.nodes)
     nodes.emplace_back(name, m.rmse);
@@ -128,6 +128,13 @@ plot::Figure diagnosis_figure(const DiagnosisReport& r, const std::string& title
   plot::Figure fig;
   fig.title = title;
   for (const auto& cv : r.curves) {
+    // The curves before and after: the declared model and the best finding's, or two steps.
+    const auto* before = &cv.before;
+    const auto* after = &cv.after;
+    if (to >= 1 && to <= cv.steps.size()) {
+      after = &cv.steps[to - 1];
+      if (from >= 1 && from <= cv.steps.size()) before = &cv.steps[from - 1];
+    }
     plot::Panel panel;
     panel.title = "case " + cv.case_name + " (worst nodes)";
     panel.x_label = "time";
@@ -149,8 +156,8 @@ plot::Figure diagnosis_figure(const DiagnosisReport& r, const std::string& title
         panel.series.push_back(std::move(s));
       };
       add(cv.measured, "measured", plot::LineStyle::markers);
-      add(cv.before, with_after ? "before" : "simulated", plot::LineStyle::solid);
-      if (with_after) add(cv.after, "after", plot::LineStyle::dashed);
+      add(*before, with_after ? "before" : "simulated", plot::LineStyle::solid);
+      if (with_after) add(*after, "after", plot::LineStyle::dashed);
     }
     fig.panels.push_back(std::move(panel));
   }

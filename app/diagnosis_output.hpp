@@ -27,9 +27,12 @@ std::string diagnosis_svg(const DiagnosisReport& report, const std::string& mode
                           std::size_t worst = 3);
 
 /// The figure of diagnosis_svg(): one panel per case, measured and simulated curves of the
-/// `worst` nodes (by baseline RMSE), the curves with the findings applied when `with_after`.
+/// `worst` nodes (by baseline RMSE): the declared model and, when `with_after`, the best finding's
+/// (`Curves::after`); with `to` k >= 1, the model with findings 1..`from` (0: the declared one)
+/// and the model with findings 1..k instead (`Curves::steps`).
 plot::Figure diagnosis_figure(const DiagnosisReport& report, const std::string& title,
-                              std::size_t worst, bool with_after);
+                              std::size_t worst, bool with_after, std::size_t from = 0,
+                              std::size_t to = 0);
 
 /// The comment --write puts above a finding's lines: its kind, nodes, evidence and gain.
 std::string finding_comment(const Finding& finding);

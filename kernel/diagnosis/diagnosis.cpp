@@ -57,7 +57,9 @@ DiagnosisReport diagnose(const lang::Model& model, const DiagnosisOptions& optio
     rep.structural = detail::residual_signature(engine.evidence(), last->sims, last->metrics.rmse);
     rep.structural.remains = !last->at_floor && last->metrics.rmse >= 2.0 * rep.noise_floor;
   }
-  rep.curves = engine.curves(best);
+  // (a selection draws its findings' curves itself: `after` is the best finding's model, as
+  // --plot draws it, and the steps every finding's)
+  if (rep.curves.empty()) rep.curves = engine.curves(best, best);
   // (the likelihood steps' batches, added by the selection, come after the engine's)
   rep.batches.insert(rep.batches.begin(), engine.batches().begin(), engine.batches().end());
   rep.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -201,6 +201,9 @@ struct DiagnosisReport {
     std::map<std::string, std::vector<double>> measured; ///< node -> K
     std::map<std::string, std::vector<double>> before;   ///< node -> K
     std::map<std::string, std::vector<double>> after; ///< node -> K (best finding; empty if none)
+    /// node -> K with findings 1..k applied, for k = 1 .. findings (at their final values): each
+    /// finding's own step goes from steps[k - 2] (`before` for k = 1) to steps[k - 1]
+    std::vector<std::map<std::string, std::vector<double>>> steps;
   };
   std::vector<Curves> curves; ///< for plots
 };

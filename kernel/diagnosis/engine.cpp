@@ -368,9 +368,10 @@ double Engine::delta_bic(double sse_after, double sse_before, double k) const {
   return na * std::log((sse_after + floor2 * na) / (sse_before + floor2 * na)) + k * std::log(na);
 }
 
-std::vector<DiagnosisReport::Curves> Engine::curves(const Base& after) const {
+std::vector<DiagnosisReport::Curves> Engine::curves(const Base& after, const Base& all) const {
   std::vector<DiagnosisReport::Curves> out;
   const bool with_after = !after.applied.empty();
+
   for (std::size_t c = 0; c < ev_.cases.size(); ++c) {
     DiagnosisReport::Curves cv;
     cv.case_name = ev_.cases[c].name;
@@ -382,6 +383,17 @@ std::vector<DiagnosisReport::Curves> Engine::curves(const Base& after) const {
       if (with_after) cv.after[n] = after.sims[c][s];
     }
     out.push_back(std::move(cv));
+  }
+  // Each finding's own step: the models with the first k findings (at their final values), one
+  // at a time (a base holds every measured point's simulation and residuals).
+  for (std::size_t k = 1; k <= all.applied.size(); ++k) {
+    const Base b = make_base(std::vector<Applied>(
+        all.applied.begin(), all.applied.begin() + static_cast<std::ptrdiff_t>(k)));
+    for (std::size_t c = 0; c < ev_.cases.size(); ++c) {
+      out[c].steps.emplace_back();
+      for (std::size_t s = 0; s < ev_.cases[c].measured.series.size(); ++s)
+        out[c].steps.back()[ev_.cases[c].measured.series[s].node] = b.sims[c][s];
+    }
   }
   return out;
 }

@@ -137,8 +137,9 @@ public:
   double delta_bic(double sse_after, double sse_before, double k) const;
   /// The longest trend disagreement of the nodes in words (empty if none).
   std::string trend_words(const FitMetrics& m, const std::vector<std::string>& nodes) const;
-  /// Per case: measured, baseline and `after` (if it applies findings) series of every node.
-  std::vector<DiagnosisReport::Curves> curves(const Base& after) const;
+  /// Per case: measured, baseline and `after` (if it applies findings) series of every node, and
+  /// the steps of the findings `all` applies (the models with its first 1, 2, ... findings).
+  std::vector<DiagnosisReport::Curves> curves(const Base& after, const Base& all) const;
   /// The Jacobian d(residual)/d(parameter) on all data of an entry's candidate on top of a base
   /// at p: from the cases' forward sensitivities and the corrections' derivatives (empty when the
   /// networks cannot integrate them), or (with `differences`) from central differences of

@@ -178,7 +178,10 @@ public:
     sum.notes.push_back("the ranged params are refitted with every structure (no separate "
                         "`parameter` finding)");
     rep.prediction = std::move(sum);
-    return engine_.make_base(applied);
+    Base selected = engine_.make_base(applied);
+    // (here, while the hypotheses the findings name are alive: the curves simulate their steps)
+    rep.curves = engine_.curves(selected, selected);
+    return selected;
   }
 
 private:

@@ -25,6 +25,8 @@ Base Selection::run(DiagnosisReport& rep, Base& last) {
   if (refit_tied_variants(recal, rep)) rank_first(recal);
   const Base best = select_forward(rep, last);
   finish(rep);
+  // (here, while the hypotheses the findings name are alive: the curves simulate their steps)
+  rep.curves = engine_.curves(best, last);
   return best;
 }
 

@@ -37,6 +37,14 @@ check "diagnose --criterion prediction --html: exit 0" eval 'test "$rc" -eq 0 -a
 check "  ... the innovations' whiteness series and plots of the JSON are on the page" \
   eval '"$PY" "$CHECK" diagnose p.html p.json >check.txt 2>&1 || { cat check.txt >err.txt; false; }'
 check "  ... it names the innovations" grep -q "innovations" p.html
+cat >step_plots.py <<'EOF'
+import json, sys
+n = len(json.load(open(sys.argv[1]))["findings"])
+page = open(sys.argv[2]).read()
+sys.exit(0 if n and all(f'data-plot="finding-{k}-step"' in page for k in range(1, n + 1)) else 1)
+EOF
+check "  ... every finding has the plot of its own step" "$PY" step_plots.py d.json d.html
+check "  ... (under the likelihood criterion too)" "$PY" step_plots.py p.json p.html
 cat >likelihood_rows.py <<'EOF'
 import json, sys
 findings = json.load(open(sys.argv[1]))["findings"]
