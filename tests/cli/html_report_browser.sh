@@ -132,6 +132,10 @@ for name in d c; do
   browse "$name.html" "$name"
   check "$name.html loads: the DOM has its sections and figures" \
     eval 'grep -q "<section id=\"run\"" '"$name"'.dom && grep -q "<svg" '"$name"'.dom'
+  what=$([ "$name" = d ] && echo diagnose || echo calibrate)
+  check "$name.html as the browser shows it: every finding or param, case and plot of its JSON" \
+    eval '"$PY" "$HERE/html_report_check.py" '"$what $name"'.dom '"$name"'.json >check.txt 2>&1 ||
+      { cat check.txt >err.txt; false; }'
   check "$name.html: no console message" eval '! console '"$name"' >"$name.console" 2>&1 ||
     { cat "$name.console" >err.txt; false; }'
   check "$name.html: no network request" eval 'test -s '"$name"'.net.json && test -z "$(requests '"$name"' '"$name"'.html)"'
