@@ -31,14 +31,19 @@ void add_run(HtmlPage& page, const CalibrationPage& in, bool prediction) {
                                : "output error: the simulation's RMSE against the measurements"},
       {"method", r.method},
       {"cases", fmt::format("{}: {}", pb.cases().size(), fmt::join(pb.cases(), ", "))},
-      {"measured points", std::to_string(pb.points())},
-      {"evaluations", fmt::format("{} ({} samples, {} accepted, {} case simulations)",
-                                  r.evaluations, r.samples, r.accepted, r.simulations)}};
-  if (!prediction) {
-    more.emplace_back("seed", std::to_string(in.context.seed));
-    more.emplace_back("acceptance limit (mc, lhs)",
+      {"measured points", std::to_string(pb.points())}};
+  // (samples, acceptance and the seed belong to the methods that draw: lm has none of them)
+  const bool sampled = r.method == "mc" || r.method == "lhs";
+  const bool seeded = sampled || r.method == "ga";
+  more.emplace_back("evaluations",
+                    sampled
+                        ? fmt::format("{} ({} samples, {} accepted, {} case simulations)",
+                                      r.evaluations, r.samples, r.accepted, r.simulations)
+                        : fmt::format("{} ({} case simulations)", r.evaluations, r.simulations));
+  if (!prediction && seeded) more.emplace_back("seed", std::to_string(in.context.seed));
+  if (!prediction && sampled)
+    more.emplace_back("acceptance limit",
                       page_number(in.context.tolerance, 4) + " K for every |T_sim − T_meas|");
-  }
   more.emplace_back("wall time", fmt::format("{:.2f} s", r.wall_s));
   add_run_facts(page, in.context.model, in.inputs, more);
   page.close_section();

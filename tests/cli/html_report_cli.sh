@@ -61,6 +61,8 @@ check "  ... a finding shows its likelihood-ratio test, not the output-error tes
 # ----------------------------------------------------------------------------- calibrate
 run calibrate m.tnet --method lm --json c.json --html c.html
 check "calibrate --method lm --html: exit 0" eval 'test "$rc" -eq 0 -a -s c.html'
+check "  ... no sampling fields that lm has not (seed, samples accepted, acceptance limit)" \
+  eval '! grep -qE "acceptance limit|samples, [0-9]+ accepted|<th[^>]*>seed<" c.html'
 check "  ... every param, case and plot of the JSON is on the page, self-contained" \
   eval '"$PY" "$CHECK" calibrate c.html c.json >check.txt 2>&1 || { cat check.txt >err.txt; false; }'
 check "  ... the param's description is escaped" \
