@@ -63,6 +63,14 @@ CLI::Validator rule_validator(NumberRule rule, const std::string& type_name) {
       type_name);
 }
 
+CLI::Validator output_file_validator() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        return text.empty() ? "an output needs a file name (got an empty one)" : std::string();
+      },
+      "FILE");
+}
+
 void require(NumberRule rule, double value, const std::string& name) {
   if (const std::string must = rule(value); !must.empty())
     throw std::invalid_argument(fmt::format("{} = {:g} is not {}", name, value, must));

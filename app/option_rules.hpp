@@ -33,6 +33,10 @@ std::string non_negative_whole_rule(double value);
 /// shown in the help (NUMBER, INT).
 CLI::Validator rule_validator(NumberRule rule, const std::string& type_name);
 
+/// A CLI11 validator of an output's file name: refuses an empty one (`--html ''` would otherwise
+/// write nothing and say nothing).
+CLI::Validator output_file_validator();
+
 /// Throws std::invalid_argument naming `name` when `rule` refuses `value`.
 void require(NumberRule rule, double value, const std::string& name);
 

@@ -143,10 +143,11 @@ void add_diagnose_command(CLI::App& app, int& status) {
   sub->add_option("model", o->model, "model file (.tnet) whose cases carry measured data")
       ->required();
   sub->add_option("--case", o->cases, "diagnose only these cases (repeatable)");
-  sub->add_option("--json", o->json, "write the report as JSON");
+  sub->add_option("--json", o->json, "write the report as JSON")->check(output_file_validator());
   sub->add_option("--html", o->html,
                   "write the report as one self-contained HTML page (baseline, findings with "
-                  "their gains, rivals, lines and plots, residual diagnostics; docs/diagnose.md)");
+                  "their gains, rivals, lines and plots, residual diagnostics; docs/diagnose.md)")
+      ->check(output_file_validator());
   sub->add_option("--write", o->write, "write the model with the best finding applied");
   sub->add_option("--plot", o->plot, "write an SVG of before/after curves of the worst nodes");
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")

@@ -90,6 +90,9 @@ for cmd in diagnose calibrate; do
   run "$cmd" m.tnet --html adir
   check "$cmd --html onto a directory: exit 2, 'is a directory'" \
     eval 'test "$rc" -eq 2 && grep -q "is a directory" err.txt'
+  run "$cmd" m.tnet --html ''
+  check "$cmd --html '': exit 2, an output needs a file name" \
+    eval 'test "$rc" -eq 2 && grep -q "needs a file name" err.txt'
   run "$cmd" m.tnet --html no_such_dir/r.html
   check "$cmd --html into a missing folder: exit 2 naming it" \
     eval 'test "$rc" -eq 2 && grep -q "cannot write .no_such_dir/r.html." err.txt'
