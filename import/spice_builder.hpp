@@ -53,6 +53,7 @@ private:
   std::map<std::string, std::size_t> held_;
   std::map<std::string, Signal> held_signal_;
   std::map<std::string, double> cap_;
+  std::map<std::string, lang::Span> cap_at_; // node -> its first capacitor card
   std::map<std::string, std::pair<double, lang::Span>> t0_;
   std::vector<FosterChain> chains_;
   std::map<std::string, std::size_t> node_index_; // flattened node -> index in net_.nodes

@@ -169,6 +169,7 @@ void NetworkBuilder::capacities() {
     if (!usable_[i] || e.kind != 'c') continue;
     const std::string& node = e.a == "0" ? e.b : e.a;
     cap_[node] += e.value;
+    cap_at_.emplace(node, e.at);
     if (e.ic) {
       if (!uic) {
         report_.note(e.at, fmt::format("ignored: IC= of '{}' (as in SPICE, it applies only "
@@ -201,8 +202,11 @@ void NetworkBuilder::declare_nodes() {
       return;
     }
     node_index_[n] = net_.nodes.size();
-    net_.nodes.push_back(
-        {names_.node(n), number(cap_.count(n) ? cap_[n] : 0.0), std::nullopt, names_.what(n), at});
+    net_.nodes.push_back({names_.node(n), number(cap_.count(n) ? cap_[n] : 0.0), std::nullopt,
+                          names_.what(n),
+                          // (a node with a capacity cites the card that gives it, the others the
+                          // first that names it)
+                          cap_at_.count(n) ? cap_at_[n] : at});
   };
   for (std::size_t i = 0; i < c_.elements.size(); ++i) {
     const Element& e = c_.elements[i];

@@ -245,4 +245,10 @@ check "docs example igbt.cir imports, its Foster network as a Cauer ladder" \
   eval 'test "$rc" -eq 0 && has "equivalent Cauer ladder j, cauer_j[1 .. 2]"'
 run lint --werror igbt.tnet
 check "  ... and lints clean" test "$rc" -eq 0
+# A node with a capacity cites the card that gives it, not the first card that names it.
+printf '* boards\nV1 amb 0 20\nRch chassis amb 0.5\nCch chassis 0 1200\nR1 b1 chassis 2\nC1 b1 0 50\nI1 0 b1 10\n.tran 1 100\n.end\n' >cites.cir
+run import cites.cir -o cites.tnet
+check "import: a node's comment cites its capacitor card" \
+  eval 'test "$rc" -eq 0 && grep -q "^node chassis C = 1200 .*# cites.cir:4$" cites.tnet && grep -q "^node b1 C = 50 .*# cites.cir:6$" cites.tnet'
+
 finish
