@@ -12,6 +12,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <unordered_map>
+#include <vector>
 
 namespace thermnet::importer {
 
@@ -121,6 +123,39 @@ bool reports_unreadable(const lang::DiagnosticEngine& diags) {
   });
 }
 
+/// Notes every node that no chain of links ties to a boundary: a floating part of the network
+/// (SPICE has no DC path to ground there), whose steady state is undetermined and of which lint
+/// warns ([no-boundary-path]); its temperatures in a transient are still defined.
+void note_floating(const Network& net, Report& report) {
+  std::unordered_map<std::string, std::size_t> index; // node, then boundary names -> 0, 1, ...
+  for (const Node& n : net.nodes)
+    index.emplace(n.name.text(), index.size());
+  for (const Boundary& b : net.boundaries)
+    index.emplace(b.name.text(), index.size());
+  std::vector<std::size_t> parent(index.size());
+  for (std::size_t k = 0; k < parent.size(); ++k)
+    parent[k] = k;
+  const auto root = [&parent](std::size_t k) { // (path halving: a million-node chain stays fast)
+    while (parent[k] != k)
+      k = parent[k] = parent[parent[k]];
+    return k;
+  };
+  for (const Link& l : net.links) {
+    const auto a = index.find(l.a.text()), b = index.find(l.b.text());
+    if (a != index.end() && b != index.end()) parent[root(a->second)] = root(b->second);
+  }
+  std::vector<char> anchored(parent.size(), 0);
+  for (const Boundary& b : net.boundaries)
+    anchored[root(index.at(b.name.text()))] = 1;
+  for (std::size_t k = 0; k < net.nodes.size(); ++k)
+    if (!anchored[root(k)])
+      report.note(net.nodes[k].origin,
+                  fmt::format("node {} has no path of links to a boundary (a floating part: no DC "
+                              "path to ground in SPICE): its steady state is undetermined, and "
+                              "lint warns of it",
+                              net.nodes[k].name.text()));
+}
+
 } // namespace
 
 ImportResult import_files(const std::vector<std::string>& paths, const ImportOptions& options,
@@ -141,6 +176,7 @@ ImportResult import_files(const std::vector<std::string>& paths, const ImportOpt
   result.failed = report.error_count() > 0 || result.format == Format::automatic ||
                   (result.dropped > 0 && !options.allow_partial);
   if (result.failed) return result;
+  note_floating(net, report);
   result.nodes = net.nodes.size();
   result.boundaries = net.boundaries.size();
   result.links = net.links.size();

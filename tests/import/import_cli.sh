@@ -251,4 +251,10 @@ run import cites.cir -o cites.tnet
 check "import: a node's comment cites its capacitor card" \
   eval 'test "$rc" -eq 0 && grep -q "^node chassis C = 1200 .*# cites.cir:4$" cites.tnet && grep -q "^node b1 C = 50 .*# cites.cir:6$" cites.tnet'
 
+# A floating part (no path of links to a boundary: no DC path to ground) is named, at its line.
+printf '* t\nR1 a 0 1\nR2 b c 1\nI1 0 a 1\n.end\n' >floating.cir
+run import floating.cir -o floating.tnet
+check "import: a floating part is named at its line (exit 0, the model written)" \
+  eval 'test "$rc" -eq 0 && grep -q "floating.cir:3:1: note: node b has no path of links to a boundary" err.txt && grep -q "node c has no path" err.txt && ! grep -q "node a has no path" err.txt && test -s floating.tnet'
+
 finish
