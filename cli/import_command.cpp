@@ -2,6 +2,7 @@
 
 #include "app/exit_status.hpp"
 #include "app/model_loading.hpp"
+#include "app/option_rules.hpp"
 #include "app/output_files.hpp"
 #include "app/output_stream.hpp"
 #include "cli/run_command.hpp"
@@ -91,7 +92,8 @@ void add_import_command(CLI::App& app, int& status) {
                   "the files to import, merged into one model (a SINDA deck and its radiation "
                   "conductor files, or a SPICE netlist)")
       ->required();
-  cmd->add_option("-o,--output", opts->output, "write the model here (default: standard output)");
+  cmd->add_option("-o,--output", opts->output, "write the model here (default: standard output)")
+      ->check(output_file_validator());
   cmd->add_option("--format", opts->format, "the files' format (default: found from the content)")
       ->check(CLI::IsMember({"sinda", "spice"}));
   cmd->add_flag("--allow-partial", opts->allow_partial,

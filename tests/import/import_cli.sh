@@ -257,4 +257,9 @@ run import floating.cir -o floating.tnet
 check "import: a floating part is named at its line (exit 0, the model written)" \
   eval 'test "$rc" -eq 0 && grep -q "floating.cir:3:1: note: node b has no path of links to a boundary" err.txt && grep -q "node c has no path" err.txt && ! grep -q "node a has no path" err.txt && test -s floating.tnet'
 
+# An empty output name is refused, not taken as standard output.
+run import cites.cir -o ''
+check "import -o '': exit 2, an output needs a file name" \
+  eval 'test "$rc" -eq 2 && grep -q "needs a file name" err.txt && ! grep -q "^model" out.txt'
+
 finish
