@@ -13,6 +13,8 @@ namespace thermnet {
 namespace {
 
 constexpr double kEdge = 1e-9; // u kept within [kEdge, 1 - kEdge]
+// Central differences from the first iteration that lowers f by less than this share of 1 + |f|.
+constexpr double kNearDrop = 1e-4;
 
 double logit(double u) {
   u = std::clamp(u, kEdge, 1.0 - kEdge);
@@ -45,19 +47,28 @@ public:
     const double v = f_(x_of(z));
     return std::isfinite(v) ? v : std::numeric_limits<double>::infinity();
   }
-  // Central differences (one-sided where a side fails); false when both sides fail.
-  bool gradient(const Eigen::VectorXd& z, double fz, double h, int threads, Eigen::VectorXd& g,
-                std::size_t& evaluations) const {
-    std::vector<double> plus(n_), minus(n_);
-    parallel_for(2 * n_, threads, [&](std::size_t k) {
+  // Central differences (one-sided where a side fails), or forward differences (n evaluations
+  // instead of 2n; backward where the forward side fails); false when no side can be evaluated.
+  bool gradient(const Eigen::VectorXd& z, double fz, double h, bool central, int threads,
+                Eigen::VectorXd& g, std::size_t& evaluations) const {
+    std::vector<double> plus(n_), minus(n_, std::numeric_limits<double>::infinity());
+    const std::size_t sides = central ? 2 : 1;
+    parallel_for(sides * n_, threads, [&](std::size_t k) {
       Eigen::VectorXd zz = z;
-      const std::size_t j = k / 2;
-      zz(static_cast<Eigen::Index>(j)) += (k % 2 == 0 ? h : -h);
-      (k % 2 == 0 ? plus : minus)[j] = value(zz);
+      const std::size_t j = k / sides;
+      const bool up = k % sides == 0;
+      zz(static_cast<Eigen::Index>(j)) += (up ? h : -h);
+      (up ? plus : minus)[j] = value(zz);
     });
-    evaluations += 2 * n_;
+    evaluations += sides * n_;
     g.resize(static_cast<Eigen::Index>(n_));
     for (std::size_t j = 0; j < n_; ++j) {
+      if (!central && !std::isfinite(plus[j])) {
+        Eigen::VectorXd zz = z;
+        zz(static_cast<Eigen::Index>(j)) -= h;
+        minus[j] = value(zz);
+        ++evaluations;
+      }
       const bool p = std::isfinite(plus[j]), m = std::isfinite(minus[j]);
       const auto i = static_cast<Eigen::Index>(j);
       if (p && m)
@@ -97,11 +108,20 @@ QuasiNewtonResult minimise_bounded(const ScalarObjective& f,
     res.converged = true;
     return res;
   }
+  // Forward differences while far from the minimum, where the gradient is large beside their
+  // error (half the step times the curvature); central ones from where the drops become small,
+  // and before any stop is decided (a small gradient, a failed line search).
+  bool central = false;
   Eigen::VectorXd g;
-  if (!t.gradient(z, fz, o.step, o.threads, g, res.evaluations)) return res;
+  if (!t.gradient(z, fz, o.step, central, o.threads, g, res.evaluations)) return res;
+  const auto sharpen = [&] {
+    central = true;
+    return t.gradient(z, fz, o.step, central, o.threads, g, res.evaluations);
+  };
   Eigen::MatrixXd Hinv = Eigen::MatrixXd::Identity(n, n);
   bool scaled = false;
   for (res.iterations = 0; res.iterations < o.max_iterations; ++res.iterations) {
+    if (g.cwiseAbs().maxCoeff() < o.gtol && !central && !sharpen()) break;
     if (g.cwiseAbs().maxCoeff() < o.gtol) {
       res.converged = true;
       break;
@@ -128,6 +148,10 @@ QuasiNewtonResult minimise_bounded(const ScalarObjective& f,
       }
     }
     if (!accepted) {
+      if (!central) { // the forward gradient may be what failed: retry with a central one
+        if (!sharpen()) break;
+        continue;
+      }
       if (scaled || Hinv != Eigen::MatrixXd::Identity(n, n)) { // retry along the gradient
         Hinv.setIdentity();
         scaled = false;
@@ -137,7 +161,7 @@ QuasiNewtonResult minimise_bounded(const ScalarObjective& f,
       break;
     }
     Eigen::VectorXd ga;
-    if (!t.gradient(za, fa, o.step, o.threads, ga, res.evaluations)) break;
+    if (!t.gradient(za, fa, o.step, central, o.threads, ga, res.evaluations)) break;
     const Eigen::VectorXd s = za - z, y = ga - g;
     const double drop = fz - fa;
     z = za;
@@ -153,6 +177,10 @@ QuasiNewtonResult minimise_bounded(const ScalarObjective& f,
       const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
       Hinv = (I - rho * s * y.transpose()) * Hinv * (I - rho * y * s.transpose()) +
              rho * s * s.transpose();
+    }
+    if (!central && drop < kNearDrop * (1.0 + std::abs(fz))) {
+      if (!sharpen()) break;
+      continue; // (an ftol stop is decided on a central gradient's next iteration)
     }
     if (drop < o.ftol * (1.0 + std::abs(fz))) {
       res.converged = true;

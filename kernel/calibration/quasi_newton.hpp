@@ -2,8 +2,9 @@
 /// A bounded quasi-Newton minimiser of a smooth scalar function (a negative log-likelihood): BFGS
 /// with a backtracking line search, in unbounded coordinates z = logit(u) of each parameter's box
 /// mapped onto [0, 1] (linear or log scale, as the least-squares core's WorkingCoordinates), so
-/// every trial point lies inside the box. Gradients by central differences in z, evaluated in
-/// parallel; deterministic whatever the number of threads.
+/// every trial point lies inside the box. Gradients by differences in z, evaluated in parallel:
+/// forward while far from the minimum, central near it and before any stop; deterministic whatever
+/// the number of threads.
 
 #include "kernel/calibration/least_squares.hpp"
 
@@ -23,7 +24,7 @@ struct QuasiNewtonOptions {
   int max_iterations = 200; ///< most BFGS iterations
   double ftol = 1e-9;       ///< stop when an iteration lowers f by less than ftol (1 + |f|)
   double gtol = 1e-6;       ///< stop when every |df/dz| is below this
-  double step = 1e-4;       ///< central-difference step in z
+  double step = 1e-4;       ///< difference step in z
   int threads = 1;          ///< gradient components in parallel (0: all cores)
 };
 
