@@ -28,6 +28,10 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kBriefIterations = 20;
 constexpr double kBriefTolerance = 1e-6;
 constexpr std::size_t kFullFits = 2;
+// A full fit stops when an iteration gains less than this share of 1 + |ln L| (3e-4 on the
+// building's ln L of 3000): far below the differences a likelihood-ratio test resolves, and a
+// quarter fewer likelihoods than the default tolerance on the building's selection.
+constexpr double kFullTolerance = 1e-7;
 
 /// A structure of the selection: the declared model, the findings applied so far and optionally a
 /// free candidate, with the ranged params and the applied findings' values free.
@@ -273,6 +277,8 @@ private:
     if (effort == Effort::brief) {
       settings.max_iterations = kBriefIterations;
       settings.ftol = kBriefTolerance;
+    } else {
+      settings.ftol = kFullTolerance;
     }
     return PredictionProblem(structural, maker(s), case_names(ev_), data_, settings);
   }
