@@ -434,6 +434,12 @@ private:
             std::none_of(declared.elements.begin(), declared.elements.end(),
                          [&](const lang::ElementSpec& e) { return e.name == c.element; }))
           continue;
+        // The capacity of a node an applied finding added is already one of its free params.
+        if (c.kind == "capacity_error" &&
+            std::none_of(declared.nodes.begin(), declared.nodes.end(), [&](const auto& n) {
+              return std::find(c.nodes.begin(), c.nodes.end(), n.name) != c.nodes.end();
+            }))
+          continue;
         if (!c.start_T.empty()) c = with_start_share(c);
         bool taken = false;
         for (const auto& a : applied)
