@@ -12,12 +12,17 @@ namespace {
 const std::vector<double> no_corners;
 }
 
-Signal::Signal(const Signal& other)
-    : constant(other.constant),
-      shape_(other.shape_ ? std::make_unique<Shape>(*other.shape_) : nullptr) {}
-
 Signal& Signal::operator=(const Signal& other) {
-  if (this != &other) *this = Signal(other);
+  constant = other.constant;
+  shape_ = other.shape_;
+  hint_.store(0, std::memory_order_relaxed);
+  return *this;
+}
+
+Signal& Signal::operator=(Signal&& other) noexcept {
+  constant = other.constant;
+  shape_ = std::move(other.shape_);
+  hint_.store(0, std::memory_order_relaxed);
   return *this;
 }
 
@@ -30,7 +35,10 @@ const std::vector<double>& Signal::values() const {
 }
 
 Signal::Shape& Signal::shape() {
-  if (!shape_) shape_ = std::make_unique<Shape>();
+  if (!shape_)
+    shape_ = new Shape();
+  else if (shape_->use_count() > 1) // shared with copies: this signal's own from now on
+    shape_ = new Shape(*shape_);
   return *shape_;
 }
 
@@ -50,14 +58,14 @@ double Signal::at(double time) const {
   if (time >= t.back()) return v.back();
   // First corner strictly after `time`; the segment is [k-1, k). Tried first: the last reading's
   // segment and the next one (a run reads its inputs forward in time).
-  std::size_t k = shape_->hint.k.load(std::memory_order_relaxed);
+  std::size_t k = hint_.load(std::memory_order_relaxed);
   if (k > 0 && k < t.size() && t[k - 1] <= time && time < t[k]) {
   } else if (k + 1 < t.size() && k > 0 && t[k] <= time && time < t[k + 1]) {
     ++k;
   } else {
     k = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), time) - t.begin());
   }
-  shape_->hint.k.store(k, std::memory_order_relaxed);
+  hint_.store(k, std::memory_order_relaxed);
   if (kind == Kind::step) return v[k - 1];
   double w = (time - t[k - 1]) / (t[k] - t[k - 1]);
   return v[k - 1] + w * (v[k] - v[k - 1]);
@@ -101,10 +109,11 @@ Signal Signal::scaled(double factor) const {
   Signal s = *this;
   s.constant *= factor;
   if (s.shape_) {
-    for (auto& x : s.shape_->v)
+    Shape& own = s.shape();
+    for (auto& x : own.v)
       x *= factor;
-    s.shape_->scale *= factor;
-    s.shape_->offset *= factor;
+    own.scale *= factor;
+    own.offset *= factor;
   }
   return s;
 }

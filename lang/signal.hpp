@@ -4,6 +4,9 @@
 
 #include "lang/source.hpp"
 
+#include <boost/smart_ptr/intrusive_ptr.hpp>
+#include <boost/smart_ptr/intrusive_ref_counter.hpp>
+
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -16,14 +19,15 @@ class TimeProgram;
 
 /// A value over time; times in s, values in SI (K for temperatures, W for powers).
 ///
-/// Nearly every value of a netlist is a constant, so a signal is a number and a pointer (16
-/// bytes); the kind, corners and expression of the other kinds are kept on the heap, copied with
-/// the signal.
+/// Nearly every value of a netlist is a constant, so a signal is a number, a pointer and a hint
+/// (24 bytes); the kind, corners and expression of the other kinds are kept on the heap, shared by
+/// the signal's copies (a table of a million rows read by several elements and the model of every
+/// simulation is held once) until one of them is changed through shape(), which makes its own.
 struct Signal {
   /// The shape of a signal.
   enum class Kind : std::uint8_t { constant, step, pwl, expression };
-  /// What a signal other than a constant holds.
-  struct Shape {
+  /// What a signal other than a constant holds (counted by the signals that share it).
+  struct Shape : boost::intrusive_ref_counter<Shape, boost::thread_safe_counter> {
     Kind kind = Kind::constant; ///< shape of the signal
     /// Corner times, increasing (step, pwl); for an expression, the corners of the signals it
     /// reads (where it may jump or bend).
@@ -33,16 +37,6 @@ struct Signal {
     std::shared_ptr<const TimeProgram> program;
     double scale = 1.0;  ///< factor on the program's value (expression)
     double offset = 0.0; ///< added after the factor (expression; 273.15 for a bare degC value)
-    /// The segment the last reading fell in (a hint for the next: readings mostly move forward);
-    /// atomic, as an expression's signals are shared by the threads that read it.
-    struct Hint {
-      mutable std::atomic<std::size_t> k{0}; ///< index of the corner after the last reading
-      Hint() = default;
-      /// A copy starts without a hint.
-      Hint(const Hint&) {}
-      /// Keeps its own hint.
-      Hint& operator=(const Hint&) { return *this; }
-    } hint;
     /// Where the expression was written (its statement's start, the expression; both empty when
     /// unknown): a run that finds it out of range or not finite names that place, which for a
     /// case's override is the case's line, not the element's declaration.
@@ -52,14 +46,14 @@ struct Signal {
 
   /// A constant 0.
   Signal() = default;
-  /// A copy with its own corners.
-  Signal(const Signal& other);
+  /// A copy sharing the other's corners.
+  Signal(const Signal& other) : constant(other.constant), shape_(other.shape_) {}
   /// Takes another signal's corners.
-  Signal(Signal&&) noexcept = default;
-  /// Copies another signal and its corners.
+  Signal(Signal&& other) noexcept : constant(other.constant), shape_(std::move(other.shape_)) {}
+  /// Becomes a copy of another signal, sharing its corners.
   Signal& operator=(const Signal& other);
   /// Takes another signal's corners.
-  Signal& operator=(Signal&&) noexcept = default;
+  Signal& operator=(Signal&& other) noexcept;
 
   /// A constant signal.
   static Signal of(double value) {
@@ -89,9 +83,11 @@ struct Signal {
   bool same_as(const Signal& other) const;
   /// Times where the signal jumps or bends (where an integrator should restart).
   const std::vector<double>& corners() const { return times(); }
-  /// The corners and expression, made (empty, of kind constant) on first use, to be filled in.
+  /// The corners and expression, made (empty, of kind constant) on first use, to be filled in or
+  /// changed: this signal's own (copied first where other signals share them).
   Shape& shape();
-  /// The corners and expression, made (empty) on first use, of a signal that becomes of a kind.
+  /// The corners and expression, made (empty) on first use, of a signal that becomes of a kind
+  /// (this signal's own, as shape()).
   Shape& shape(Kind kind);
   /// The corners and expression, or nullptr if none were made.
   const Shape* shape_if() const { return shape_.get(); }
@@ -99,7 +95,11 @@ struct Signal {
   Signal scaled(double factor) const;
 
 private:
-  std::unique_ptr<Shape> shape_;
+  boost::intrusive_ptr<Shape> shape_;
+  /// The corner after the last reading (a hint for the next: readings mostly move forward);
+  /// atomic, as an expression's signals are shared by the threads that read it, and the signal's
+  /// own, so that threads reading copies of a shared table do not move each other's.
+  mutable std::atomic<std::size_t> hint_{0};
 };
 
 } // namespace thermnet::lang
