@@ -24,6 +24,12 @@ Value number(double v);
 Value temperature(double v);
 /// A source's value (DC or PWL) as a signal, times `sign`; a temperature for a V source.
 Signal signal_of(const Element& e, double sign, bool is_temperature);
+/// A flattened node's name as thermnet writes it when every instance is a submodel (`x1.a`;
+/// node 0 is `gnd`), for notes.
+std::string display(const std::string& flat);
+/// The name of Cauer ladder `chain`'s nodes (`kind` "n") or resistors ("r") in the flat network,
+/// which the writer of submodels names `cauer_NODE`.
+std::string ladder_key(char kind, std::size_t chain, const std::string& driven);
 
 /// Builds the network of a circuit.
 class NetworkBuilder {
@@ -45,6 +51,7 @@ private:
   void heaters();
   void case_spec();
   Name node_name(const std::string& flat);
+  std::size_t scope_of(const std::string& flat) const;
 
   const Circuit& c_;
   Report& report_;
@@ -53,11 +60,12 @@ private:
   std::map<std::string, std::size_t> held_;
   std::map<std::string, Signal> held_signal_;
   std::map<std::string, double> cap_;
-  std::map<std::string, lang::Span> cap_at_; // node -> its first capacitor card
+  std::map<std::string, lang::Span> cap_at_;    // node -> its first capacitor card
+  std::map<std::string, std::string> cap_expr_; // node -> its one capacitor's text in its params
+  std::map<std::string, int> cap_count_;        // node -> capacitors on it
   std::map<std::string, std::pair<double, lang::Span>> t0_;
   std::vector<FosterChain> chains_;
   std::map<std::string, std::size_t> node_index_; // flattened node -> index in net_.nodes
-  NameMap names_;
   bool ground_used_ = false;
   lang::Span first_ground_;
 };

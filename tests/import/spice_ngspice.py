@@ -138,9 +138,17 @@ def ladder(case):
     parts = case.write("parts.inc", PARTS)
     net = case.write("boards.cir", LADDER)
     assert parts
-    against_ngspice(case, [net], LADDER.replace(".include parts.inc", PARTS),
-                    {"chassis": "chassis", "b1": "b1", "b2": "b2", "x1_surf": "x1.surf",
-                     "x2_surf": "x2.surf"})
+    model, log, header, data = against_ngspice(
+        case, [net], LADDER.replace(".include parts.inc", PARTS),
+        {"chassis": "chassis", "b1": "b1", "b2": "b2", "x1.surf": "x1.surf",
+         "x2.surf": "x2.surf"})
+    # The subcircuit is one submodel, its params (defaults from the .subckt line) used by name,
+    # the X cards instances that set them.
+    text = open(model, encoding="utf-8").read()
+    assert "submodel board(mount, core) {" in text, text
+    assert "param rs = 1" in text and "param cs = 100" in text, text
+    assert re.search(r"^board x1 chassis b1 rs = 1\.5 cs = 150 ", text, re.M), text
+    assert "resistor rso core surf R = rs" in text, text
 
 
 FOSTER_HELD = """* IGBT junction to case: a datasheet's Foster network, the case held at 60 degC

@@ -1,0 +1,24 @@
+#pragma once
+/// SPICE subcircuits as thermnet submodels: the flattened network's parts are grouped by the
+/// instance they stand in, and each subcircuit is written once, as a submodel (its .subckt
+/// parameters its params, its own .param values its consts, node 0 a terminal `gnd`), its X cards
+/// as instance statements. A subcircuit whose instances do not all come out the same (a value its
+/// parameters cannot express, a Foster chain converted to different Cauer ladders, a chain that
+/// crosses its boundary) is flattened into the part that holds it, and the report says why.
+
+#include "import/network.hpp"
+#include "import/report.hpp"
+#include "import/spice_circuit.hpp"
+
+#include <functional>
+#include <string>
+
+namespace thermnet::importer::spice {
+
+/// `flat` (the network of the flattened circuit `c`, named by flattened SPICE names) with its
+/// subcircuits as submodels and every name a thermnet name; `is_kind` tells the element kinds a
+/// submodel may not be named after.
+Network fold(const Network& flat, const Circuit& c, Report& report,
+             const std::function<bool(const std::string&)>& is_kind);
+
+} // namespace thermnet::importer::spice
