@@ -34,9 +34,11 @@ std::string ladder_key(char kind, std::size_t chain, const std::string& driven);
 /// Builds the network of a circuit.
 class NetworkBuilder {
 public:
-  /// A builder of `c`'s network; problems go to `report`.
-  NetworkBuilder(const Circuit& c, Report& report)
-      : c_(c), report_(report), usable_(c.elements.size(), true) {}
+  /// A builder of `c`'s network; problems go to `report`; notes name nodes by `names` (flattened
+  /// node -> thermnet name, as fold() gives them) where given.
+  NetworkBuilder(const Circuit& c, Report& report,
+                 const std::map<std::string, std::string>* names = nullptr)
+      : c_(c), report_(report), names_(names), usable_(c.elements.size(), true) {}
   /// The network (incomplete when the report holds errors).
   Network build();
 
@@ -52,9 +54,11 @@ private:
   void case_spec();
   Name node_name(const std::string& flat);
   std::size_t scope_of(const std::string& flat) const;
+  std::string shown_node(const std::string& flat) const;
 
   const Circuit& c_;
   Report& report_;
+  const std::map<std::string, std::string>* names_;
   Network net_;
   std::vector<bool> usable_;
   std::map<std::string, std::size_t> held_;

@@ -186,7 +186,7 @@ private:
         for (const auto& p : def->params)
           if (p.spice == n) return p.name;
         for (const auto& p : def->locals)
-          if (p.spice == n) return p.name;
+          if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
       }
       try {
         if (auto v = global_.lookup(n)) return number_text(*v);
@@ -550,18 +550,20 @@ const SubcktDef& Flattener::describe(const Subckt& s) {
     }
     ++k;
   }
+  // A .param may use another that stands after it: translated in rounds, each using those
+  // translated before (one that uses a value thermnet cannot write stays untranslated).
   const NameText names = [&](const std::string& n) -> std::optional<std::string> {
     for (const auto& p : d.params)
       if (p.spice == n) return p.name;
     for (const auto& p : d.locals)
-      if (p.spice == n) return p.name;
+      if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
     try {
       if (auto v = global_.lookup(n)) return number_text(*v);
     } catch (const ImportError&) {
     }
     return std::nullopt;
   };
-  k = 0;
+  std::vector<ParamDef> local_defs;
   for (const Card* card : s.cards) {
     if (lower(card->tokens[0].text) != ".param") continue;
     std::vector<std::pair<std::string, ParamDef>> list;
@@ -571,7 +573,15 @@ const SubcktDef& Flattener::describe(const Subckt& s) {
       continue;
     }
     for (auto& [pname, pdef] : list)
-      d.locals[k++].text = translate(pdef.text, names);
+      local_defs.push_back(pdef);
+  }
+  for (bool more = true; more;) {
+    more = false;
+    for (std::size_t j = 0; j < d.locals.size() && j < local_defs.size(); ++j)
+      if (!d.locals[j].text) {
+        d.locals[j].text = translate(local_defs[j].text, names);
+        more = more || d.locals[j].text.has_value();
+      }
   }
   return d;
 }

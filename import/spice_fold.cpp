@@ -67,11 +67,11 @@ void identifiers(const std::string& text, std::set<std::string>& out) {
 
 class Folder {
 public:
-  Folder(const Network& flat, const Circuit& c, Report& report,
+  Folder(const Network& flat, const Circuit& c, const lang::SourceManager& sources,
          const std::function<bool(const std::string&)>& is_kind)
-      : flat_(flat), c_(c), report_(report), is_kind_(is_kind) {}
+      : flat_(flat), c_(c), sources_(sources), is_kind_(is_kind) {}
 
-  Network run() {
+  Folded run() {
     const std::size_t n = c_.instances.size();
     children_.assign(n, {});
     for (std::size_t k = 1; k < n; ++k)
@@ -79,24 +79,37 @@ public:
     index_items();
     order_subckts();
     for (const auto& [name, at] : c_.unused)
-      report_.note(at, fmt::format("subcircuit '{}' is never instantiated: not written",
-                                   lang::excerpt_for_display(name)));
+      notes_.emplace_back(at, fmt::format("subcircuit '{}' is never instantiated: not written",
+                                          lang::excerpt_for_display(name)));
     // Each round writes the subcircuits innermost first; a node one cannot see flattens a
     // subcircuit and starts again (each round flattens one more, so this ends).
     for (;;) {
       if (auto net = attempt()) {
         for (const auto& [name, why] : why_flat_)
-          report_.note(c_.subckts.at(name).at,
-                       fmt::format("subcircuit '{}' is written flattened (its instances' names "
-                                   "joined by '_', e.g. x1_r1): {}",
-                                   lang::excerpt_for_display(name), why));
+          notes_.emplace_back(
+              c_.subckts.at(name).at,
+              fmt::format("subcircuit '{}' is written flattened (its instances' names "
+                          "joined by '_', e.g. x1_r1): {}",
+                          lang::excerpt_for_display(name), why));
         for (const auto& sub : net->submodels)
-          if (!sub.what.empty())
-            report_.note(sub.origin,
-                         fmt::format("{} is written as submodel '{}' (a thermnet name, not a "
-                                     "keyword or an element kind)",
-                                     sub.what, sub.name));
-        return std::move(*net);
+          for (const auto& [spice, name] : sub_names_)
+            if (name == sub.name && name != spice)
+              notes_.emplace_back(sub.origin,
+                                  fmt::format("subcircuit '{}' is written as submodel '{}' (a "
+                                              "thermnet name, not a keyword or an element kind)",
+                                              lang::excerpt_for_display(spice), name));
+        // Full names: an instance's prefix is its parent's and its own name.
+        std::vector<std::string> full(c_.instances.size());
+        for (std::size_t k = 1; k < c_.instances.size(); ++k) // (a parent precedes its children)
+          if (auto it = inst_name_.find(k); it != inst_name_.end())
+            full[k] = full[effective(c_.instances[k].parent)] + it->second + ".";
+        Folded out;
+        for (const auto& [scope, names] : local_)
+          for (const auto& [flat, name] : names)
+            out.names[flat] = full[scope] + name;
+        out.net = std::move(*net);
+        out.notes = std::move(notes_);
+        return out;
       }
     }
   }
@@ -162,6 +175,8 @@ private:
 
   std::optional<Network> attempt() {
     sig_.clear();
+    local_.clear();
+    inst_name_.clear();
     std::map<std::string, Submodel> written;
     for (const std::string& s : order_) {
       if (why_flat_.count(s)) continue;
@@ -173,7 +188,7 @@ private:
         Signature sig;
         if (!render(k, body, sig)) return std::nullopt;
         Submodel sub = submodel(k, std::move(body), sig);
-        std::string text = write_submodel(sub, report_.sources());
+        std::string text = write_submodel(sub, sources_);
         if (!first) {
           first = std::move(text);
           sig_[s] = sig;
@@ -314,7 +329,7 @@ private:
       auto it = ladder.find(nkey);
       if (it != ladder.end()) return it->second;
       const std::string driven = key.substr(key.find('\x01', 3) + 1);
-      return ladder[nkey] = unique("cauer_" + ref(driven), node_names);
+      return local_[i][nkey] = ladder[nkey] = unique("cauer_" + ref(driven), node_names);
     };
     const auto ladder_base = [&](const std::string& key, std::set<std::string>& used,
                                  const char* suffix) {
@@ -327,7 +342,7 @@ private:
       Boundary b = flat_.boundaries[k];
       const std::string flat = b.name.base;
       const std::string name = flat == "0" ? "gnd" : unique(sanitize(rel(flat)), node_names);
-      if (flat != "0") local[flat] = name;
+      if (flat != "0") local_[i][flat] = local[flat] = name;
       b.what = flat == "0" ? b.what : what(flat, name, b.what, ", ");
       b.name = Name{name, {}};
       b.T = signal(b.T, b.scope);
@@ -340,7 +355,7 @@ private:
       } else {
         const std::string flat = nd.name.base;
         const std::string name = unique(sanitize(rel(flat)), node_names);
-        local[flat] = name;
+        local_[i][flat] = local[flat] = name;
         nd.what = what(flat, name, nd.what, "; ");
         nd.name = Name{name, {}};
       }
@@ -375,6 +390,7 @@ private:
       InstanceStmt st;
       st.submodel = s.name;
       st.name = unique(sanitize(rel(in.prefix)), elem_names);
+      inst_name_[k] = st.name;
       if (st.name != rel(in.prefix))
         st.what = "SPICE " + lang::excerpt_for_display(rel(in.prefix), 60);
       st.origin = in.at;
@@ -407,11 +423,7 @@ private:
       for (std::size_t s = j; s != 0; s = c_.instances[s].parent)
         if (s == i && j != i) inside = true;
       const std::size_t victim = inside ? j : i;
-      if (victim == 0) {
-        report_.error(c_.instances[i == 0 ? 0 : i].at, "internal",
-                      "a node of the netlist cannot be placed in the model");
-        return true;
-      }
+      if (victim == 0) return true; // (cannot happen: the top level sees every top node)
       why_flat_[c_.instances[victim].subckt] = "a Foster network or element crosses its boundary";
       return false;
     }
@@ -457,7 +469,7 @@ private:
 
   const Network& flat_;
   const Circuit& c_;
-  Report& report_;
+  const lang::SourceManager& sources_;
   const std::function<bool(const std::string&)>& is_kind_;
   std::vector<std::vector<std::size_t>> children_, b_at_, n_at_, l_at_, h_at_;
   std::vector<std::string> order_;
@@ -465,13 +477,16 @@ private:
   std::map<std::string, Signature> sig_;
   std::map<std::string, std::string> sub_names_;
   std::set<std::string> used_sub_names_;
+  std::map<std::size_t, std::map<std::string, std::string>> local_; // scope -> flat -> name
+  std::map<std::size_t, std::string> inst_name_;                    // instance -> its name
+  std::vector<std::pair<lang::Span, std::string>> notes_;
 };
 
 } // namespace
 
-Network fold(const Network& flat, const Circuit& c, Report& report,
-             const std::function<bool(const std::string&)>& is_kind) {
-  return Folder(flat, c, report, is_kind).run();
+Folded fold(const Network& flat, const Circuit& c, const lang::SourceManager& sources,
+            const std::function<bool(const std::string&)>& is_kind) {
+  return Folder(flat, c, sources, is_kind).run();
 }
 
 } // namespace thermnet::importer::spice

@@ -11,14 +11,25 @@
 #include "import/spice_circuit.hpp"
 
 #include <functional>
+#include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace thermnet::importer::spice {
 
+/// What fold() gives.
+struct Folded {
+  Network net; ///< the network with its submodels
+  /// Every flattened node's (and Cauer ladder's, by its key) full thermnet name (`x1.surf`).
+  std::map<std::string, std::string> names;
+  std::vector<std::pair<lang::Span, std::string>> notes; ///< notes on the subcircuits
+};
+
 /// `flat` (the network of the flattened circuit `c`, named by flattened SPICE names) with its
 /// subcircuits as submodels and every name a thermnet name; `is_kind` tells the element kinds a
-/// submodel may not be named after.
-Network fold(const Network& flat, const Circuit& c, Report& report,
-             const std::function<bool(const std::string&)>& is_kind);
+/// submodel may not be named after; `sources` holds the files.
+Folded fold(const Network& flat, const Circuit& c, const lang::SourceManager& sources,
+            const std::function<bool(const std::string&)>& is_kind);
 
 } // namespace thermnet::importer::spice

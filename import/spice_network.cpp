@@ -60,6 +60,12 @@ std::string ladder_key(char kind, std::size_t chain, const std::string& driven) 
   return fmt::format("\x01{}\x01{}\x01{}", kind, chain, driven);
 }
 
+std::string NetworkBuilder::shown_node(const std::string& flat) const {
+  if (names_ != nullptr)
+    if (auto it = names_->find(flat); it != names_->end()) return it->second;
+  return display(flat);
+}
+
 std::size_t NetworkBuilder::scope_of(const std::string& flat) const {
   auto it = c_.node_scope.find(flat);
   return it == c_.node_scope.end() ? 0 : it->second;
@@ -268,12 +274,26 @@ Network read_network(const std::vector<std::string>& paths, lang::SourceManager&
   if (report.error_count() > 0) return {};
   const Circuit circuit = flatten(std::move(netlist), sources, report);
   if (report.error_count() > 0) return {};
-  const Network flat = detail::NetworkBuilder(circuit, report).build();
-  if (report.error_count() > 0) return {};
-  note_floating(flat, report, [](const Name& n) {
-    return n.base[0] == '\x01' ? std::string("a Cauer ladder node") : detail::display(n.base);
-  });
-  return fold(flat, circuit, report, is_kind);
+  // The network is built twice: first to find its submodels and their names, then again for the
+  // report, whose notes name nodes as the model does.
+  {
+    lang::DiagnosticEngine quiet(sources);
+    Report first(quiet);
+    const Network flat = detail::NetworkBuilder(circuit, first).build();
+    if (first.error_count() == 0) {
+      Folded folded = fold(flat, circuit, sources, is_kind);
+      detail::NetworkBuilder(circuit, report, &folded.names).build();
+      note_floating(flat, report, [&](const Name& n) {
+        auto it = folded.names.find(n.text());
+        return it != folded.names.end() ? it->second : detail::display(n.text());
+      });
+      for (const auto& [at, text] : folded.notes)
+        report.note(at, text);
+      return std::move(folded.net);
+    }
+  }
+  detail::NetworkBuilder(circuit, report).build(); // (reports the errors)
+  return {};
 }
 
 } // namespace thermnet::importer::spice

@@ -113,11 +113,9 @@ void NetworkBuilder::cauer_ladders() {
       net_.links.push_back(std::move(l));
     }
     // (as the writer names it: `cauer_j`, inside instance x1 `x1.cauer_j`)
-    const std::string dd = display(ch.driven);
-    const std::size_t dot = dd.rfind('.');
-    const std::string ladder_display = dot == std::string::npos
-                                           ? "cauer_" + dd
-                                           : dd.substr(0, dot + 1) + "cauer_" + dd.substr(dot + 1);
+    std::string ladder_display = "cauer_" + display(ch.driven);
+    if (names_ != nullptr)
+      if (auto it = names_->find(base); it != names_->end()) ladder_display = it->second;
     std::string inner;
     for (std::size_t k = 0; k < ch.inner.size() && k < 5; ++k)
       inner += (k ? ", " : "") + shown(ch.inner[k]);
@@ -125,15 +123,15 @@ void NetworkBuilder::cauer_ladders() {
     std::string text = fmt::format(
         "the Foster network from {} to {} ({} cell{}{}) is written as the equivalent Cauer ladder "
         "{}{}: the same Zth(t) seen from {} with {} held",
-        display(ch.driven), display(ch.far), ch.cells.size(), ch.cells.size() == 1 ? "" : "s",
+        shown_node(ch.driven), shown_node(ch.far), ch.cells.size(), ch.cells.size() == 1 ? "" : "s",
         inner.empty() ? "" : "; its inner nodes " + inner + " are not temperatures of anything",
-        display(ch.driven), n > 1 ? fmt::format(", {}[1 .. {}]", ladder_display, n - 1) : "",
-        display(ch.driven), display(ch.far));
+        shown_node(ch.driven), n > 1 ? fmt::format(", {}[1 .. {}]", ladder_display, n - 1) : "",
+        shown_node(ch.driven), shown_node(ch.far));
     if (!ch.far_held)
       text += fmt::format("; {} is not held at a fixed temperature here, so where it moves the "
                           "response differs from the netlist's (the Foster form's inner nodes "
                           "are not physical)",
-                          display(ch.far));
+                          shown_node(ch.far));
     if (uic)
       text += "; with UIC the ladder's nodes start at the initial temperature like the others";
     report_.note(ch.at, text);
