@@ -433,8 +433,9 @@ void Flattener::instance(const Card& c, const ParamScope& scope, const Context& 
   const Subckt& s = *it->second;
   if (end - 2 != s.terminals.size())
     throw ImportError(c.at, "bad-syntax",
-                      fmt::format("subcircuit '{}' has {} nodes, the instance gives {}", name,
-                                  s.terminals.size(), end - 2));
+                      fmt::format("subcircuit '{}' has {} node{}, the instance gives {}",
+                                  lang::excerpt_for_display(name), s.terminals.size(),
+                                  s.terminals.size() == 1 ? "" : "s", end - 2));
   if (std::find(stack.begin(), stack.end(), name) != stack.end())
     throw ImportError(
         c.at, "subckt-cycle",

@@ -194,9 +194,9 @@ private:
           sig_[s] = sig;
           written[s] = std::move(sub);
         } else if (text != *first)
-          why = fmt::format("its instances {} and {} differ (a value its parameters cannot "
-                            "express, or a Foster network converted to different Cauer "
-                            "ladders)",
+          why = fmt::format("its instances {} and {} come out different (a value its "
+                            "parameters cannot express, a Foster network converted to different "
+                            "Cauer ladders, or node 0 on a terminal of one instance only)",
                             lang::excerpt_for_display(first_instance(s)),
                             lang::excerpt_for_display(c_.instances[k].prefix));
       }
