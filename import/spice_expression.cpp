@@ -1,5 +1,6 @@
 #include "import/spice_expression.hpp"
 
+#include "import/fortran_number.hpp"
 #include "import/report.hpp"
 #include "import/spice_number.hpp"
 #include "lang/display_text.hpp"
@@ -55,6 +56,15 @@ private:
     }
     return false;
   }
+  /// `result` of an operation on `operand`: a result that underflows to 0 from a nonzero
+  /// operand is an error (a capacity or resistance gone without a word), as a literal's is.
+  double checked(double operand, double result) const {
+    if (result == 0 && operand != 0)
+      throw ImportError(span(0, s_.size()), "bad-number",
+                        "the expression's value underflows: its magnitude is below the smallest "
+                        "number (4.9e-324)");
+    return result;
+  }
   void enter() {
     if (++depth_ > max_depth) fail("the expression nests too deeply");
   }
@@ -79,7 +89,7 @@ private:
       skip();
       if (i_ + 1 < s_.size() && s_[i_] == '*' && s_[i_ + 1] == '*') break; // a power
       if (eat('*'))
-        v *= power();
+        v = checked(v, v * power());
       else if (eat('/')) {
         const std::size_t at = i_;
         const double d = power();
@@ -87,7 +97,7 @@ private:
           i_ = at;
           fail("division by zero");
         }
-        v /= d;
+        v = checked(v, v / d);
       } else
         break;
     }
@@ -96,10 +106,10 @@ private:
   double power() {
     const double base = unary();
     skip();
-    if (eat('^')) return std::pow(base, power_rhs());
+    if (eat('^')) return checked(base, std::pow(base, power_rhs()));
     if (i_ + 1 < s_.size() && s_[i_] == '*' && s_[i_ + 1] == '*') {
       i_ += 2;
-      return std::pow(base, power_rhs());
+      return checked(base, std::pow(base, power_rhs()));
     }
     return base;
   }
@@ -133,6 +143,9 @@ private:
     if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') {
       auto n = read_spice_number(s_.substr(i_));
       if (!n) fail("not a number");
+      if (n->underflow)
+        throw ImportError(span(i_, i_ + n->length), "bad-number",
+                          underflow_message(s_.substr(i_, n->length)));
       i_ += n->length;
       return n->value;
     }
@@ -201,7 +214,7 @@ private:
     for (const Fn& fn : one)
       if (f == fn.name) {
         need(1);
-        const double v = fn.fn(a[0]);
+        const double v = f == "exp" ? checked(1, fn.fn(a[0])) : fn.fn(a[0]);
         if (!std::isfinite(v))
           throw ImportError(span(at, at + f.size()), "bad-expression",
                             fmt::format("{}({}) is not a finite number", f, a[0]));

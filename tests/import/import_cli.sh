@@ -307,4 +307,18 @@ for name in node case for a.b 1abc resistor heater gnd; do
   fi
 done
 
+# Numbers below the smallest double: located errors, not a capacity or conductance of 0.
+printf '* t\nR1 a 0 1\nC1 a 0 1e-400\nI1 0 a 1\n.end\n' >tiny.cir
+timport tiny.cir
+check "SPICE: a capacitance of 1e-400: located error (underflows), nothing written" \
+  eval 'test "$rc" -eq 1 && has "tiny.cir:3:8: error: '"'"'1e-400'"'"' underflows" && test ! -s out.txt'
+printf '* t\nR1 a 0 {1e-200 * 1e-200}\nI1 0 a 1\n.end\n' >tinyx.cir
+timport tinyx.cir
+check "SPICE: a resistance whose expression underflows: located error" \
+  eval 'test "$rc" -eq 1 && has "tinyx.cir:2:9: error: the expression'"'"'s value underflows"'
+printf '%s\nHEADER NODE DATA, MAIN\n      3, 20.0, 1.0D-400\n' "$good" >tiny.sin
+timport tiny.sin
+check "SINDA: a capacity of 1.0D-400: located error (underflows)" \
+  eval 'test "$rc" -eq 1 && has "tiny.sin:9:16: error: '"'"'1.0D-400'"'"' underflows"'
+
 finish
