@@ -321,4 +321,10 @@ timport tiny.sin
 check "SINDA: a capacity of 1.0D-400: located error (underflows)" \
   eval 'test "$rc" -eq 1 && has "tiny.sin:9:16: error: '"'"'1.0D-400'"'"' underflows"'
 
+# A deck without units: the note says where (the control data that lacks them, else the first block).
+printf 'HEADER CONTROL DATA, GLOBAL\n      TIMEND = 10\nHEADER NODE DATA, MAIN\n      1, 20.0, 1.0\n     -2, 0.0, 0.0\nHEADER CONDUCTOR DATA, MAIN\n      1, 1, 2, 0.5\n' >nounits.sin
+timport nounits.sin -o nounits.tnet
+check "SINDA: a deck stating no units: the note names the CONTROL DATA line" \
+  eval 'test "$rc" -eq 0 && has "nounits.sin:1:1: note: the deck states no units" && grep -q "^# note: nounits.sin:1: the deck states no units" nounits.tnet'
+
 finish
