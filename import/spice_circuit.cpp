@@ -374,9 +374,14 @@ void Flattener::source_spec(const Card& c, Element& e, const ParamScope& scope) 
         if (time < 0)
           throw ImportError(values[k]->at, "invalid-value", "a PWL time may not be negative");
         e.pwl.emplace_back(time, scope.value(*values[k + 1]));
+        if (e.scope != 0) {
+          auto tt = text_of(*values[k], e.scope), vt = text_of(*values[k + 1], e.scope);
+          if (tt && vt && e.pwl_expr.size() + 1 == e.pwl.size()) e.pwl_expr.emplace_back(*tt, *vt);
+        }
       }
       e.value_at = t[i].at;
       e.expr.reset();
+      if (e.pwl_expr.size() != e.pwl.size()) e.pwl_expr.clear();
       i = j + 1;
       if (i < t.size()) {
         report_.dropped(t[i].at, fmt::format("the PWL options of {} (r=, td=: repetition and "

@@ -20,10 +20,12 @@ struct Element {
   std::string b;                              ///< second node, flattened
   double value = 0;                           ///< R, C, or the DC value of a source
   std::vector<std::pair<double, double>> pwl; ///< a source's PWL points (time, value)
-  std::optional<double> ic;                   ///< a capacitor's IC=
-  lang::Span at;                              ///< the card
-  lang::Span value_at;                        ///< the value
-  std::size_t scope = 0;                      ///< the instance it stands in (0: the top level)
+  /// In an instance: the PWL points as thermnet text in its params (empty: numbers only).
+  std::vector<std::pair<std::string, std::string>> pwl_expr;
+  std::optional<double> ic;        ///< a capacitor's IC=
+  lang::Span at;                   ///< the card
+  lang::Span value_at;             ///< the value
+  std::size_t scope = 0;           ///< the instance it stands in (0: the top level)
   std::optional<std::string> expr; ///< in an instance: the value as thermnet text in its params
 };
 

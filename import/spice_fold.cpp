@@ -98,6 +98,12 @@ public:
                                   fmt::format("subcircuit '{}' is written as submodel '{}' (a "
                                               "thermnet name, not a keyword or an element kind)",
                                               lang::excerpt_for_display(spice), name));
+        for (const std::string& name : empty_)
+          notes_.emplace_back(c_.subckts.at(name).at,
+                              fmt::format("subcircuit '{}' keeps nothing of its own (what it "
+                                          "holds acts on its terminals' nodes, where it is "
+                                          "written): no submodel",
+                                          lang::excerpt_for_display(name)));
         // Full names: an instance's prefix is its parent's and its own name.
         std::vector<std::string> full(c_.instances.size());
         for (std::size_t k = 1; k < c_.instances.size(); ++k) // (a parent precedes its children)
@@ -175,6 +181,7 @@ private:
 
   std::optional<Network> attempt() {
     sig_.clear();
+    empty_.clear();
     local_.clear();
     inst_name_.clear();
     std::map<std::string, Submodel> written;
@@ -204,6 +211,12 @@ private:
         why_flat_[s] = why;
         return std::nullopt;
       }
+      // A part left with nothing of its own (its capacitors on its terminals, a V source holding
+      // one) is neither written nor stated.
+      const Submodel& w = written.at(s);
+      if (w.boundaries.empty() && w.nodes.empty() && w.links.empty() && w.heaters.empty() &&
+          w.instances.empty())
+        empty_.insert(s);
     }
     Body top;
     Signature none;
@@ -220,7 +233,7 @@ private:
     net.heaters = std::move(top.heaters);
     net.instances = std::move(top.instances);
     for (const std::string& s : order_)
-      if (auto it = written.find(s); it != written.end() && !why_flat_.count(s))
+      if (auto it = written.find(s); it != written.end() && !why_flat_.count(s) && !empty_.count(s))
         net.submodels.push_back(std::move(it->second));
     if (!net.submodels.empty())
       net.expanded = Counts{flat_.nodes.size(), flat_.boundaries.size(), flat_.links.size(),
@@ -311,6 +324,10 @@ private:
     };
     const auto signal = [&](Signal s, std::size_t scope) {
       s.constant = value(s.constant, scope);
+      for (auto& [t, v] : s.points) {
+        t = value(t, scope);
+        v = value(v, scope);
+      }
       return s;
     };
     const auto what = [&](const std::string& flat, const std::string& name,
@@ -386,6 +403,7 @@ private:
     std::sort(inst.begin(), inst.end());
     for (std::size_t k : inst) {
       const Instance& in = c_.instances[k];
+      if (empty_.count(in.subckt)) continue;
       const Signature& s = sig_.at(in.subckt);
       InstanceStmt st;
       st.submodel = s.name;
@@ -475,6 +493,7 @@ private:
   std::vector<std::string> order_;
   std::map<std::string, std::string> why_flat_;
   std::map<std::string, Signature> sig_;
+  std::set<std::string> empty_; // subcircuits with nothing of their own
   std::map<std::string, std::string> sub_names_;
   std::set<std::string> used_sub_names_;
   std::map<std::size_t, std::map<std::string, std::string>> local_; // scope -> flat -> name

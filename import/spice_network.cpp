@@ -37,8 +37,14 @@ Signal signal_of(const Element& e, double sign, bool is_temperature) {
     if (e.expr) s.constant.scoped = sign > 0 ? *e.expr : "-(" + *e.expr + ")";
     return s;
   }
-  for (const auto& [t, v] : e.pwl)
-    s.points.emplace_back(number(t), value(v));
+  for (std::size_t k = 0; k < e.pwl.size(); ++k) {
+    s.points.emplace_back(number(e.pwl[k].first), value(e.pwl[k].second));
+    if (e.pwl_expr.size() == e.pwl.size()) {
+      const auto& [t, v] = e.pwl_expr[k];
+      s.points.back().first.scoped = t;
+      s.points.back().second.scoped = sign > 0 ? v : "-(" + v + ")";
+    }
+  }
   return s;
 }
 
@@ -136,7 +142,13 @@ void NetworkBuilder::sources_v() {
     }
     held_[node] = i;
     held_signal_[node] = signal_of(e, sign, true);
-    if (e.scope != scope_of(node)) held_signal_[node].constant.scoped.clear();
+    if (e.scope != scope_of(node)) {
+      held_signal_[node].constant.scoped.clear();
+      for (auto& [t, v] : held_signal_[node].points) {
+        t.scoped.clear();
+        v.scoped.clear();
+      }
+    }
   }
 }
 

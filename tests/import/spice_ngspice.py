@@ -333,7 +333,38 @@ def foster_scaled(case):
     assert "subcircuit 'igbt' is written flattened" in log, log
 
 
-CASES = (ladder, foster_held, foster_step, uic, nested, foster_part, foster_scaled)
+PWL_PART = """* A heated part whose load profile and coolant temperature are its parameters
+.subckt part mount p=1 tt=100 tc=15
+Ih 0 core PWL(0 0 {tt} {p} {2*tt} {p/2} 400 0)
+Vcool cool 0 PWL(0 {tc} 300 {tc+5})
+Rcore core mount 0.5
+Ccore core 0 40
+Rcool core cool 2
+.ends part
+Vamb amb 0 20
+Rm plate amb 0.8
+Cp plate 0 300
+X1 plate part p=30
+X2 plate part p=10 tt=50 tc=25
+.tran 1 400
+.end
+"""
+
+
+def pwl_part(case):
+    net = case.write("pwl.cir", PWL_PART)
+    model = os.path.join(case.tmp, "pwl_part.tnet")
+    run([case.exe, "import", net, "-o", model])
+    text = no_comments(model)
+    # PWL points in the part's params: one submodel for both instances.
+    assert "heater ih core P = pwl(0: 0, tt: p, 2 * tt: p / 2, 400: 0)" in text, text
+    assert "boundary cool T = pwl(0: tc, 300: tc + 5)" in text, text
+    assert "part x2 plate p = 10 tt = 50 tc = 25" in text and "x1_" not in text, text
+    _, _, header, _ = case.thermnet([net])
+    against_ngspice(case, [net], PWL_PART, every_node(header))
+
+
+CASES = (ladder, foster_held, foster_step, uic, nested, foster_part, foster_scaled, pwl_part)
 
 
 def main(argv):
