@@ -78,7 +78,8 @@ public:
     std::vector<const Card*> top;
     split(top);
     for (const Card* c : top)
-      if (lower(c->tokens[0].text) == ".param") guarded([&] { params(*c, global_); });
+      if (lower(c->tokens[0].text) == ".param") guarded([&] { params(*c, global_, true); });
+    describe_globals();
     std::vector<std::string> stack;
     circuit_.instances.push_back(Instance{});
     expand(top, global_, "", {}, 0, stack, true);
@@ -163,11 +164,49 @@ private:
     return it->second.get();
   }
 
-  void params(const Card& c, ParamScope& scope) {
+  void params(const Card& c, ParamScope& scope, bool global = false) {
     std::vector<std::pair<std::string, ParamDef>> list;
     read_assignments(sources_, c.tokens, 1, list);
-    for (auto& [name, def] : list)
+    for (auto& [name, def] : list) {
       scope.define(name, def);
+      if (global) global_defs_.emplace_back(name, def);
+    }
+  }
+
+  /// The netlist's .param values as the model's consts: thermnet names, and their expressions
+  /// translated in rounds (one may use another that stands after it).
+  void describe_globals() {
+    std::set<std::string> used;
+    for (const auto& [name, def] : global_defs_)
+      circuit_.globals.push_back({name, param_name(name, used), std::nullopt, false, def.at});
+    const NameText names = [&](const std::string& n) -> std::optional<std::string> {
+      for (const auto& p : circuit_.globals)
+        if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
+      return std::nullopt;
+    };
+    for (bool more = true; more;) {
+      more = false;
+      for (std::size_t j = 0; j < circuit_.globals.size(); ++j)
+        if (!circuit_.globals[j].text) {
+          circuit_.globals[j].text = translate(global_defs_[j].second.text, names);
+          more = more || circuit_.globals[j].text.has_value();
+        }
+    }
+  }
+
+  /// A thermnet name for a parameter, unique in `used`: names thermnet gives meaning to inside
+  /// an expression cannot name a param or const.
+  static std::string param_name(const std::string& spice, std::set<std::string>& used) {
+    static constexpr const char* taken[] = {
+        "time",  "step", "pwl", "table", "data", "range", "in",  "for", "sqrt",   "exp",     "log",
+        "log10", "sin",  "cos", "tan",   "abs",  "min",   "max", "pow", "steady", "submodel"};
+    std::string base = sanitize(spice);
+    for (const char* w : taken)
+      if (base == w) base += "_";
+    std::string n = base;
+    for (int k = 2; !used.insert(n).second; ++k)
+      n = fmt::format("{}_{}", base, k);
+    return n;
   }
 
   struct Context {
@@ -186,6 +225,10 @@ private:
         for (const auto& p : def->params)
           if (p.spice == n) return p.name;
         for (const auto& p : def->locals)
+          if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
+      } else {
+        // (at the top level a .param is a const of the model; inside a submodel its value)
+        for (const auto& p : circuit_.globals)
           if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
       }
       try {
@@ -275,6 +318,7 @@ private:
   std::map<std::string, std::unique_ptr<Subckt>> subckts_;
   std::vector<std::unique_ptr<ParamScope>> scopes_;
   std::set<std::string> names_; // flattened element and instance names
+  std::vector<std::pair<std::string, ParamDef>> global_defs_; // the netlist's .param values
   Circuit circuit_;
   bool too_large_ = false;
 };
@@ -306,7 +350,7 @@ void Flattener::element(const Card& c, char kind, const ParamScope& scope, const
   bool femto = false;
   e.value = scope.value(t[i], &femto);
   e.value_at = t[i].at;
-  if (ctx.scope != 0) e.expr = text_of(t[i], ctx.scope);
+  e.expr = text_of(t[i], ctx.scope);
   if (femto && kind == 'c')
     report_.note(t[i].at, fmt::format("'{}' reads as {} F: SPICE's suffix f is femto (1e-15), "
                                       "not farad",
@@ -343,7 +387,7 @@ void Flattener::source_spec(const Card& c, Element& e, const ParamScope& scope) 
       if (v >= t.size()) throw ImportError(t[i].at, "bad-syntax", "DC needs a value");
       e.value = scope.value(t[v]);
       e.value_at = t[v].at;
-      if (e.scope != 0) e.expr = text_of(t[v], e.scope);
+      e.expr = text_of(t[v], e.scope);
       have_dc = true;
       i = v + 1;
     } else if (w == "ac") {
@@ -374,10 +418,8 @@ void Flattener::source_spec(const Card& c, Element& e, const ParamScope& scope) 
         if (time < 0)
           throw ImportError(values[k]->at, "invalid-value", "a PWL time may not be negative");
         e.pwl.emplace_back(time, scope.value(*values[k + 1]));
-        if (e.scope != 0) {
-          auto tt = text_of(*values[k], e.scope), vt = text_of(*values[k + 1], e.scope);
-          if (tt && vt && e.pwl_expr.size() + 1 == e.pwl.size()) e.pwl_expr.emplace_back(*tt, *vt);
-        }
+        auto tt = text_of(*values[k], e.scope), vt = text_of(*values[k + 1], e.scope);
+        if (tt && vt && e.pwl_expr.size() + 1 == e.pwl.size()) e.pwl_expr.emplace_back(*tt, *vt);
       }
       e.value_at = t[i].at;
       e.expr.reset();
@@ -399,7 +441,7 @@ void Flattener::source_spec(const Card& c, Element& e, const ParamScope& scope) 
     } else if (!have_dc && e.pwl.empty()) {
       e.value = scope.value(t[i]);
       e.value_at = t[i].at;
-      if (e.scope != 0) e.expr = text_of(t[i], e.scope);
+      e.expr = text_of(t[i], e.scope);
       have_dc = true;
       ++i;
     } else {
@@ -505,20 +547,8 @@ const SubcktDef& Flattener::describe(const Subckt& s) {
   d.name = s.name;
   d.terminals = s.terminals;
   d.at = s.at;
-  // Names thermnet gives meaning to inside an expression cannot name a param or const.
-  static constexpr const char* taken[] = {
-      "time",  "step", "pwl", "table", "data", "range", "in",  "for", "sqrt",   "exp",     "log",
-      "log10", "sin",  "cos", "tan",   "abs",  "min",   "max", "pow", "steady", "submodel"};
   std::set<std::string> used;
-  const auto name_of = [&](const std::string& spice) {
-    std::string base = sanitize(spice);
-    for (const char* w : taken)
-      if (base == w) base += "_";
-    std::string n = base;
-    for (int k = 2; !used.insert(n).second; ++k)
-      n = fmt::format("{}_{}", base, k);
-    return n;
-  };
+  const auto name_of = [&](const std::string& spice) { return param_name(spice, used); };
   for (const auto& [pname, pdef] : s.defaults)
     d.params.push_back({pname, name_of(pname), std::nullopt, false, pdef.at});
   for (const Card* card : s.cards) {

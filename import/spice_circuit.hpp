@@ -86,6 +86,7 @@ struct Circuit {
   std::optional<lang::Span> op;                  ///< .op, if any
   std::vector<std::string> files;                ///< every file read
   std::vector<Instance> instances;               ///< [0]: the top level; then every X card expanded
+  std::vector<SubcktParam> globals;              ///< the netlist's own .param values
   std::map<std::string, SubcktDef> subckts;      ///< the subcircuits instantiated
   std::map<std::string, std::size_t> node_scope; ///< flattened node -> the instance it is in
   std::vector<std::pair<std::string, lang::Span>> unused; ///< subcircuits never instantiated

@@ -226,6 +226,20 @@ private:
     net.model = flat_.model;
     net.heading = flat_.heading;
     net.consts = flat_.consts;
+    // The netlist's .param values the top level uses (and those they use), as consts.
+    std::set<std::string> words = top.words;
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (const auto& g : c_.globals)
+        if (words.count(g.name) && g.text) {
+          const std::size_t before = words.size();
+          identifiers(*g.text, words);
+          grew = grew || words.size() != before;
+        }
+    }
+    for (const auto& g : c_.globals)
+      if (words.count(g.name) && g.text)
+        net.consts.push_back({g.name, *g.text, place_text(sources_, g.at) + " .param"});
     net.case_spec = flat_.case_spec;
     net.boundaries = std::move(top.boundaries);
     net.nodes = std::move(top.nodes);
@@ -316,7 +330,7 @@ private:
       return "?";
     };
     const auto value = [&](const Value& v, std::size_t scope) {
-      if (i != 0 && scope == i && !v.scoped.empty()) {
+      if (scope == i && !v.scoped.empty()) {
         identifiers(v.scoped, body.words);
         return Value{v.scoped, v.si, ""};
       }

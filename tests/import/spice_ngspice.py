@@ -150,7 +150,9 @@ def ladder(case):
     text = open(model, encoding="utf-8").read()
     assert "submodel board(mount, core) {" in text, text
     assert "param rs = 1" in text and "param cs = 100" in text, text
-    assert re.search(r"^board x1 chassis b1 rs = 1\.5 cs = 150 ", text, re.M), text
+    assert re.search(r"^board x1 chassis b1 rs = 1\.5 cs = c_board ", text, re.M), text
+    # The netlist's .param values it uses are consts, named where used.
+    assert "const r_mount = 2.5 " in text and "R = r_mount / 5" in text, text
     assert "resistor rso core surf R = rs" in text, text
 
 
@@ -274,7 +276,8 @@ def nested(case):
                  "submodel module(base, gnd) {", "die xa spread gnd pd = p1 rjc = 0.4",
                  "die xb spread gnd pd = p2 + 1", "resistor rleak spread gnd R = 50",
                  "submodel plate(a) {", "boundary cp T = tset", "module x1 hs gnd p1 = 10 p2 = 15",
-                 "module x2 hs gnd p1 = 3", "plate x3 hs tset = 25 - 5"):
+                 "module x2 hs gnd p1 = 3", "plate x3 hs tset = tamb - 5", "const tamb = 25",
+                 "boundary amb T = tamb"):
         assert line in text, f"{line!r} not in\n{text}"
     assert text.count("submodel ") == 3 and "x1_" not in text, text
     _, _, header, _ = case.thermnet([net])
