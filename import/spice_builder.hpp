@@ -9,6 +9,7 @@
 #include "import/spice_foster.hpp"
 #include "import/spice_names.hpp"
 
+#include <functional>
 #include <map>
 #include <string>
 #include <utility>
@@ -34,13 +35,14 @@ std::string ladder_key(char kind, std::size_t chain, const std::string& driven);
 /// Builds the network of a circuit.
 class NetworkBuilder {
 public:
-  /// A builder of `c`'s network; problems go to `report`; notes name nodes by `names` (flattened
-  /// node -> thermnet name, as fold() gives them) where given.
-  NetworkBuilder(const Circuit& c, Report& report,
-                 const std::map<std::string, std::string>* names = nullptr)
-      : c_(c), report_(report), names_(names), usable_(c.elements.size(), true) {}
-  /// The network (incomplete when the report holds errors).
+  /// A builder of `c`'s network; problems go to `report`.
+  NetworkBuilder(const Circuit& c, Report& report)
+      : c_(c), report_(report), usable_(c.elements.size(), true) {}
+  /// The network (incomplete when the report holds errors), named by flattened SPICE names.
   Network build();
+  /// Notes each Foster chain written as a Cauer ladder, naming nodes (and ladders, by their
+  /// ladder_key) as `name_of` gives their thermnet names.
+  void ladder_notes(const std::function<std::string(const std::string&)>& name_of);
 
 private:
   void sources_v();
@@ -54,11 +56,9 @@ private:
   void case_spec();
   Name node_name(const std::string& flat);
   std::size_t scope_of(const std::string& flat) const;
-  std::string shown_node(const std::string& flat) const;
 
   const Circuit& c_;
   Report& report_;
-  const std::map<std::string, std::string>* names_;
   Network net_;
   std::vector<bool> usable_;
   std::map<std::string, std::size_t> held_;
@@ -69,6 +69,7 @@ private:
   std::map<std::string, int> cap_count_;        // node -> capacitors on it
   std::map<std::string, std::pair<double, lang::Span>> t0_;
   std::vector<FosterChain> chains_;
+  std::vector<std::pair<std::size_t, std::size_t>> ladders_; // chain, stages: the ladders written
   std::map<std::string, std::size_t> node_index_; // flattened node -> index in net_.nodes
   bool ground_used_ = false;
   lang::Span first_ground_;

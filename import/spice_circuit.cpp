@@ -240,10 +240,14 @@ private:
   }
 
   /// A value token as thermnet text in instance `scope`.
-  std::optional<std::string> text_of(const Token& t, std::size_t scope) const {
+  /// A value token as thermnet text in instance `scope`; nothing for a plain number (the
+  /// writer writes the value) and for what has no thermnet text. `number` gives a plain number
+  /// its text instead.
+  std::optional<std::string> text_of(const Token& t, std::size_t scope, bool number = false) const {
     if (t.kind == Token::Kind::expression) return translate(t.text, names_in(scope));
     if (t.kind != Token::Kind::word) return std::nullopt;
-    if (auto n = spice_number(t.text)) return number_text(n->value);
+    if (auto n = spice_number(t.text))
+      return number ? std::optional<std::string>(number_text(n->value)) : std::nullopt;
     return names_in(scope)(lower(t.text));
   }
 
@@ -418,7 +422,7 @@ void Flattener::source_spec(const Card& c, Element& e, const ParamScope& scope) 
         if (time < 0)
           throw ImportError(values[k]->at, "invalid-value", "a PWL time may not be negative");
         e.pwl.emplace_back(time, scope.value(*values[k + 1]));
-        auto tt = text_of(*values[k], e.scope), vt = text_of(*values[k + 1], e.scope);
+        auto tt = text_of(*values[k], e.scope, true), vt = text_of(*values[k + 1], e.scope, true);
         if (tt && vt && e.pwl_expr.size() + 1 == e.pwl.size()) e.pwl_expr.emplace_back(*tt, *vt);
       }
       e.value_at = t[i].at;

@@ -74,8 +74,10 @@ public:
   Folded run() {
     const std::size_t n = c_.instances.size();
     children_.assign(n, {});
-    for (std::size_t k = 1; k < n; ++k)
+    for (std::size_t k = 1; k < n; ++k) {
       children_[c_.instances[k].parent].push_back(k);
+      of_subckt_[c_.instances[k].subckt].push_back(k);
+    }
     index_items();
     order_subckts();
     for (const auto& [name, at] : c_.unused)
@@ -105,14 +107,12 @@ public:
                                           "written): no submodel",
                                           lang::excerpt_for_display(name)));
         // Full names: an instance's prefix is its parent's and its own name.
-        std::vector<std::string> full(c_.instances.size());
+        Folded out;
+        out.prefix.assign(c_.instances.size(), "");
         for (std::size_t k = 1; k < c_.instances.size(); ++k) // (a parent precedes its children)
           if (auto it = inst_name_.find(k); it != inst_name_.end())
-            full[k] = full[effective(c_.instances[k].parent)] + it->second + ".";
-        Folded out;
-        for (const auto& [scope, names] : local_)
-          for (const auto& [flat, name] : names)
-            out.names[flat] = full[scope] + name;
+            out.prefix[k] = out.prefix[effective(c_.instances[k].parent)] + it->second + ".";
+        out.local = std::move(local_);
         out.net = std::move(*net);
         out.notes = std::move(notes_);
         return out;
@@ -189,8 +189,7 @@ private:
       if (why_flat_.count(s)) continue;
       std::optional<std::string> first;
       std::string why;
-      for (std::size_t k = 1; k < c_.instances.size() && why.empty(); ++k) {
-        if (c_.instances[k].subckt != s) continue;
+      for (std::size_t k : of_subckt_[s]) {
         Body body;
         Signature sig;
         if (!render(k, body, sig)) return std::nullopt;
@@ -206,10 +205,14 @@ private:
                             "Cauer ladders, or node 0 on a terminal of one instance only)",
                             lang::excerpt_for_display(first_instance(s)),
                             lang::excerpt_for_display(c_.instances[k].prefix));
+        if (!why.empty()) break;
       }
       if (!why.empty()) {
+        // Flattened into its parents, which come later (its own parts are not affected).
         why_flat_[s] = why;
-        return std::nullopt;
+        written.erase(s);
+        sig_.erase(s);
+        continue;
       }
       // A part left with nothing of its own (its capacitors on its terminals, a V source holding
       // one) is neither written nor stated.
@@ -306,7 +309,6 @@ private:
       return what;
     };
     std::set<std::string> node_names{"gnd"}, elem_names;
-    std::map<std::string, std::string> local;
     if (i != 0) {
       const SubcktDef& def = c_.subckts.at(c_.instances[i].subckt);
       sig.name = submodel_name(def.name);
@@ -319,7 +321,8 @@ private:
         body.gnd = true;
         return "gnd";
       }
-      if (auto it = local.find(flat); it != local.end()) return it->second;
+      if (auto it = local_.find(flat); it != local_.end() && it->second.first == i)
+        return it->second.second;
       if (i != 0) {
         const auto& b = c_.instances[i].bindings;
         for (std::size_t t = 0; t < b.size(); ++t)
@@ -360,7 +363,9 @@ private:
       auto it = ladder.find(nkey);
       if (it != ladder.end()) return it->second;
       const std::string driven = key.substr(key.find('\x01', 3) + 1);
-      return local_[i][nkey] = ladder[nkey] = unique("cauer_" + ref(driven), node_names);
+      const std::string base = unique("cauer_" + ref(driven), node_names);
+      local_[nkey] = {i, base};
+      return ladder[nkey] = base;
     };
     const auto ladder_base = [&](const std::string& key, std::set<std::string>& used,
                                  const char* suffix) {
@@ -373,7 +378,7 @@ private:
       Boundary b = flat_.boundaries[k];
       const std::string flat = b.name.base;
       const std::string name = flat == "0" ? "gnd" : unique(sanitize(rel(flat)), node_names);
-      if (flat != "0") local_[i][flat] = local[flat] = name;
+      if (flat != "0") local_[flat] = {i, name};
       b.what = flat == "0" ? b.what : what(flat, name, b.what, ", ");
       b.name = Name{name, {}};
       b.T = signal(b.T, b.scope);
@@ -386,7 +391,7 @@ private:
       } else {
         const std::string flat = nd.name.base;
         const std::string name = unique(sanitize(rel(flat)), node_names);
-        local_[i][flat] = local[flat] = name;
+        local_[flat] = {i, name};
         nd.what = what(flat, name, nd.what, "; ");
         nd.name = Name{name, {}};
       }
@@ -505,17 +510,25 @@ private:
   const std::function<bool(const std::string&)>& is_kind_;
   std::vector<std::vector<std::size_t>> children_, b_at_, n_at_, l_at_, h_at_;
   std::vector<std::string> order_;
+  std::map<std::string, std::vector<std::size_t>> of_subckt_; // subcircuit -> its instances
   std::map<std::string, std::string> why_flat_;
   std::map<std::string, Signature> sig_;
   std::set<std::string> empty_; // subcircuits with nothing of their own
   std::map<std::string, std::string> sub_names_;
   std::set<std::string> used_sub_names_;
-  std::map<std::size_t, std::map<std::string, std::string>> local_; // scope -> flat -> name
-  std::map<std::size_t, std::string> inst_name_;                    // instance -> its name
+  std::unordered_map<std::string, std::pair<std::size_t, std::string>>
+      local_;                                    // flat -> scope, name
+  std::map<std::size_t, std::string> inst_name_; // instance -> its name
   std::vector<std::pair<lang::Span, std::string>> notes_;
 };
 
 } // namespace
+
+std::string Folded::name(const std::string& flat) const {
+  if (flat == "0") return "gnd";
+  auto it = local.find(flat);
+  return it == local.end() ? flat : prefix[it->second.first] + it->second.second;
+}
 
 Folded fold(const Network& flat, const Circuit& c, const lang::SourceManager& sources,
             const std::function<bool(const std::string&)>& is_kind) {

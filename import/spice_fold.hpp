@@ -11,8 +11,8 @@
 #include "import/spice_circuit.hpp"
 
 #include <functional>
-#include <map>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -20,10 +20,13 @@ namespace thermnet::importer::spice {
 
 /// What fold() gives.
 struct Folded {
-  Network net; ///< the network with its submodels
-  /// Every flattened node's (and Cauer ladder's, by its key) full thermnet name (`x1.surf`).
-  std::map<std::string, std::string> names;
+  Network net;                                           ///< the network with its submodels
   std::vector<std::pair<lang::Span, std::string>> notes; ///< notes on the subcircuits
+  std::vector<std::string> prefix; ///< per instance, its names' prefix (`x1.`; flattened: "")
+  /// Per flattened node (and Cauer ladder, by its key): the instance it is written in, its name.
+  std::unordered_map<std::string, std::pair<std::size_t, std::string>> local;
+  /// The full thermnet name of a flattened node or ladder (`x1.surf`; node 0 is `gnd`).
+  std::string name(const std::string& flat) const;
 };
 
 /// `flat` (the network of the flattened circuit `c`, named by flattened SPICE names) with its

@@ -66,12 +66,6 @@ std::string ladder_key(char kind, std::size_t chain, const std::string& driven) 
   return fmt::format("\x01{}\x01{}\x01{}", kind, chain, driven);
 }
 
-std::string NetworkBuilder::shown_node(const std::string& flat) const {
-  if (names_ != nullptr)
-    if (auto it = names_->find(flat); it != names_->end()) return it->second;
-  return display(flat);
-}
-
 std::size_t NetworkBuilder::scope_of(const std::string& flat) const {
   auto it = c_.node_scope.find(flat);
   return it == c_.node_scope.end() ? 0 : it->second;
@@ -284,28 +278,20 @@ Network read_network(const std::vector<std::string>& paths, lang::SourceManager&
   Netlist netlist = read_cards(paths, sources, report);
   files_read = netlist.files;
   if (report.error_count() > 0) return {};
-  const Circuit circuit = flatten(std::move(netlist), sources, report);
+  Circuit circuit = flatten(std::move(netlist), sources, report);
   if (report.error_count() > 0) return {};
-  // The network is built twice: first to find its submodels and their names, then again for the
-  // report, whose notes name nodes as the model does.
-  {
-    lang::DiagnosticEngine quiet(sources);
-    Report first(quiet);
-    const Network flat = detail::NetworkBuilder(circuit, first).build();
-    if (first.error_count() == 0) {
-      Folded folded = fold(flat, circuit, sources, is_kind);
-      detail::NetworkBuilder(circuit, report, &folded.names).build();
-      note_floating(flat, report, [&](const Name& n) {
-        auto it = folded.names.find(n.text());
-        return it != folded.names.end() ? it->second : detail::display(n.text());
-      });
-      for (const auto& [at, text] : folded.notes)
-        report.note(at, text);
-      return std::move(folded.net);
-    }
-  }
-  detail::NetworkBuilder(circuit, report).build(); // (reports the errors)
-  return {};
+  detail::NetworkBuilder builder(circuit, report);
+  Network flat = builder.build();
+  if (report.error_count() > 0) return {};
+  // (the elements are in the network now: their memory goes before the submodels are made)
+  std::vector<Element>().swap(circuit.elements);
+  Folded folded = fold(flat, circuit, sources, is_kind);
+  // The notes that name nodes come once the model's names are known.
+  builder.ladder_notes([&](const std::string& n) { return folded.name(n); });
+  note_floating(flat, report, [&](const Name& n) { return folded.name(n.text()); });
+  for (const auto& [at, text] : folded.notes)
+    report.note(at, text);
+  return std::move(folded.net);
 }
 
 } // namespace thermnet::importer::spice

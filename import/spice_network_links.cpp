@@ -65,7 +65,6 @@ void NetworkBuilder::resistors() {
 }
 
 void NetworkBuilder::cauer_ladders() {
-  const bool uic = c_.tran && c_.tran->uic;
   for (std::size_t chain = 0; chain < chains_.size(); ++chain) {
     const FosterChain& ch = chains_[chain];
     if (!ch.written) continue;
@@ -112,10 +111,15 @@ void NetworkBuilder::cauer_ladders() {
       l.scope = scope;
       net_.links.push_back(std::move(l));
     }
-    // (as the writer names it: `cauer_j`, inside instance x1 `x1.cauer_j`)
-    std::string ladder_display = "cauer_" + display(ch.driven);
-    if (names_ != nullptr)
-      if (auto it = names_->find(base); it != names_->end()) ladder_display = it->second;
+    ladders_.emplace_back(chain, n);
+  }
+}
+
+void NetworkBuilder::ladder_notes(const std::function<std::string(const std::string&)>& name_of) {
+  const bool uic = c_.tran && c_.tran->uic;
+  for (const auto& [chain, n] : ladders_) {
+    const FosterChain& ch = chains_[chain];
+    const std::string ladder_display = name_of(ladder_key('n', chain, ch.driven));
     std::string inner;
     for (std::size_t k = 0; k < ch.inner.size() && k < 5; ++k)
       inner += (k ? ", " : "") + shown(ch.inner[k]);
@@ -123,15 +127,15 @@ void NetworkBuilder::cauer_ladders() {
     std::string text = fmt::format(
         "the Foster network from {} to {} ({} cell{}{}) is written as the equivalent Cauer ladder "
         "{}{}: the same Zth(t) seen from {} with {} held",
-        shown_node(ch.driven), shown_node(ch.far), ch.cells.size(), ch.cells.size() == 1 ? "" : "s",
+        name_of(ch.driven), name_of(ch.far), ch.cells.size(), ch.cells.size() == 1 ? "" : "s",
         inner.empty() ? "" : "; its inner nodes " + inner + " are not temperatures of anything",
-        shown_node(ch.driven), n > 1 ? fmt::format(", {}[1 .. {}]", ladder_display, n - 1) : "",
-        shown_node(ch.driven), shown_node(ch.far));
+        name_of(ch.driven), n > 1 ? fmt::format(", {}[1 .. {}]", ladder_display, n - 1) : "",
+        name_of(ch.driven), name_of(ch.far));
     if (!ch.far_held)
       text += fmt::format("; {} is not held at a fixed temperature here, so where it moves the "
                           "response differs from the netlist's (the Foster form's inner nodes "
                           "are not physical)",
-                          shown_node(ch.far));
+                          name_of(ch.far));
     if (uic)
       text += "; with UIC the ladder's nodes start at the initial temperature like the others";
     report_.note(ch.at, text);
