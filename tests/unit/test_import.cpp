@@ -116,6 +116,41 @@ TEST_CASE("import: SPICE expressions") {
   CHECK(code_of(std::string(100000, '-') + "1") == "bad-expression");
 }
 
+TEST_CASE("import: SPICE expressions as thermnet text") {
+  // Names: a subcircuit's params by name, a netlist's .param by its value (here), others none.
+  const spice::NameText names = [](const std::string& n) -> std::optional<std::string> {
+    if (n == "a" || n == "b" || n == "c") return n;
+    if (n == "g") return std::string("-3");
+    return std::nullopt;
+  };
+  const std::map<std::string, std::optional<std::string>> cases = {
+      {"a*b+c", "a * b + c"},
+      {"a-(b-c)", "a - (b - c)"},
+      {"(a-b)-c", "(a - b) - c"},
+      {"a/(b*c)", "a / (b * c)"},
+      {"a/b*c", "a / b * c"},
+      // SPICE's leading minus binds tighter than ^ (the evaluator's grammar), thermnet's looser:
+      // the translation brackets it.
+      {"-a^2", "(-a)^2"},
+      {"-(a^2)", "-(a^2)"},
+      {"2**3**2", "2^3^2"},
+      {"a^-b", "a^(-b)"},
+      {"g*a", "-3 * a"},
+      {"a^g", "a^(-3)"},
+      {"ln(a) + log(b)", "log(a) + log(b)"},
+      {"max(a, 1k, 2meg)", "max(a, 1000, 2000000)"},
+      {"pi*a", "pi * a"},
+      {"{a}", std::nullopt},       // (braces belong to the card, not the expression)
+      {"atan(a)", std::nullopt},   // no thermnet function
+      {"pwr(a, 2)", std::nullopt}, // ngspice's pwr keeps the sign: not pow
+      {"z * 2", std::nullopt},     // a name with no text
+      {"a +", std::nullopt}};
+  for (const auto& [spice_text, expected] : cases) {
+    INFO(spice_text);
+    CHECK(spice::translate(spice_text, names) == expected);
+  }
+}
+
 TEST_CASE("import: the format is found from the content") {
   CHECK(detect_format("C deck\nHEADER NODE DATA, MAIN\n  1, 20, 1\n") == Format::sinda);
   CHECK(detect_format("* title\nR1 a 0 1k\nC1 a 0 1u\n.end\n") == Format::spice);
