@@ -67,6 +67,7 @@ private:
   std::map<std::string, lang::Span> cap_at_;    // node -> its first capacitor card
   std::map<std::string, std::string> cap_expr_; // node -> its one capacitor's text in its params
   std::map<std::string, int> cap_count_;        // node -> capacitors on it
+  std::map<std::string, std::string> cap_from_; // node -> a capacitor of an instance on it
   std::map<std::string, std::pair<double, lang::Span>> t0_;
   std::vector<FosterChain> chains_;
   std::vector<std::pair<std::size_t, std::size_t>> ladders_; // chain, stages: the ladders written

@@ -209,6 +209,7 @@ void NetworkBuilder::capacities() {
     cap_[node] += e.value;
     cap_at_.emplace(node, e.at);
     ++cap_count_[node];
+    if (e.scope != scope_of(node)) cap_from_.emplace(node, e.name);
     if (e.expr && e.scope == scope_of(node)) cap_expr_[node] = *e.expr;
     if (e.ic) {
       if (!uic) {
@@ -246,7 +247,11 @@ void NetworkBuilder::declare_nodes() {
     node_index_[n] = net_.nodes.size();
     Value C = number(cap_.count(n) ? cap_[n] : 0.0);
     if (cap_count_[n] == 1 && cap_expr_.count(n)) C.scoped = cap_expr_[n];
-    net_.nodes.push_back({Name{n, {}}, C, std::nullopt, "",
+    std::string what;
+    if (auto it = cap_from_.find(n); it != cap_from_.end())
+      what = "C from " + lang::excerpt_for_display(it->second, 60) +
+             (cap_count_[n] > 1 ? " and others" : "");
+    net_.nodes.push_back({Name{n, {}}, C, std::nullopt, what,
                           // (a node with a capacity cites the card that gives it, the others the
                           // first that names it)
                           cap_at_.count(n) ? cap_at_[n] : at, scope_of(n)});
