@@ -117,6 +117,7 @@ struct InstanceStmt {
 struct SubmodelParam {
   std::string name;                    ///< identifier
   std::optional<std::string> default_; ///< its default (none: every instance gives it)
+  lang::Span origin;                   ///< where the source defines it
 };
 
 /// A submodel: a part the source defines once and uses several times (a SPICE subcircuit).

@@ -488,12 +488,13 @@ private:
     }
     for (const auto& p : def.params)
       if (words.count(p.name)) {
-        sig.params.push_back({p.name, p.needs_instance ? std::nullopt : p.text});
+        sig.params.push_back({p.name, p.needs_instance ? std::nullopt : p.text, p.at});
         sig.spice.push_back(p.spice);
       }
     s.params = sig.params;
     for (const auto& l : def.locals)
-      if (words.count(l.name) && l.text) s.consts.push_back({l.name, *l.text, ""});
+      if (words.count(l.name) && l.text)
+        s.consts.push_back({l.name, *l.text, place_text(sources_, l.at) + " .param"});
     s.boundaries = std::move(body.boundaries);
     s.nodes = std::move(body.nodes);
     s.links = std::move(body.links);

@@ -53,10 +53,12 @@ public:
     std::string inner;
     std::swap(inner, out_);
     for (const auto& p : s.params)
-      out_ += p.default_ ? fmt::format("param {} = {}\n", p.name, *p.default_)
-                         : fmt::format("param {}\n", p.name);
+      out_ += (p.default_ ? fmt::format("param {} = {}", p.name, *p.default_)
+                          : fmt::format("param {}", p.name)) +
+              origin(p.origin, p.origin, "") + "\n";
     for (const auto& c : s.consts)
-      out_ += fmt::format("const {} = {}\n", c.name, c.expr);
+      out_ +=
+          fmt::format("const {} = {}  # {}\n", c.name, c.expr, lang::escape_for_display(c.comment));
     body(s.boundaries, s.nodes, s.links, s.heaters, s.instances);
     std::swap(inner, out_);
     // Indented by two; the body's blank lines stay blank.
