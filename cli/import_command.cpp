@@ -7,6 +7,7 @@
 #include "app/output_stream.hpp"
 #include "cli/run_command.hpp"
 #include "import/importer.hpp"
+#include "kernel/core/element_registry.hpp"
 #include "lang/display_text.hpp"
 #include "lang/path_policy.hpp"
 
@@ -48,6 +49,10 @@ int run_import(const ImportCommandOptions& o, lang::SourceManager& sources) {
   if (o.format == "sinda") options.format = importer::Format::sinda;
   if (o.format == "spice") options.format = importer::Format::spice;
   options.allow_partial = o.allow_partial;
+  // (plugins given with --plugin are loaded by now: their kinds count too)
+  options.is_kind = [](const std::string& n) {
+    return thermnet::element_catalog().find(n) != nullptr;
+  };
   lang::DiagnosticEngine diags(sources);
   const importer::ImportResult r = importer::import_files(o.files, options, diags, sources);
   if (diags.saturated()) diags.stop_early();

@@ -57,8 +57,9 @@ RealResult parse_fortran_real(std::string_view text) {
   double v = 0;
   auto [p, ec] = std::from_chars(first, last, v);
   if (ec == std::errc::result_out_of_range) {
-    // Too small is zero, as Fortran reads it; too large is an error.
-    if (normal.find("e-") != std::string::npos) return {0, NumberProblem::none};
+    // Too small would be read as zero (a capacity or conductance gone without a word): an error,
+    // as too large is.
+    if (normal.find("e-") != std::string::npos) return {0, NumberProblem::underflow};
     return {0, NumberProblem::out_of_range};
   }
   if (ec != std::errc() || p != last) return {0, NumberProblem::malformed};
@@ -83,9 +84,16 @@ std::string fortran_number_message(std::string_view text, NumberProblem problem)
   const std::string shown = lang::excerpt_for_display(text);
   if (problem == NumberProblem::out_of_range)
     return fmt::format("'{}' is too large for a double-precision number", shown);
+  if (problem == NumberProblem::underflow) return underflow_message(text);
   return fmt::format("'{}' is not a number Fortran reads (write e.g. 1.5, -2, 1.5E3, 1.0D-3); "
                      "expressions and registers are not translated",
                      shown);
+}
+
+std::string underflow_message(std::string_view text) {
+  return fmt::format("'{}' underflows: its magnitude is below the smallest number (4.9e-324); "
+                     "write 0 if it is meant",
+                     lang::excerpt_for_display(text));
 }
 
 } // namespace thermnet::importer

@@ -12,12 +12,12 @@
 namespace thermnet::importer {
 
 /// Why a text is not a number.
-enum class NumberProblem { none, malformed, out_of_range };
+enum class NumberProblem { none, malformed, out_of_range, underflow };
 
 /// A parsed real, or why there is none.
 struct RealResult {
   double value = 0;                            ///< the value (when problem is none)
-  NumberProblem problem = NumberProblem::none; ///< none, malformed or out of range
+  NumberProblem problem = NumberProblem::none; ///< none, malformed, too large or too small
 };
 
 /// Parses a whole field as a Fortran real (case-insensitive exponent letter E, D or Q).
@@ -28,5 +28,8 @@ std::optional<std::int64_t> parse_fortran_integer(std::string_view text);
 
 /// The message for a field that is not a real: what Fortran accepts, or that it is too large.
 std::string fortran_number_message(std::string_view text, NumberProblem problem);
+
+/// The message for a number (of any format) whose magnitude is below the smallest double.
+std::string underflow_message(std::string_view text);
 
 } // namespace thermnet::importer

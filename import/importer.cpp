@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <unordered_map>
 #include <vector>
 
 namespace thermnet::importer {
@@ -123,39 +122,6 @@ bool reports_unreadable(const lang::DiagnosticEngine& diags) {
   });
 }
 
-/// Notes every node that no chain of links ties to a boundary: a floating part of the network
-/// (SPICE has no DC path to ground there), whose steady state is undetermined and of which lint
-/// warns ([no-boundary-path]); its temperatures in a transient are still defined.
-void note_floating(const Network& net, Report& report) {
-  std::unordered_map<std::string, std::size_t> index; // node, then boundary names -> 0, 1, ...
-  for (const Node& n : net.nodes)
-    index.emplace(n.name.text(), index.size());
-  for (const Boundary& b : net.boundaries)
-    index.emplace(b.name.text(), index.size());
-  std::vector<std::size_t> parent(index.size());
-  for (std::size_t k = 0; k < parent.size(); ++k)
-    parent[k] = k;
-  const auto root = [&parent](std::size_t k) { // (path halving: a million-node chain stays fast)
-    while (parent[k] != k)
-      k = parent[k] = parent[parent[k]];
-    return k;
-  };
-  for (const Link& l : net.links) {
-    const auto a = index.find(l.a.text()), b = index.find(l.b.text());
-    if (a != index.end() && b != index.end()) parent[root(a->second)] = root(b->second);
-  }
-  std::vector<char> anchored(parent.size(), 0);
-  for (const Boundary& b : net.boundaries)
-    anchored[root(index.at(b.name.text()))] = 1;
-  for (std::size_t k = 0; k < net.nodes.size(); ++k)
-    if (!anchored[root(k)])
-      report.note(net.nodes[k].origin,
-                  fmt::format("node {} has no path of links to a boundary (a floating part: no DC "
-                              "path to ground in SPICE): its steady state is undetermined, and "
-                              "lint warns of it",
-                              net.nodes[k].name.text()));
-}
-
 } // namespace
 
 ImportResult import_files(const std::vector<std::string>& paths, const ImportOptions& options,
@@ -169,18 +135,30 @@ ImportResult import_files(const std::vector<std::string>& paths, const ImportOpt
     result.files_read = deck.files;
     if (report.error_count() == 0) net = sinda::deck_network(deck, report);
   } else if (result.format == Format::spice) {
-    net = spice::read_network(paths, sources, report, result.files_read);
+    const auto core_kind = [](const std::string& n) {
+      static constexpr const char* kinds[] = {
+          "conductance", "resistor",   "conduction", "cylinder_conduction",
+          "contact",     "convection", "radiation",  "switched_conductance",
+          "heater",      "thermostat", "sensor"};
+      return std::any_of(std::begin(kinds), std::end(kinds), [&](const char* k) { return n == k; });
+    };
+    net = spice::read_network(paths, sources, report, result.files_read,
+                              options.is_kind ? options.is_kind : core_kind);
   }
   result.unreadable = result.unreadable || reports_unreadable(diags);
   result.dropped = report.dropped_count();
   result.failed = report.error_count() > 0 || result.format == Format::automatic ||
                   (result.dropped > 0 && !options.allow_partial);
   if (result.failed) return result;
-  note_floating(net, report);
-  result.nodes = net.nodes.size();
-  result.boundaries = net.boundaries.size();
-  result.links = net.links.size();
-  result.heaters = net.heaters.size();
+  if (result.format == Format::sinda)
+    note_floating(net, report, [](const Name& n) { return n.text(); });
+  const Counts counts = net.expanded ? *net.expanded
+                                     : Counts{net.nodes.size(), net.boundaries.size(),
+                                              net.links.size(), net.heaters.size()};
+  result.nodes = counts.nodes;
+  result.boundaries = counts.boundaries;
+  result.links = counts.links;
+  result.heaters = counts.heaters;
   result.text = write_tnet(net, report.remarks(), sources);
   return result;
 }

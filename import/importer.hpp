@@ -5,6 +5,7 @@
 #include "lang/diagnostics.hpp"
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -18,6 +19,8 @@ enum class Format { automatic, sinda, spice };
 struct ImportOptions {
   Format format = Format::automatic; ///< the files' format (automatic: from their content)
   bool allow_partial = false;        ///< write the model even when lines were not translated
+  /// Whether a name is an element kind (a submodel may not take it); empty: the core kinds.
+  std::function<bool(const std::string&)> is_kind;
 };
 
 /// What an import produced.

@@ -58,6 +58,7 @@ struct Control {
   std::optional<ControlValue> output; ///< output interval
   std::optional<std::string> uid;     ///< "SI" or "ENG"
   lang::Span uid_at;                  ///< where UID is set
+  std::optional<lang::Span> at;       ///< the first HEADER CONTROL DATA line
 };
 
 /// A BUILD statement of OPERATIONS naming the submodels to build.
@@ -68,15 +69,16 @@ struct Build {
 
 /// Everything read from a deck and its inserted files.
 struct Deck {
-  std::vector<NodeCard> nodes;           ///< node data, in reading order
-  std::vector<ConductorCard> conductors; ///< conductor data, in reading order
-  std::vector<SourceCard> sources;       ///< heat loads, in reading order
-  Control control;                       ///< control data
-  std::string title;                     ///< TITLE of OPTIONS DATA
-  std::optional<lang::Span> steady;      ///< first steady-state call of OPERATIONS
-  std::optional<lang::Span> transient;   ///< first transient call of OPERATIONS
-  std::vector<Build> builds;             ///< BUILD statements of OPERATIONS
-  std::vector<std::string> files;        ///< the files read, as named, in order
+  std::vector<NodeCard> nodes;            ///< node data, in reading order
+  std::vector<ConductorCard> conductors;  ///< conductor data, in reading order
+  std::vector<SourceCard> sources;        ///< heat loads, in reading order
+  Control control;                        ///< control data
+  std::string title;                      ///< TITLE of OPTIONS DATA
+  std::optional<lang::Span> steady;       ///< first steady-state call of OPERATIONS
+  std::optional<lang::Span> transient;    ///< first transient call of OPERATIONS
+  std::vector<Build> builds;              ///< BUILD statements of OPERATIONS
+  std::vector<std::string> files;         ///< the files read, as named, in order
+  std::optional<lang::Span> first_header; ///< the deck's first HEADER line
 };
 
 /// Most nodes and conductors a deck may define or generate (thermnet's own generation limit).

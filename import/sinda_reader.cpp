@@ -149,6 +149,7 @@ private:
     const std::string& name = parts[0];
     sub_ = parts.size() > 1 ? parts[1] : "";
     block_at_ = line.whole();
+    if (!deck_.first_header) deck_.first_header = line.whole();
     block_label_ = sub_.empty() ? name : name + ", " + sub_;
     if (name == "END OF DATA") return true;
     if (name.empty()) {
@@ -175,6 +176,7 @@ private:
     for (const Known& k : known) {
       if (name != k.name) continue;
       block_ = k.block;
+      if (k.block == Block::control && !deck_.control.at) deck_.control.at = line.whole();
       if (k.needs_sub && sub_.empty()) {
         report_.error(line.whole(), "bad-syntax",
                       fmt::format("HEADER {} needs a submodel name: HEADER {}, NAME", name, name));

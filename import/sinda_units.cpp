@@ -34,7 +34,8 @@ Units::Units(const Deck& deck, const ConductorCard* radiation, Report& report) {
                    "5.670374419E-8)");
       return;
     }
-    report.note(std::nullopt,
+    // (at the control data that lacks them, else at the deck's first block)
+    report.note(c.at ? c.at : deck.first_header,
                 "the deck states no units (neither UID nor ABSZRO in CONTROL DATA, GLOBAL): its "
                 "numbers are read as SI (J/K, W/K, W, s) and its temperatures as degC; without "
                 "radiation the temperatures equal SINDA's whatever units the deck meant");

@@ -1,5 +1,8 @@
 #include "import/spice_circuit.hpp"
 
+#include "import/network.hpp"
+#include "import/spice_expression.hpp"
+#include "import/spice_names.hpp"
 #include "import/spice_number.hpp"
 #include "import/spice_params.hpp"
 #include "lang/display_text.hpp"
@@ -75,9 +78,13 @@ public:
     std::vector<const Card*> top;
     split(top);
     for (const Card* c : top)
-      if (lower(c->tokens[0].text) == ".param") guarded([&] { params(*c, global_); });
+      if (lower(c->tokens[0].text) == ".param") guarded([&] { params(*c, global_, true); });
+    describe_globals();
     std::vector<std::string> stack;
-    expand(top, global_, "", {}, stack, true);
+    circuit_.instances.push_back(Instance{});
+    expand(top, global_, "", {}, 0, stack, true);
+    for (const auto& [name, s] : subckts_)
+      if (!circuit_.subckts.count(name)) circuit_.unused.emplace_back(name, s->at);
     return std::move(circuit_);
   }
 
@@ -157,19 +164,97 @@ private:
     return it->second.get();
   }
 
-  void params(const Card& c, ParamScope& scope) {
+  void params(const Card& c, ParamScope& scope, bool global = false) {
     std::vector<std::pair<std::string, ParamDef>> list;
     read_assignments(sources_, c.tokens, 1, list);
-    for (auto& [name, def] : list)
+    for (auto& [name, def] : list) {
       scope.define(name, def);
+      if (global) global_defs_.emplace_back(name, def);
+    }
+  }
+
+  /// The netlist's .param values as the model's consts: thermnet names, and their expressions
+  /// translated in rounds (one may use another that stands after it).
+  void describe_globals() {
+    std::set<std::string> used;
+    for (const auto& [name, def] : global_defs_)
+      circuit_.globals.push_back({name, param_name(name, used), std::nullopt, false, def.at});
+    const NameText names = [&](const std::string& n) -> std::optional<std::string> {
+      for (const auto& p : circuit_.globals)
+        if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
+      return std::nullopt;
+    };
+    for (bool more = true; more;) {
+      more = false;
+      for (std::size_t j = 0; j < circuit_.globals.size(); ++j)
+        if (!circuit_.globals[j].text) {
+          circuit_.globals[j].text = translate(global_defs_[j].second.text, names);
+          more = more || circuit_.globals[j].text.has_value();
+        }
+    }
+  }
+
+  /// A thermnet name for a parameter, unique in `used`: names thermnet gives meaning to inside
+  /// an expression cannot name a param or const.
+  static std::string param_name(const std::string& spice, std::set<std::string>& used) {
+    static constexpr const char* taken[] = {
+        "time",  "step", "pwl", "table", "data", "range", "in",  "for", "sqrt",   "exp",     "log",
+        "log10", "sin",  "cos", "tan",   "abs",  "min",   "max", "pow", "steady", "submodel"};
+    std::string base = sanitize(spice);
+    for (const char* w : taken)
+      if (base == w) base += "_";
+    std::string n = base;
+    for (int k = 2; !used.insert(n).second; ++k)
+      n = fmt::format("{}_{}", base, k);
+    return n;
   }
 
   struct Context {
     std::string prefix;
     std::map<std::string, std::string> nodes; // terminal -> outer node
+    std::size_t scope = 0;                    // the instance
   };
 
-  std::string node(const Token& t, const Context& ctx) const {
+  /// How a name stands in thermnet text in instance `scope`: a parameter or .param of its
+  /// subcircuit by its thermnet name, a netlist's .param by its value.
+  NameText names_in(std::size_t scope) const {
+    const SubcktDef* def =
+        scope == 0 ? nullptr : &circuit_.subckts.at(circuit_.instances[scope].subckt);
+    return [this, def](const std::string& n) -> std::optional<std::string> {
+      if (def != nullptr) {
+        for (const auto& p : def->params)
+          if (p.spice == n) return p.name;
+        for (const auto& p : def->locals)
+          if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
+      } else {
+        // (at the top level a .param is a const of the model; inside a submodel its value)
+        for (const auto& p : circuit_.globals)
+          if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
+      }
+      try {
+        if (auto v = global_.lookup(n)) return number_text(*v);
+      } catch (const ImportError&) {
+      }
+      return std::nullopt;
+    };
+  }
+
+  /// A value token as thermnet text in instance `scope`.
+  /// A value token as thermnet text in instance `scope`; nothing for a plain number (the
+  /// writer writes the value) and for what has no thermnet text. `number` gives a plain number
+  /// its text instead.
+  std::optional<std::string> text_of(const Token& t, std::size_t scope, bool number = false) const {
+    if (t.kind == Token::Kind::expression) return translate(t.text, names_in(scope));
+    if (t.kind != Token::Kind::word) return std::nullopt;
+    if (auto n = spice_number(t.text))
+      return number ? std::optional<std::string>(number_text(n->value)) : std::nullopt;
+    return names_in(scope)(lower(t.text));
+  }
+
+  /// The description of a subcircuit for its submodel (made at its first instance).
+  const SubcktDef& describe(const Subckt& s);
+
+  std::string node(const Token& t, const Context& ctx) {
     if (t.kind != Token::Kind::word)
       throw ImportError(
           t.at, "bad-syntax",
@@ -177,13 +262,16 @@ private:
     const std::string n = lower(t.text);
     if (is_ground(n)) return "0";
     if (auto it = ctx.nodes.find(n); it != ctx.nodes.end()) return it->second;
-    return ctx.prefix.empty() ? n : ctx.prefix + "." + n;
+    if (ctx.prefix.empty()) return n;
+    std::string flat = ctx.prefix + "." + n;
+    circuit_.node_scope.emplace(flat, ctx.scope);
+    return flat;
   }
 
   void expand(const std::vector<const Card*>& cards, const ParamScope& scope,
               const std::string& prefix, const std::map<std::string, std::string>& terminals,
-              std::vector<std::string>& stack, bool top) {
-    const Context ctx{prefix, terminals};
+              std::size_t instance, std::vector<std::string>& stack, bool top) {
+    const Context ctx{prefix, terminals, instance};
     for (const Card* c : cards) {
       if (report_.saturated() || too_large_) return;
       guarded([&] { card(*c, scope, ctx, stack, top); });
@@ -234,6 +322,7 @@ private:
   std::map<std::string, std::unique_ptr<Subckt>> subckts_;
   std::vector<std::unique_ptr<ParamScope>> scopes_;
   std::set<std::string> names_; // flattened element and instance names
+  std::vector<std::pair<std::string, ParamDef>> global_defs_; // the netlist's .param values
   Circuit circuit_;
   bool too_large_ = false;
 };
@@ -250,6 +339,7 @@ void Flattener::element(const Card& c, char kind, const ParamScope& scope, const
   e.a = node(t[1], ctx);
   e.b = node(t[2], ctx);
   e.at = c.at;
+  e.scope = ctx.scope;
   if (kind == 'i' || kind == 'v') {
     source_spec(c, e, scope);
     circuit_.elements.push_back(std::move(e));
@@ -264,6 +354,7 @@ void Flattener::element(const Card& c, char kind, const ParamScope& scope, const
   bool femto = false;
   e.value = scope.value(t[i], &femto);
   e.value_at = t[i].at;
+  e.expr = text_of(t[i], ctx.scope);
   if (femto && kind == 'c')
     report_.note(t[i].at, fmt::format("'{}' reads as {} F: SPICE's suffix f is femto (1e-15), "
                                       "not farad",
@@ -275,6 +366,7 @@ void Flattener::element(const Card& c, char kind, const ParamScope& scope, const
       const double m = scope.evaluate(def);
       if (!(m > 0)) throw ImportError(def.at, "invalid-value", "the multiplier m must be positive");
       e.value = kind == 'r' ? e.value / m : e.value * m;
+      e.expr.reset();
     } else if (kind == 'c' && name == "ic") {
       e.ic = scope.evaluate(def);
     } else {
@@ -299,6 +391,7 @@ void Flattener::source_spec(const Card& c, Element& e, const ParamScope& scope) 
       if (v >= t.size()) throw ImportError(t[i].at, "bad-syntax", "DC needs a value");
       e.value = scope.value(t[v]);
       e.value_at = t[v].at;
+      e.expr = text_of(t[v], e.scope);
       have_dc = true;
       i = v + 1;
     } else if (w == "ac") {
@@ -329,8 +422,12 @@ void Flattener::source_spec(const Card& c, Element& e, const ParamScope& scope) 
         if (time < 0)
           throw ImportError(values[k]->at, "invalid-value", "a PWL time may not be negative");
         e.pwl.emplace_back(time, scope.value(*values[k + 1]));
+        auto tt = text_of(*values[k], e.scope, true), vt = text_of(*values[k + 1], e.scope, true);
+        if (tt && vt && e.pwl_expr.size() + 1 == e.pwl.size()) e.pwl_expr.emplace_back(*tt, *vt);
       }
       e.value_at = t[i].at;
+      e.expr.reset();
+      if (e.pwl_expr.size() != e.pwl.size()) e.pwl_expr.clear();
       i = j + 1;
       if (i < t.size()) {
         report_.dropped(t[i].at, fmt::format("the PWL options of {} (r=, td=: repetition and "
@@ -348,6 +445,7 @@ void Flattener::source_spec(const Card& c, Element& e, const ParamScope& scope) 
     } else if (!have_dc && e.pwl.empty()) {
       e.value = scope.value(t[i]);
       e.value_at = t[i].at;
+      e.expr = text_of(t[i], e.scope);
       have_dc = true;
       ++i;
     } else {
@@ -386,8 +484,9 @@ void Flattener::instance(const Card& c, const ParamScope& scope, const Context& 
   const Subckt& s = *it->second;
   if (end - 2 != s.terminals.size())
     throw ImportError(c.at, "bad-syntax",
-                      fmt::format("subcircuit '{}' has {} nodes, the instance gives {}", name,
-                                  s.terminals.size(), end - 2));
+                      fmt::format("subcircuit '{}' has {} node{}, the instance gives {}",
+                                  lang::excerpt_for_display(name), s.terminals.size(),
+                                  s.terminals.size() == 1 ? "" : "s", end - 2));
   if (std::find(stack.begin(), stack.end(), name) != stack.end())
     throw ImportError(
         c.at, "subckt-cycle",
@@ -404,18 +503,127 @@ void Flattener::instance(const Card& c, const ParamScope& scope, const Context& 
   if (from < t.size() && lower(t[from].text) == "params:") ++from;
   std::vector<std::pair<std::string, ParamDef>> given;
   read_assignments(sources_, t, from, given);
-  for (const auto& [pname, def] : given)
-    inner->set(pname, scope.evaluate(def));
-  for (const auto& [pname, def] : s.defaults)
-    if (!inner->lookup_here(pname)) inner->define(pname, def);
+  const SubcktDef& def = describe(s);
+  Instance inst;
+  inst.name = lower(t[0].text);
+  inst.subckt = name;
+  inst.parent = ctx.scope;
+  inst.at = c.at;
+  for (const auto& term : s.terminals)
+    inst.bindings.push_back(terminals.at(term));
+  for (const auto& [pname, pdef] : given) {
+    if (std::none_of(s.defaults.begin(), s.defaults.end(),
+                     [&](const auto& d) { return d.first == pname; })) {
+      std::string known;
+      for (const auto& d : s.defaults)
+        known += (known.empty() ? "" : ", ") + d.first;
+      throw ImportError(pdef.at, "unknown-param",
+                        fmt::format("subcircuit '{}' has no parameter '{}' ({})",
+                                    lang::excerpt_for_display(name),
+                                    lang::excerpt_for_display(pname),
+                                    known.empty() ? "it has none" : "its parameters: " + known));
+    }
+    const double v = scope.evaluate(pdef);
+    inner->set(pname, v);
+    inst.keys[pname] = {translate(pdef.text, names_in(ctx.scope)), v};
+  }
+  for (const auto& [pname, pdef] : s.defaults)
+    if (!inner->lookup_here(pname)) inner->define(pname, pdef);
   for (const Card* card : s.cards)
     if (lower(card->tokens[0].text) == ".param") params(*card, *inner);
-  const std::string prefix =
-      ctx.prefix.empty() ? lower(t[0].text) : ctx.prefix + "." + lower(t[0].text);
+  for (const auto& p : def.params)
+    guarded([&] {
+      if (auto v = inner->lookup(p.spice)) inst.values[p.spice] = *v;
+    });
+  inst.prefix = ctx.prefix.empty() ? inst.name : ctx.prefix + "." + inst.name;
+  const std::string prefix = inst.prefix;
+  const std::size_t index = circuit_.instances.size();
+  circuit_.instances.push_back(std::move(inst));
   stack.push_back(name);
-  expand(s.cards, *inner, prefix, terminals, stack, false);
+  expand(s.cards, *inner, prefix, terminals, index, stack, false);
   stack.pop_back();
   scopes_.push_back(std::move(inner));
+}
+
+const SubcktDef& Flattener::describe(const Subckt& s) {
+  if (auto it = circuit_.subckts.find(s.name); it != circuit_.subckts.end()) return it->second;
+  SubcktDef& d = circuit_.subckts[s.name];
+  d.name = s.name;
+  d.terminals = s.terminals;
+  d.at = s.at;
+  std::set<std::string> used;
+  const auto name_of = [&](const std::string& spice) { return param_name(spice, used); };
+  for (const auto& [pname, pdef] : s.defaults)
+    d.params.push_back({pname, name_of(pname), std::nullopt, false, pdef.at});
+  for (const Card* card : s.cards) {
+    if (lower(card->tokens[0].text) != ".param") continue;
+    std::vector<std::pair<std::string, ParamDef>> list;
+    try {
+      read_assignments(sources_, card->tokens, 1, list);
+    } catch (const ImportError&) {
+      continue; // reported where the instance reads it
+    }
+    for (auto& [pname, pdef] : list)
+      d.locals.push_back({pname, name_of(pname), std::nullopt, false, pdef.at});
+  }
+  // Translations, now that every name is known; a default that uses the subcircuit's own names
+  // cannot stand on the param line: every instance gives that value.
+  std::size_t k = 0;
+  for (const auto& [pname, pdef] : s.defaults) {
+    bool own = false;
+    d.params[k].text =
+        translate(pdef.text, [&](const std::string& n) -> std::optional<std::string> {
+          for (const auto& p : d.params)
+            if (p.spice == n) own = true;
+          for (const auto& p : d.locals)
+            if (p.spice == n) own = true;
+          if (own) return "0";
+          try {
+            if (auto v = global_.lookup(n)) return number_text(*v);
+          } catch (const ImportError&) {
+          }
+          return std::nullopt;
+        });
+    if (own) {
+      d.params[k].text.reset();
+      d.params[k].needs_instance = true;
+    }
+    ++k;
+  }
+  // A .param may use another that stands after it: translated in rounds, each using those
+  // translated before (one that uses a value thermnet cannot write stays untranslated).
+  const NameText names = [&](const std::string& n) -> std::optional<std::string> {
+    for (const auto& p : d.params)
+      if (p.spice == n) return p.name;
+    for (const auto& p : d.locals)
+      if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
+    try {
+      if (auto v = global_.lookup(n)) return number_text(*v);
+    } catch (const ImportError&) {
+    }
+    return std::nullopt;
+  };
+  std::vector<ParamDef> local_defs;
+  for (const Card* card : s.cards) {
+    if (lower(card->tokens[0].text) != ".param") continue;
+    std::vector<std::pair<std::string, ParamDef>> list;
+    try {
+      read_assignments(sources_, card->tokens, 1, list);
+    } catch (const ImportError&) {
+      continue;
+    }
+    for (auto& [pname, pdef] : list)
+      local_defs.push_back(pdef);
+  }
+  for (bool more = true; more;) {
+    more = false;
+    for (std::size_t j = 0; j < d.locals.size() && j < local_defs.size(); ++j)
+      if (!d.locals[j].text) {
+        d.locals[j].text = translate(local_defs[j].text, names);
+        more = more || d.locals[j].text.has_value();
+      }
+  }
+  return d;
 }
 
 void Flattener::directive(const Card& c, const std::string& head, const ParamScope& scope,

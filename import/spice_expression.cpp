@@ -1,5 +1,6 @@
 #include "import/spice_expression.hpp"
 
+#include "import/fortran_number.hpp"
 #include "import/report.hpp"
 #include "import/spice_number.hpp"
 #include "lang/display_text.hpp"
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace thermnet::importer::spice {
@@ -54,6 +56,15 @@ private:
     }
     return false;
   }
+  /// `result` of an operation on `operand`: a result that underflows to 0 from a nonzero
+  /// operand is an error (a capacity or resistance gone without a word), as a literal's is.
+  double checked(double operand, double result) const {
+    if (result == 0 && operand != 0)
+      throw ImportError(span(0, s_.size()), "bad-number",
+                        "the expression's value underflows: its magnitude is below the smallest "
+                        "number (4.9e-324)");
+    return result;
+  }
   void enter() {
     if (++depth_ > max_depth) fail("the expression nests too deeply");
   }
@@ -78,7 +89,7 @@ private:
       skip();
       if (i_ + 1 < s_.size() && s_[i_] == '*' && s_[i_ + 1] == '*') break; // a power
       if (eat('*'))
-        v *= power();
+        v = checked(v, v * power());
       else if (eat('/')) {
         const std::size_t at = i_;
         const double d = power();
@@ -86,7 +97,7 @@ private:
           i_ = at;
           fail("division by zero");
         }
-        v /= d;
+        v = checked(v, v / d);
       } else
         break;
     }
@@ -95,10 +106,10 @@ private:
   double power() {
     const double base = unary();
     skip();
-    if (eat('^')) return std::pow(base, power_rhs());
+    if (eat('^')) return checked(base, std::pow(base, power_rhs()));
     if (i_ + 1 < s_.size() && s_[i_] == '*' && s_[i_ + 1] == '*') {
       i_ += 2;
-      return std::pow(base, power_rhs());
+      return checked(base, std::pow(base, power_rhs()));
     }
     return base;
   }
@@ -132,6 +143,9 @@ private:
     if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') {
       auto n = read_spice_number(s_.substr(i_));
       if (!n) fail("not a number");
+      if (n->underflow)
+        throw ImportError(span(i_, i_ + n->length), "bad-number",
+                          underflow_message(s_.substr(i_, n->length)));
       i_ += n->length;
       return n->value;
     }
@@ -200,7 +214,7 @@ private:
     for (const Fn& fn : one)
       if (f == fn.name) {
         need(1);
-        const double v = fn.fn(a[0]);
+        const double v = f == "exp" ? checked(1, fn.fn(a[0])) : fn.fn(a[0]);
         if (!std::isfinite(v))
           throw ImportError(span(at, at + f.size()), "bad-expression",
                             fmt::format("{}({}) is not a finite number", f, a[0]));
@@ -218,7 +232,175 @@ private:
   int depth_ = 0;
 };
 
+/// A thermnet expression's text and how tightly it binds: 0 a sum, 1 a product, 2 a negation,
+/// 3 a power, 4 an atom (a number, a name, a call, a parenthesised expression).
+struct Text {
+  std::string s;
+  int prec = 4;
+};
+
+/// Rewrites an expression that evaluate() accepted as thermnet text (same grammar, same
+/// precedence as that parser: a leading minus binds tighter than ^ there, so it is bracketed).
+class Translator {
+public:
+  Translator(std::string_view text, const NameText& names) : s_(text), names_(names) {}
+
+  std::optional<std::string> run() {
+    Text t = sum();
+    skip();
+    if (!ok_ || i_ < s_.size()) return std::nullopt;
+    return t.s;
+  }
+
+private:
+  static std::string wrap(const Text& t, int need) { return t.prec < need ? "(" + t.s + ")" : t.s; }
+  void skip() {
+    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_])))
+      ++i_;
+  }
+  bool eat(char c) {
+    skip();
+    if (i_ < s_.size() && s_[i_] == c) {
+      ++i_;
+      return true;
+    }
+    return false;
+  }
+  Text fail() {
+    ok_ = false;
+    i_ = s_.size();
+    return {"0", 4};
+  }
+  Text sum() {
+    if (++depth_ > max_depth) return fail();
+    Text v = product();
+    for (;;) {
+      char op = 0;
+      if (eat('+'))
+        op = '+';
+      else if (eat('-'))
+        op = '-';
+      else
+        break;
+      const Text r = product();
+      v = {wrap(v, 0) + " " + op + " " + wrap(r, 1), 0};
+    }
+    --depth_;
+    return v;
+  }
+  Text product() {
+    Text v = power();
+    for (;;) {
+      skip();
+      if (i_ + 1 < s_.size() && s_[i_] == '*' && s_[i_ + 1] == '*') break;
+      char op = 0;
+      if (eat('*'))
+        op = '*';
+      else if (eat('/'))
+        op = '/';
+      else
+        break;
+      const Text r = power();
+      v = {wrap(v, 1) + " " + op + " " + wrap(r, 2), 1};
+    }
+    return v;
+  }
+  Text power() {
+    const Text base = unary();
+    skip();
+    bool pow = eat('^');
+    if (!pow && i_ + 1 < s_.size() && s_[i_] == '*' && s_[i_ + 1] == '*') {
+      i_ += 2;
+      pow = true;
+    }
+    if (!pow) return base;
+    if (++depth_ > max_depth) return fail();
+    const Text e = power();
+    --depth_;
+    return {wrap(base, 4) + "^" + wrap(e, 3), 3};
+  }
+  Text unary() {
+    if (++depth_ > max_depth) return fail();
+    Text v;
+    if (eat('-')) {
+      const Text x = unary();
+      v = {"-" + wrap(x, 3), 2};
+    } else if (eat('+'))
+      v = unary();
+    else
+      v = primary();
+    --depth_;
+    return v;
+  }
+  Text primary() {
+    skip();
+    if (i_ >= s_.size()) return fail();
+    if (eat('(')) {
+      const Text v = sum();
+      if (!eat(')')) return fail();
+      return {wrap(v, 4), 4};
+    }
+    const char c = s_[i_];
+    if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') {
+      auto n = read_spice_number(s_.substr(i_));
+      if (!n) return fail();
+      i_ += n->length;
+      return number(n->value);
+    }
+    if (!(std::isalpha(static_cast<unsigned char>(c)) || c == '_')) return fail();
+    const std::size_t start = i_;
+    while (i_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[i_])) || s_[i_] == '_'))
+      ++i_;
+    std::string name(s_.substr(start, i_ - start));
+    std::transform(name.begin(), name.end(), name.begin(), [](char ch) {
+      return static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    });
+    skip();
+    if (i_ < s_.size() && s_[i_] == '(') {
+      ++i_;
+      std::vector<Text> args;
+      if (!eat(')')) {
+        do
+          args.push_back(sum());
+        while (eat(','));
+        if (!eat(')')) return fail();
+      }
+      // Functions thermnet has with the same meaning (ngspice's log is natural, as thermnet's).
+      static const std::pair<const char*, const char*> same[] = {
+          {"sqrt", "sqrt"},   {"exp", "exp"}, {"ln", "log"},  {"log", "log"},
+          {"log10", "log10"}, {"abs", "abs"}, {"sin", "sin"}, {"cos", "cos"},
+          {"tan", "tan"},     {"min", "min"}, {"max", "max"}, {"pow", "pow"}};
+      for (const auto& [spice, tnet] : same)
+        if (name == spice) {
+          std::string text = std::string(tnet) + "(";
+          for (std::size_t k = 0; k < args.size(); ++k)
+            text += (k ? ", " : "") + args[k].s;
+          return {text + ")", 4};
+        }
+      return fail();
+    }
+    if (name == "pi") return {"pi", 4};
+    auto t = names_(name);
+    if (!t) return fail();
+    return {*t, !t->empty() && (*t)[0] == '-' ? 2 : 4};
+  }
+  static Text number(double v) {
+    std::string t = v == 0 ? "0" : fmt::format("{}", v);
+    return {t, t[0] == '-' ? 2 : 4};
+  }
+
+  std::string_view s_;
+  const NameText& names_;
+  std::size_t i_ = 0;
+  int depth_ = 0;
+  bool ok_ = true;
+};
+
 } // namespace
+
+std::optional<std::string> translate(std::string_view text, const NameText& name_text) {
+  return Translator(text, name_text).run();
+}
 
 double evaluate(std::string_view text, lang::FileId file, std::uint32_t offset,
                 const ParamLookup& lookup) {

@@ -22,4 +22,12 @@ using ParamLookup = std::function<std::optional<double>(const std::string& name)
 double evaluate(std::string_view text, lang::FileId file, std::uint32_t offset,
                 const ParamLookup& lookup);
 
+/// The thermnet text of a parameter's name (a name of the submodel, or a number), or nothing when
+/// it has none.
+using NameText = std::function<std::optional<std::string>(const std::string& name)>;
+
+/// `text` (an expression that evaluates) as a thermnet expression with the same value, its names
+/// written by `name_text`; nothing when a name or function has no thermnet counterpart.
+std::optional<std::string> translate(std::string_view text, const NameText& name_text);
+
 } // namespace thermnet::importer::spice

@@ -2,6 +2,7 @@
 
 #include "import/spice_builder.hpp"
 #include "import/spice_cards.hpp"
+#include "import/spice_fold.hpp"
 #include "lang/display_text.hpp"
 
 #include <fmt/format.h>
@@ -33,11 +34,41 @@ Signal signal_of(const Element& e, double sign, bool is_temperature) {
   };
   if (e.pwl.empty()) {
     s.constant = value(e.value);
+    if (e.expr) s.constant.scoped = sign > 0 ? *e.expr : "-(" + *e.expr + ")";
     return s;
   }
-  for (const auto& [t, v] : e.pwl)
-    s.points.emplace_back(number(t), value(v));
+  for (std::size_t k = 0; k < e.pwl.size(); ++k) {
+    s.points.emplace_back(number(e.pwl[k].first), value(e.pwl[k].second));
+    if (e.pwl_expr.size() == e.pwl.size()) {
+      const auto& [t, v] = e.pwl_expr[k];
+      s.points.back().first.scoped = t;
+      s.points.back().second.scoped = sign > 0 ? v : "-(" + v + ")";
+    }
+  }
   return s;
+}
+
+std::string display(const std::string& flat) {
+  if (flat == "0") return "gnd";
+  std::string out;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t dot = flat.find('.', start);
+    out += sanitize(flat.substr(start, dot == std::string::npos ? dot : dot - start));
+    if (dot == std::string::npos) break;
+    out += '.';
+    start = dot + 1;
+  }
+  return lang::excerpt_for_display(out);
+}
+
+std::string ladder_key(char kind, std::size_t chain, const std::string& driven) {
+  return fmt::format("\x01{}\x01{}\x01{}", kind, chain, driven);
+}
+
+std::size_t NetworkBuilder::scope_of(const std::string& flat) const {
+  auto it = c_.node_scope.find(flat);
+  return it == c_.node_scope.end() ? 0 : it->second;
 }
 
 Network NetworkBuilder::build() {
@@ -73,7 +104,7 @@ Network NetworkBuilder::build() {
   if (ground_used_)
     net_.boundaries.insert(
         net_.boundaries.begin(),
-        Boundary{Name{"gnd", {}}, {temperature(0), {}}, "SPICE node 0", first_ground_});
+        Boundary{Name{"0", {}}, {temperature(0), {}}, "SPICE node 0", first_ground_});
   return std::move(net_);
 }
 
@@ -105,6 +136,13 @@ void NetworkBuilder::sources_v() {
     }
     held_[node] = i;
     held_signal_[node] = signal_of(e, sign, true);
+    if (e.scope != scope_of(node)) {
+      held_signal_[node].constant.scoped.clear();
+      for (auto& [t, v] : held_signal_[node].points) {
+        t.scoped.clear();
+        v.scoped.clear();
+      }
+    }
   }
 }
 
@@ -170,6 +208,9 @@ void NetworkBuilder::capacities() {
     const std::string& node = e.a == "0" ? e.b : e.a;
     cap_[node] += e.value;
     cap_at_.emplace(node, e.at);
+    ++cap_count_[node];
+    if (e.scope != scope_of(node)) cap_from_.emplace(node, e.name);
+    if (e.expr && e.scope == scope_of(node)) cap_expr_[node] = *e.expr;
     if (e.ic) {
       if (!uic) {
         report_.note(e.at, fmt::format("ignored: IC= of '{}' (as in SPICE, it applies only "
@@ -198,15 +239,22 @@ void NetworkBuilder::declare_nodes() {
     if (!seen.insert(n).second) return;
     if (held_.count(n)) {
       const Element& v = c_.elements[held_[n]];
-      net_.boundaries.push_back({names_.node(n), held_signal_[n], names_.what(n, v.name), v.at});
+      net_.boundaries.push_back({Name{n, {}}, held_signal_[n],
+                                 "held by " + lang::excerpt_for_display(v.name, 60), v.at,
+                                 scope_of(n)});
       return;
     }
     node_index_[n] = net_.nodes.size();
-    net_.nodes.push_back({names_.node(n), number(cap_.count(n) ? cap_[n] : 0.0), std::nullopt,
-                          names_.what(n),
+    Value C = number(cap_.count(n) ? cap_[n] : 0.0);
+    if (cap_count_[n] == 1 && cap_expr_.count(n)) C.scoped = cap_expr_[n];
+    std::string what;
+    if (auto it = cap_from_.find(n); it != cap_from_.end())
+      what = "C from " + lang::excerpt_for_display(it->second, 60) +
+             (cap_count_[n] > 1 ? " and others" : "");
+    net_.nodes.push_back({Name{n, {}}, C, std::nullopt, what,
                           // (a node with a capacity cites the card that gives it, the others the
                           // first that names it)
-                          cap_at_.count(n) ? cap_at_[n] : at});
+                          cap_at_.count(n) ? cap_at_[n] : at, scope_of(n)});
   };
   for (std::size_t i = 0; i < c_.elements.size(); ++i) {
     const Element& e = c_.elements[i];
@@ -230,13 +278,25 @@ void NetworkBuilder::declare_nodes() {
 } // namespace detail
 
 Network read_network(const std::vector<std::string>& paths, lang::SourceManager& sources,
-                     Report& report, std::vector<std::string>& files_read) {
+                     Report& report, std::vector<std::string>& files_read,
+                     const std::function<bool(const std::string&)>& is_kind) {
   Netlist netlist = read_cards(paths, sources, report);
   files_read = netlist.files;
   if (report.error_count() > 0) return {};
-  const Circuit circuit = flatten(std::move(netlist), sources, report);
+  Circuit circuit = flatten(std::move(netlist), sources, report);
   if (report.error_count() > 0) return {};
-  return detail::NetworkBuilder(circuit, report).build();
+  detail::NetworkBuilder builder(circuit, report);
+  Network flat = builder.build();
+  if (report.error_count() > 0) return {};
+  // (the elements are in the network now: their memory goes before the submodels are made)
+  std::vector<Element>().swap(circuit.elements);
+  Folded folded = fold(flat, circuit, sources, is_kind);
+  // The notes that name nodes come once the model's names are known.
+  builder.ladder_notes([&](const std::string& n) { return folded.name(n); });
+  note_floating(flat, report, [&](const Name& n) { return folded.name(n.text()); });
+  for (const auto& [at, text] : folded.notes)
+    report.note(at, text);
+  return std::move(folded.net);
 }
 
 } // namespace thermnet::importer::spice

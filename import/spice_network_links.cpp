@@ -9,7 +9,7 @@
 namespace thermnet::importer::spice::detail {
 
 Name NetworkBuilder::node_name(const std::string& flat) {
-  return flat == "0" ? Name{"gnd", {}} : names_.node(flat);
+  return Name{flat, {}};
 }
 
 void NetworkBuilder::initial_conditions() {
@@ -53,18 +53,20 @@ void NetworkBuilder::resistors() {
     if (!usable_[i] || e.kind != 'r') continue;
     Link l;
     l.kind = LinkKind::resistor;
-    l.name = names_.element(e.name);
+    l.name = Name{e.name, {}};
     l.a = node_name(e.a);
     l.b = node_name(e.b);
     l.value = number(e.value);
+    if (e.expr) l.value.scoped = *e.expr;
     l.origin = e.at;
+    l.scope = e.scope;
     net_.links.push_back(std::move(l));
   }
 }
 
 void NetworkBuilder::cauer_ladders() {
-  const bool uic = c_.tran && c_.tran->uic;
-  for (const FosterChain& ch : chains_) {
+  for (std::size_t chain = 0; chain < chains_.size(); ++chain) {
+    const FosterChain& ch = chains_[chain];
     if (!ch.written) continue;
     std::vector<CauerStage> stages;
     try {
@@ -77,8 +79,18 @@ void NetworkBuilder::cauer_ladders() {
     }
     const Name driven = node_name(ch.driven);
     const Name far = node_name(ch.far);
-    const std::string base = names_.fresh_base("cauer_" + driven.base);
-    const std::string rbase = names_.fresh_base(base + "_r");
+    const std::string base = ladder_key('n', chain, ch.driven);
+    const std::string rbase = ladder_key('r', chain, ch.driven);
+    // The ladder stands in the innermost instance that holds every element of the chain.
+    std::size_t scope = c_.elements[ch.consumed.front()].scope;
+    const auto inside = [&](std::size_t s, std::size_t outer) {
+      for (; s != 0; s = c_.instances[s].parent)
+        if (s == outer) return true;
+      return outer == 0;
+    };
+    for (std::size_t i : ch.consumed)
+      while (!inside(c_.elements[i].scope, scope))
+        scope = c_.instances[scope].parent;
     const std::size_t n = stages.size();
     Node& d = net_.nodes[node_index_.at(ch.driven)];
     d.C = number(d.C.si + stages[0].C);
@@ -86,7 +98,7 @@ void NetworkBuilder::cauer_ladders() {
               fmt::format("C includes the Cauer ladder's {}", number_text(stages[0].C));
     for (std::size_t k = 1; k < n; ++k)
       net_.nodes.push_back({Name{base, static_cast<std::int64_t>(k)}, number(stages[k].C),
-                            std::nullopt, "Cauer ladder node", ch.at});
+                            std::nullopt, "Cauer ladder node", ch.at, scope});
     for (std::size_t k = 1; k <= n; ++k) {
       Link l;
       l.kind = LinkKind::resistor;
@@ -96,8 +108,18 @@ void NetworkBuilder::cauer_ladders() {
       l.value = number(stages[k - 1].R);
       l.what = "Cauer ladder";
       l.origin = ch.at;
+      l.scope = scope;
       net_.links.push_back(std::move(l));
     }
+    ladders_.emplace_back(chain, n);
+  }
+}
+
+void NetworkBuilder::ladder_notes(const std::function<std::string(const std::string&)>& name_of) {
+  const bool uic = c_.tran && c_.tran->uic;
+  for (const auto& [chain, n] : ladders_) {
+    const FosterChain& ch = chains_[chain];
+    const std::string ladder_display = name_of(ladder_key('n', chain, ch.driven));
     std::string inner;
     for (std::size_t k = 0; k < ch.inner.size() && k < 5; ++k)
       inner += (k ? ", " : "") + shown(ch.inner[k]);
@@ -105,15 +127,15 @@ void NetworkBuilder::cauer_ladders() {
     std::string text = fmt::format(
         "the Foster network from {} to {} ({} cell{}{}) is written as the equivalent Cauer ladder "
         "{}{}: the same Zth(t) seen from {} with {} held",
-        driven.text(), far.text(), ch.cells.size(), ch.cells.size() == 1 ? "" : "s",
+        name_of(ch.driven), name_of(ch.far), ch.cells.size(), ch.cells.size() == 1 ? "" : "s",
         inner.empty() ? "" : "; its inner nodes " + inner + " are not temperatures of anything",
-        driven.text(), n > 1 ? fmt::format(", {}[1 .. {}]", base, n - 1) : "", driven.text(),
-        far.text());
+        name_of(ch.driven), n > 1 ? fmt::format(", {}[1 .. {}]", ladder_display, n - 1) : "",
+        name_of(ch.driven), name_of(ch.far));
     if (!ch.far_held)
       text += fmt::format("; {} is not held at a fixed temperature here, so where it moves the "
                           "response differs from the netlist's (the Foster form's inner nodes "
                           "are not physical)",
-                          far.text());
+                          name_of(ch.far));
     if (uic)
       text += "; with UIC the ladder's nodes start at the initial temperature like the others";
     report_.note(ch.at, text);
@@ -136,8 +158,9 @@ void NetworkBuilder::heaters() {
         continue;
       }
       Heater h;
-      h.name = names_.element(side == 0 ? e.name : e.name + ".out");
+      h.name = Name{side == 0 ? e.name : e.name + ".out", {}};
       h.node = node_name(node);
+      h.scope = e.scope;
       h.P = signal_of(e, side == 0 ? 1.0 : -1.0, false);
       h.origins.push_back(e.at);
       net_.heaters.push_back(std::move(h));

@@ -57,10 +57,12 @@ std::optional<SpiceNumber> read_spice_number(std::string_view text) {
     }
   }
   double value = 0;
+  bool underflow = false;
   auto [p, ec] = std::from_chars(normal.data(), normal.data() + normal.size(), value);
-  if (ec == std::errc::result_out_of_range && normal.find("e-") != std::string::npos)
+  if (ec == std::errc::result_out_of_range && normal.find("e-") != std::string::npos) {
     value = 0;
-  else if (ec != std::errc() || p != normal.data() + normal.size() || !std::isfinite(value))
+    underflow = true;
+  } else if (ec != std::errc() || p != normal.data() + normal.size() || !std::isfinite(value))
     return std::nullopt;
   SpiceNumber out;
   // The scale suffix.
@@ -115,6 +117,7 @@ std::optional<SpiceNumber> read_spice_number(std::string_view text) {
     ++i;
   out.value = value * scale;
   if (!std::isfinite(out.value)) return std::nullopt;
+  out.underflow = underflow || (value != 0 && out.value == 0);
   out.length = i;
   return out;
 }

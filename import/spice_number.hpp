@@ -14,6 +14,7 @@ struct SpiceNumber {
   double value = 0;         ///< the value with its suffix applied
   std::size_t length = 0;   ///< characters read (the number, its suffix and unit letters)
   bool femto_alone = false; ///< the suffix was a lone `f`/`F` (a femto a reader may take for farad)
+  bool underflow = false;   ///< not 0, but below the smallest double (`1e-400`): value is 0
 };
 
 /// Reads a number at the start of `text` (letters after it are its suffix and unit); nothing

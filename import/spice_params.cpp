@@ -1,5 +1,6 @@
 #include "import/spice_params.hpp"
 
+#include "import/fortran_number.hpp"
 #include "import/spice_expression.hpp"
 #include "import/spice_number.hpp"
 #include "lang/display_text.hpp"
@@ -51,6 +52,7 @@ double ParamScope::value(const Token& t, bool* femto) const {
         t.at, "bad-syntax",
         fmt::format("expected a value, found '{}'", lang::excerpt_for_display(t.text)));
   if (auto n = spice_number(t.text)) {
+    if (n->underflow) throw ImportError(t.at, "bad-number", underflow_message(t.text));
     if (femto != nullptr) *femto = n->femto_alone;
     return n->value;
   }

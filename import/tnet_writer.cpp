@@ -19,6 +19,8 @@ class Writer {
 public:
   Writer(const lang::SourceManager& sources) : sources_(sources) {}
 
+  std::string text() { return std::move(out_); }
+
   std::string write(const Network& net, const std::vector<Remark>& remarks) {
     for (const auto& h : net.heading)
       out_ += "# " + lang::escape_for_display(h) + "\n";
@@ -32,19 +34,70 @@ public:
     for (const auto& c : net.consts)
       out_ +=
           fmt::format("const {} = {}  # {}\n", c.name, c.expr, lang::escape_for_display(c.comment));
-    if (!net.boundaries.empty()) out_ += "\n";
-    boundaries(net.boundaries);
-    if (!net.nodes.empty()) out_ += "\n";
-    nodes(net.nodes);
-    if (!net.links.empty()) out_ += "\n";
-    links(net.links);
-    if (!net.heaters.empty()) out_ += "\n";
-    heaters(net.heaters);
+    for (const auto& s : net.submodels) {
+      out_ += "\n";
+      submodel(s);
+    }
+    body(net.boundaries, net.nodes, net.links, net.heaters, net.instances);
     if (net.case_spec) case_block(*net.case_spec);
     return std::move(out_);
   }
 
+  /// A submodel: its header, params, consts and body, indented.
+  void submodel(const Submodel& s) {
+    std::string terms;
+    for (const auto& t : s.terminals)
+      terms += (terms.empty() ? "" : ", ") + t;
+    out_ +=
+        fmt::format("submodel {}({}) {{{}\n", s.name, terms, origin(s.origin, s.origin, s.what));
+    std::string inner;
+    std::swap(inner, out_);
+    for (const auto& p : s.params)
+      out_ += (p.default_ ? fmt::format("param {} = {}", p.name, *p.default_)
+                          : fmt::format("param {}", p.name)) +
+              origin(p.origin, p.origin, "") + "\n";
+    for (const auto& c : s.consts)
+      out_ +=
+          fmt::format("const {} = {}  # {}\n", c.name, c.expr, lang::escape_for_display(c.comment));
+    body(s.boundaries, s.nodes, s.links, s.heaters, s.instances);
+    std::swap(inner, out_);
+    // Indented by two; the body's blank lines stay blank.
+    std::size_t start = 0;
+    while (start < inner.size()) {
+      std::size_t end = inner.find('\n', start);
+      if (end == std::string::npos) end = inner.size();
+      if (start == 0 && end == 0) {
+        start = 1; // (the body's first blank line)
+        continue;
+      }
+      out_ += (end > start ? "  " : "") + inner.substr(start, end - start) + "\n";
+      start = end + 1;
+    }
+    out_ += "}\n";
+  }
+
 private:
+  void body(const std::vector<Boundary>& b, const std::vector<Node>& n, const std::vector<Link>& l,
+            const std::vector<Heater>& h, const std::vector<InstanceStmt>& inst) {
+    if (!b.empty()) out_ += "\n";
+    boundaries(b);
+    if (!n.empty()) out_ += "\n";
+    nodes(n);
+    if (!l.empty()) out_ += "\n";
+    links(l);
+    if (!h.empty()) out_ += "\n";
+    heaters(h);
+    if (!inst.empty()) out_ += "\n";
+    for (const auto& i : inst) {
+      std::string line = i.submodel + " " + i.name;
+      for (const auto& node : i.nodes)
+        line += " " + node;
+      for (const auto& [k, v] : i.keys)
+        line += " " + k + " = " + v;
+      out_ += line + origin(i.origin, i.origin, i.what) + "\n";
+    }
+  }
+
   std::uint32_t line_of(lang::Span s) const { return sources_.line_col(s.file, s.begin).line; }
 
   /// "# file:line" (with `what`), or "# file:first-last" for a run of lines of one file.
@@ -238,6 +291,12 @@ private:
 std::string write_tnet(const Network& net, const std::vector<Remark>& remarks,
                        const lang::SourceManager& sources) {
   return Writer(sources).write(net, remarks);
+}
+
+std::string write_submodel(const Submodel& s, const lang::SourceManager& sources) {
+  Writer w(sources);
+  w.submodel(s);
+  return w.text();
 }
 
 } // namespace thermnet::importer

@@ -262,4 +262,69 @@ run import cites.cir -o ''
 check "import -o '': exit 2, an output needs a file name" \
   eval 'test "$rc" -eq 2 && grep -q "needs a file name" err.txt && ! grep -q "^model" out.txt'
 
+# SPICE subcircuits: hostile definitions and instances.
+printf '* t\n.subckt spare a\nR1 a 0 1\n.ends\nR1 n 0 1\nI1 0 n 1\n.end\n' >unused.cir
+run import unused.cir -o unused.tnet
+check "SPICE: a subcircuit never instantiated: not written, with a note at its line" \
+  eval 'test "$rc" -eq 0 && has "unused.cir:2:1: note: subcircuit '"'"'spare'"'"' is never instantiated: not written" && ! grep -q "submodel" unused.tnet'
+run lint --werror unused.tnet
+check "  ... and the model lints clean" test "$rc" -eq 0
+printf '* t\n.subckt a n\nX1 n b\n.ends\n.subckt b n\nX1 n a\n.ends\nX1 m a\nR1 m 0 1\nI1 0 m 1\n.end\n' >mutual.cir
+timport mutual.cir
+check "SPICE: two subcircuits that contain each other: [subckt-cycle], nothing written" \
+  eval 'test "$rc" -eq 1 && has "[subckt-cycle]" && test ! -s out.txt'
+printf '* t\n.subckt s a r=1\nR1 a 0 {r}\n.ends\nX1 n s q=2\nI1 0 n 1\n.end\n' >badkey.cir
+timport badkey.cir
+check "SPICE: an instance parameter the subcircuit lacks: error at file:line:column" \
+  eval 'test "$rc" -eq 1 && has "badkey.cir:5:10: error: subcircuit '"'"'s'"'"' has no parameter '"'"'q'"'"' (its parameters: r) [unknown-param]"'
+printf '* t\n.subckt s a\nR1 a 0 1\n.ends\nX1 n m s\nI1 0 n 1\n.end\n' >nodes.cir
+timport nodes.cir
+check "SPICE: an instance with the wrong number of nodes: error at its line" \
+  eval 'test "$rc" -eq 1 && has "nodes.cir:5:1: error: subcircuit '"'"'s'"'"' has 1 node, the instance gives 2"'
+python3 - <<'PY' >deep64.cir
+print("* 64 subcircuits, each holding the next: as deep as thermnet's submodels may nest")
+for k in range(63):
+    print(f".subckt s{k} a\nX1 a s{k + 1}\nR{k} a 0 {k + 1}\n.ends")
+print(".subckt s63 a\nR1 a 0 1\n.ends\nX0 n s0\nI1 0 n 1\n.end")
+PY
+run import deep64.cir -o deep64.tnet
+check "SPICE: instances nested 64 deep: 64 nested submodels" \
+  eval 'test "$rc" -eq 0 && test "$(grep -c "^ *submodel s" deep64.tnet)" -eq 64'
+run lint --werror deep64.tnet
+check "  ... and the model lints clean" test "$rc" -eq 0
+# Subcircuit names that are no thermnet names, or are keywords or element kinds: renamed, noted.
+for name in node case for a.b 1abc resistor heater gnd; do
+  printf '* t\n.subckt %s a b\nR1 a b 2\nR2 a 0 1\n.ends\nX1 n k %s\nX2 m n %s\nRk k 0 1\nI1 0 m 1\n.end\n' \
+    "$name" "$name" "$name" >named.cir
+  run import named.cir -o named.tnet
+  if [ "$rc" -eq 0 ] && grep -q "note: subcircuit '$name' is written as submodel" err.txt &&
+    grep -q "^submodel [A-Za-z_][A-Za-z0-9_]*(a, b, gnd) {" named.tnet &&
+    "$TN" lint --werror named.tnet >/dev/null 2>&1; then
+    ok "SPICE: a subcircuit named '$name': renamed with a note, the model lints clean"
+  else
+    bad "SPICE: a subcircuit named '$name': renamed with a note, the model lints clean" \
+      "$(head -c 600 err.txt; grep submodel named.tnet)"
+  fi
+done
+
+# Numbers below the smallest double: located errors, not a capacity or conductance of 0.
+printf '* t\nR1 a 0 1\nC1 a 0 1e-400\nI1 0 a 1\n.end\n' >tiny.cir
+timport tiny.cir
+check "SPICE: a capacitance of 1e-400: located error (underflows), nothing written" \
+  eval 'test "$rc" -eq 1 && has "tiny.cir:3:8: error: '"'"'1e-400'"'"' underflows" && test ! -s out.txt'
+printf '* t\nR1 a 0 {1e-200 * 1e-200}\nI1 0 a 1\n.end\n' >tinyx.cir
+timport tinyx.cir
+check "SPICE: a resistance whose expression underflows: located error" \
+  eval 'test "$rc" -eq 1 && has "tinyx.cir:2:9: error: the expression'"'"'s value underflows"'
+printf '%s\nHEADER NODE DATA, MAIN\n      3, 20.0, 1.0D-400\n' "$good" >tiny.sin
+timport tiny.sin
+check "SINDA: a capacity of 1.0D-400: located error (underflows)" \
+  eval 'test "$rc" -eq 1 && has "tiny.sin:9:16: error: '"'"'1.0D-400'"'"' underflows"'
+
+# A deck without units: the note says where (the control data that lacks them, else the first block).
+printf 'HEADER CONTROL DATA, GLOBAL\n      TIMEND = 10\nHEADER NODE DATA, MAIN\n      1, 20.0, 1.0\n     -2, 0.0, 0.0\nHEADER CONDUCTOR DATA, MAIN\n      1, 1, 2, 0.5\n' >nounits.sin
+timport nounits.sin -o nounits.tnet
+check "SINDA: a deck stating no units: the note names the CONTROL DATA line" \
+  eval 'test "$rc" -eq 0 && has "nounits.sin:1:1: note: the deck states no units" && grep -q "^# note: nounits.sin:1: the deck states no units" nounits.tnet'
+
 finish

@@ -22,8 +22,8 @@ using namespace thermnet::importer;
 
 TEST_CASE("import: Fortran reals as Fortran reads them") {
   const std::map<std::string, double> good = {
-      {"1.0D3", 1000},    {"1.E-2", 0.01}, {"+.5", 0.5},      {"7", 7},  {"5.", 5},
-      {"-1.5d-1", -0.15}, {"1Q2", 100},    {"2.5e+4", 25000}, {"-0", 0}, {"1e-400", 0}};
+      {"1.0D3", 1000},    {"1.E-2", 0.01}, {"+.5", 0.5},      {"7", 7}, {"5.", 5},
+      {"-1.5d-1", -0.15}, {"1Q2", 100},    {"2.5e+4", 25000}, {"-0", 0}};
   for (const auto& [text, value] : good) {
     INFO(text);
     const RealResult r = parse_fortran_real(text);
@@ -37,6 +37,11 @@ TEST_CASE("import: Fortran reals as Fortran reads them") {
   }
   CHECK(parse_fortran_real("1e999").problem == NumberProblem::out_of_range);
   CHECK(parse_fortran_real("-1.0D400").problem == NumberProblem::out_of_range);
+  // Too small to be a double: an error, not a silent 0 (a capacity gone).
+  CHECK(parse_fortran_real("1e-400").problem == NumberProblem::underflow);
+  CHECK(parse_fortran_real("1.0D-400").problem == NumberProblem::underflow);
+  CHECK(fortran_number_message("1.0D-400", NumberProblem::underflow).find("underflows") !=
+        std::string::npos);
 }
 
 TEST_CASE("import: Fortran integers") {
@@ -61,6 +66,14 @@ TEST_CASE("import: SPICE numbers, their suffixes and unit letters") {
   CHECK(spice::spice_number("1F")->femto_alone);
   CHECK_FALSE(spice::spice_number("1fF")->femto_alone);
   CHECK_FALSE(spice::spice_number("1uF")->femto_alone);
+  // Below the smallest double, as written or once the suffix applies: flagged, not a quiet 0.
+  for (const char* text : {"1e-400", "1e-320f", "-3e-330p"}) {
+    INFO(text);
+    REQUIRE(spice::spice_number(text).has_value());
+    CHECK(spice::spice_number(text)->underflow);
+  }
+  CHECK_FALSE(spice::spice_number("1e-300")->underflow);
+  CHECK_FALSE(spice::spice_number("0f")->underflow);
   for (const char* text : {"abc", "1k2", "k", "", "1.2.3", "1e999"})
     CHECK_FALSE(spice::spice_number(text).has_value());
 }
@@ -101,6 +114,41 @@ TEST_CASE("import: SPICE expressions") {
   CHECK(code_of("foo(1)") == "bad-expression");
   CHECK(code_of(std::string(100000, '(') + "1" + std::string(100000, ')')) == "bad-expression");
   CHECK(code_of(std::string(100000, '-') + "1") == "bad-expression");
+}
+
+TEST_CASE("import: SPICE expressions as thermnet text") {
+  // Names: a subcircuit's params by name, a netlist's .param by its value (here), others none.
+  const spice::NameText names = [](const std::string& n) -> std::optional<std::string> {
+    if (n == "a" || n == "b" || n == "c") return n;
+    if (n == "g") return std::string("-3");
+    return std::nullopt;
+  };
+  const std::map<std::string, std::optional<std::string>> cases = {
+      {"a*b+c", "a * b + c"},
+      {"a-(b-c)", "a - (b - c)"},
+      {"(a-b)-c", "(a - b) - c"},
+      {"a/(b*c)", "a / (b * c)"},
+      {"a/b*c", "a / b * c"},
+      // SPICE's leading minus binds tighter than ^ (the evaluator's grammar), thermnet's looser:
+      // the translation brackets it.
+      {"-a^2", "(-a)^2"},
+      {"-(a^2)", "-(a^2)"},
+      {"2**3**2", "2^3^2"},
+      {"a^-b", "a^(-b)"},
+      {"g*a", "-3 * a"},
+      {"a^g", "a^(-3)"},
+      {"ln(a) + log(b)", "log(a) + log(b)"},
+      {"max(a, 1k, 2meg)", "max(a, 1000, 2000000)"},
+      {"pi*a", "pi * a"},
+      {"{a}", std::nullopt},       // (braces belong to the card, not the expression)
+      {"atan(a)", std::nullopt},   // no thermnet function
+      {"pwr(a, 2)", std::nullopt}, // ngspice's pwr keeps the sign: not pow
+      {"z * 2", std::nullopt},     // a name with no text
+      {"a +", std::nullopt}};
+  for (const auto& [spice_text, expected] : cases) {
+    INFO(spice_text);
+    CHECK(spice::translate(spice_text, names) == expected);
+  }
 }
 
 TEST_CASE("import: the format is found from the content") {
