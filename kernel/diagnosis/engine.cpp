@@ -385,10 +385,14 @@ std::vector<DiagnosisReport::Curves> Engine::curves(const Base& after, const Bas
     out.push_back(std::move(cv));
   }
   // Each finding's own step: the models with the first k findings (at their final values), one
-  // at a time (a base holds every measured point's simulation and residuals).
-  for (std::size_t k = 1; k <= all.applied.size(); ++k) {
-    const Base b = make_base(std::vector<Applied>(
-        all.applied.begin(), all.applied.begin() + static_cast<std::ptrdiff_t>(k)));
+  // at a time (a base holds every measured point's simulation and residuals); the last is `all`.
+  const std::size_t K = all.applied.size();
+  for (std::size_t k = 1; k <= K; ++k) {
+    const Base made =
+        k < K ? make_base(std::vector<Applied>(
+                    all.applied.begin(), all.applied.begin() + static_cast<std::ptrdiff_t>(k)))
+              : Base{};
+    const Base& b = k < K ? made : all;
     for (std::size_t c = 0; c < ev_.cases.size(); ++c) {
       out[c].steps.emplace_back();
       for (std::size_t s = 0; s < ev_.cases[c].measured.series.size(); ++s)
