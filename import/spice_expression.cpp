@@ -20,6 +20,18 @@ namespace {
 /// How deep parentheses and unary signs may nest (a hostile expression cannot exhaust the stack).
 constexpr int max_depth = 200;
 
+// The name (letters, digits, '_') that starts at i, lower case as SPICE reads it; i moves past it.
+std::string read_name(std::string_view s, std::size_t& i) {
+  const std::size_t start = i;
+  while (i < s.size() && (std::isalnum(static_cast<unsigned char>(s[i])) || s[i] == '_'))
+    ++i;
+  std::string name(s.substr(start, i - start));
+  std::transform(name.begin(), name.end(), name.begin(), [](char ch) {
+    return static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  });
+  return name;
+}
+
 class Parser {
 public:
   Parser(std::string_view text, lang::FileId file, std::uint32_t offset, const ParamLookup& lookup)
@@ -152,12 +164,7 @@ private:
     if (!(std::isalpha(static_cast<unsigned char>(c)) || c == '_'))
       fail("unexpected '" + std::string(1, c) + "'");
     const std::size_t start = i_;
-    while (i_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[i_])) || s_[i_] == '_'))
-      ++i_;
-    std::string name(s_.substr(start, i_ - start));
-    std::transform(name.begin(), name.end(), name.begin(), [](char ch) {
-      return static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    });
+    const std::string name = read_name(s_, i_);
     skip();
     if (i_ < s_.size() && s_[i_] == '(') {
       ++i_;
@@ -348,13 +355,7 @@ private:
       return number(n->value);
     }
     if (!(std::isalpha(static_cast<unsigned char>(c)) || c == '_')) return fail();
-    const std::size_t start = i_;
-    while (i_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[i_])) || s_[i_] == '_'))
-      ++i_;
-    std::string name(s_.substr(start, i_ - start));
-    std::transform(name.begin(), name.end(), name.begin(), [](char ch) {
-      return static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    });
+    const std::string name = read_name(s_, i_);
     skip();
     if (i_ < s_.size() && s_[i_] == '(') {
       ++i_;
