@@ -220,23 +220,26 @@ private:
   NameText names_in(std::size_t scope) const {
     const SubcktDef* def =
         scope == 0 ? nullptr : &circuit_.subckts.at(circuit_.instances[scope].subckt);
-    return [this, def](const std::string& n) -> std::optional<std::string> {
-      if (def != nullptr) {
-        for (const auto& p : def->params)
-          if (p.spice == n) return p.name;
-        for (const auto& p : def->locals)
-          if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
-      } else {
-        // (at the top level a .param is a const of the model; inside a submodel its value)
-        for (const auto& p : circuit_.globals)
-          if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
-      }
-      try {
-        if (auto v = global_.lookup(n)) return number_text(*v);
-      } catch (const ImportError&) {
-      }
-      return std::nullopt;
-    };
+    return [this, def](const std::string& n) { return name_text(def, n); };
+  }
+
+  /// How a name stands in thermnet text inside subcircuit `def` (nullptr: at the top level).
+  std::optional<std::string> name_text(const SubcktDef* def, const std::string& n) const {
+    if (def != nullptr) {
+      for (const auto& p : def->params)
+        if (p.spice == n) return p.name;
+      for (const auto& p : def->locals)
+        if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
+    } else {
+      // (at the top level a .param is a const of the model; inside a submodel its value)
+      for (const auto& p : circuit_.globals)
+        if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
+    }
+    try {
+      if (auto v = global_.lookup(n)) return number_text(*v);
+    } catch (const ImportError&) {
+    }
+    return std::nullopt;
   }
 
   /// A value token as thermnet text in instance `scope`.
@@ -592,17 +595,7 @@ const SubcktDef& Flattener::describe(const Subckt& s) {
   }
   // A .param may use another that stands after it: translated in rounds, each using those
   // translated before (one that uses a value thermnet cannot write stays untranslated).
-  const NameText names = [&](const std::string& n) -> std::optional<std::string> {
-    for (const auto& p : d.params)
-      if (p.spice == n) return p.name;
-    for (const auto& p : d.locals)
-      if (p.spice == n) return p.text ? std::optional<std::string>(p.name) : std::nullopt;
-    try {
-      if (auto v = global_.lookup(n)) return number_text(*v);
-    } catch (const ImportError&) {
-    }
-    return std::nullopt;
-  };
+  const NameText names = [&](const std::string& n) { return name_text(&d, n); };
   std::vector<ParamDef> local_defs;
   for (const Card* card : s.cards) {
     if (lower(card->tokens[0].text) != ".param") continue;
