@@ -65,6 +65,20 @@ void identifiers(const std::string& text, std::set<std::string>& out) {
   }
 }
 
+// Adds to `words` the names that the values of the `defs` it names use, and theirs, until none
+// is added.
+void add_used(const std::vector<SubcktParam>& defs, std::set<std::string>& words) {
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const auto& d : defs)
+      if (words.count(d.name) && d.text) {
+        const std::size_t before = words.size();
+        identifiers(*d.text, words);
+        grew = grew || words.size() != before;
+      }
+  }
+}
+
 class Folder {
 public:
   Folder(const Network& flat, const Circuit& c, const lang::SourceManager& sources,
@@ -231,15 +245,7 @@ private:
     net.consts = flat_.consts;
     // The netlist's .param values the top level uses (and those they use), as consts.
     std::set<std::string> words = top.words;
-    for (bool grew = true; grew;) {
-      grew = false;
-      for (const auto& g : c_.globals)
-        if (words.count(g.name) && g.text) {
-          const std::size_t before = words.size();
-          identifiers(*g.text, words);
-          grew = grew || words.size() != before;
-        }
-    }
+    add_used(c_.globals, words);
     for (const auto& g : c_.globals)
       if (words.count(g.name) && g.text)
         net.consts.push_back({g.name, *g.text, place_text(sources_, g.at) + " .param"});
@@ -477,15 +483,7 @@ private:
     if (body.gnd) s.terminals.push_back("gnd");
     // The consts used (and those they use), then the params used.
     std::set<std::string> words = body.words;
-    for (bool grew = true; grew;) {
-      grew = false;
-      for (const auto& l : def.locals)
-        if (words.count(l.name) && l.text) {
-          const std::size_t before = words.size();
-          identifiers(*l.text, words);
-          grew = grew || words.size() != before;
-        }
-    }
+    add_used(def.locals, words);
     for (const auto& p : def.params)
       if (words.count(p.name)) {
         sig.params.push_back({p.name, p.needs_instance ? std::nullopt : p.text, p.at});
