@@ -558,6 +558,7 @@ const SubcktDef& Flattener::describe(const Subckt& s) {
   const auto name_of = [&](const std::string& spice) { return param_name(spice, used); };
   for (const auto& [pname, pdef] : s.defaults)
     d.params.push_back({pname, name_of(pname), std::nullopt, false, pdef.at});
+  std::vector<ParamDef> local_defs; // (in the order of d.locals)
   for (const Card* card : s.cards) {
     if (lower(card->tokens[0].text) != ".param") continue;
     std::vector<std::pair<std::string, ParamDef>> list;
@@ -566,8 +567,10 @@ const SubcktDef& Flattener::describe(const Subckt& s) {
     } catch (const ImportError&) {
       continue; // reported where the instance reads it
     }
-    for (auto& [pname, pdef] : list)
+    for (auto& [pname, pdef] : list) {
       d.locals.push_back({pname, name_of(pname), std::nullopt, false, pdef.at});
+      local_defs.push_back(pdef);
+    }
   }
   // Translations, now that every name is known; a default that uses the subcircuit's own names
   // cannot stand on the param line: every instance gives that value.
@@ -596,21 +599,9 @@ const SubcktDef& Flattener::describe(const Subckt& s) {
   // A .param may use another that stands after it: translated in rounds, each using those
   // translated before (one that uses a value thermnet cannot write stays untranslated).
   const NameText names = [&](const std::string& n) { return name_text(&d, n); };
-  std::vector<ParamDef> local_defs;
-  for (const Card* card : s.cards) {
-    if (lower(card->tokens[0].text) != ".param") continue;
-    std::vector<std::pair<std::string, ParamDef>> list;
-    try {
-      read_assignments(sources_, card->tokens, 1, list);
-    } catch (const ImportError&) {
-      continue;
-    }
-    for (auto& [pname, pdef] : list)
-      local_defs.push_back(pdef);
-  }
   for (bool more = true; more;) {
     more = false;
-    for (std::size_t j = 0; j < d.locals.size() && j < local_defs.size(); ++j)
+    for (std::size_t j = 0; j < d.locals.size(); ++j)
       if (!d.locals[j].text) {
         d.locals[j].text = translate(local_defs[j].text, names);
         more = more || d.locals[j].text.has_value();
