@@ -32,10 +32,29 @@ std::string read_name(std::string_view s, std::size_t& i) {
   return name;
 }
 
-class Parser {
+// A place in an expression's text: the text, where reading stands, spaces skipped, a character
+// taken (shared by the evaluator and the translator).
+struct Cursor {
+  std::string_view s_;
+  std::size_t i_ = 0;
+  void skip() {
+    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_])))
+      ++i_;
+  }
+  bool eat(char c) {
+    skip();
+    if (i_ < s_.size() && s_[i_] == c) {
+      ++i_;
+      return true;
+    }
+    return false;
+  }
+};
+
+class Parser : Cursor {
 public:
   Parser(std::string_view text, lang::FileId file, std::uint32_t offset, const ParamLookup& lookup)
-      : s_(text), file_(file), offset_(offset), lookup_(lookup) {}
+      : Cursor{text}, file_(file), offset_(offset), lookup_(lookup) {}
 
   double parse() {
     const double v = sum();
@@ -55,18 +74,6 @@ private:
     const auto at = [&](std::size_t k) { return offset_ + static_cast<std::uint32_t>(k); };
     return lang::Span{file_, at(std::min(a, s_.size())),
                       at(std::max(std::min(b, s_.size()), a + 1))};
-  }
-  void skip() {
-    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_])))
-      ++i_;
-  }
-  bool eat(char c) {
-    skip();
-    if (i_ < s_.size() && s_[i_] == c) {
-      ++i_;
-      return true;
-    }
-    return false;
   }
   /// `result` of an operation on `operand`: a result that underflows to 0 from a nonzero
   /// operand is an error (a capacity or resistance gone without a word), as a literal's is.
@@ -231,11 +238,9 @@ private:
                       fmt::format("unknown function '{}'", lang::excerpt_for_display(f)));
   }
 
-  std::string_view s_;
   lang::FileId file_;
   std::uint32_t offset_;
   const ParamLookup& lookup_;
-  std::size_t i_ = 0;
   int depth_ = 0;
 };
 
@@ -248,9 +253,9 @@ struct Text {
 
 /// Rewrites an expression that evaluate() accepted as thermnet text (same grammar, same
 /// precedence as that parser: a leading minus binds tighter than ^ there, so it is bracketed).
-class Translator {
+class Translator : Cursor {
 public:
-  Translator(std::string_view text, const NameText& names) : s_(text), names_(names) {}
+  Translator(std::string_view text, const NameText& names) : Cursor{text}, names_(names) {}
 
   std::optional<std::string> run() {
     Text t = sum();
@@ -261,18 +266,6 @@ public:
 
 private:
   static std::string wrap(const Text& t, int need) { return t.prec < need ? "(" + t.s + ")" : t.s; }
-  void skip() {
-    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_])))
-      ++i_;
-  }
-  bool eat(char c) {
-    skip();
-    if (i_ < s_.size() && s_[i_] == c) {
-      ++i_;
-      return true;
-    }
-    return false;
-  }
   Text fail() {
     ok_ = false;
     i_ = s_.size();
@@ -390,9 +383,7 @@ private:
     return {t, t[0] == '-' ? 2 : 4};
   }
 
-  std::string_view s_;
   const NameText& names_;
-  std::size_t i_ = 0;
   int depth_ = 0;
   bool ok_ = true;
 };
