@@ -353,14 +353,16 @@ void add_calibrate_command(CLI::App& app, int& status) {
                   "kept, units as written); params declared in included files go to rewritten "
                   "copies beside OUT named OUTSTEM.FILE, which OUT includes instead of the "
                   "originals; the inputs are never modified (OUT may not be one of them), "
-                  "and nothing is written unless every output can be");
+                  "and nothing is written unless every output can be")
+      ->check(output_file_validator());
   cmd->add_option("--json", o->json, "write the result as JSON")->check(output_file_validator());
   cmd->add_option("--html", o->html,
                   "write the report as one self-contained HTML page (params with start, range, "
                   "fit and interval; fit per case; convergence; residual diagnostics; "
                   "docs/calibration.md)")
       ->check(output_file_validator());
-  cmd->add_option("--plot", o->plot, "SVG plot of measured vs simulated for the best fit");
+  cmd->add_option("--plot", o->plot, "SVG plot of measured vs simulated for the best fit")
+      ->check(output_file_validator());
   cmd->add_option("--case", o->cases,
                   "cases to compare (repeat --case or separate by commas; default: all with data)")
       ->allow_extra_args(false)

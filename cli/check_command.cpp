@@ -6,6 +6,7 @@
 #include "app/checked_run.hpp"
 #include "app/exit_status.hpp"
 #include "app/model_loading.hpp"
+#include "app/option_rules.hpp"
 #include "app/output_files.hpp"
 #include "app/param_overrides.hpp"
 #include "app/requirement_report.hpp"
@@ -75,7 +76,8 @@ void add_check_command(CLI::App& app, int& status) {
   add_set_option(cmd, o->sets);
   cmd->add_option("--json", o->json,
                   "write {model, met, violations, requirements: [{file, line, column, kind, "
-                  "requirement, case, met, unit, worst, slack, time, where[, duty]}]}");
+                  "requirement, case, met, unit, worst, slack, time, where[, duty]}]}")
+      ->check(output_file_validator());
   cmd->callback([o, &status] {
     status = run_command("thermnet check",
                          [&](lang::SourceManager& sources) { return run_check(*o, sources); });

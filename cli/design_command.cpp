@@ -297,12 +297,15 @@ void add_design_command(CLI::App& app, int& status) {
       ->check(rule_validator(non_negative_whole_rule, "INT"));
   cmd->add_option("-o,--out", o->out,
                   "write the model with the designed values in place (as calibrate -o); only "
-                  "when every requirement is met");
+                  "when every requirement is met")
+      ->check(output_file_validator());
   cmd->add_option("--json", o->json,
                   "write {model, feasible, objective, objective_value, evaluations, seed, params, "
-                  "requirements: [...], sources: [...]}");
+                  "requirements: [...], sources: [...]}")
+      ->check(output_file_validator());
   cmd->add_option("--plot", o->plot,
-                  "SVG plot of the nodes of the band requirements, with their bands");
+                  "SVG plot of the nodes of the band requirements, with their bands")
+      ->check(output_file_validator());
   cmd->callback([o, &status] {
     status = run_command("thermnet design",
                          [&](lang::SourceManager& sources) { return run_design(*o, sources); });

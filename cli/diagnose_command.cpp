@@ -148,8 +148,10 @@ void add_diagnose_command(CLI::App& app, int& status) {
                   "write the report as one self-contained HTML page (baseline, findings with "
                   "their gains, rivals, lines and plots, residual diagnostics; docs/diagnose.md)")
       ->check(output_file_validator());
-  sub->add_option("--write", o->write, "write the model with the best finding applied");
-  sub->add_option("--plot", o->plot, "write an SVG of before/after curves of the worst nodes");
+  sub->add_option("--write", o->write, "write the model with the best finding applied")
+      ->check(output_file_validator());
+  sub->add_option("--plot", o->plot, "write an SVG of before/after curves of the worst nodes")
+      ->check(output_file_validator());
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")
       ->check(rule_validator(non_negative_whole_rule, "INT"));
   sub->add_option("--top", o->top, "most findings reported")

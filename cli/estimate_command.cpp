@@ -3,6 +3,7 @@
 #include "app/csv_writer.hpp"
 #include "app/exit_status.hpp"
 #include "app/model_loading.hpp"
+#include "app/option_rules.hpp"
 #include "app/output_files.hpp"
 #include "app/output_stream.hpp"
 #include "app/param_overrides.hpp"
@@ -378,9 +379,12 @@ std::string methods_doc(bool model) {
 }
 
 void add_common(CLI::App* cmd, const std::shared_ptr<EstimateOptions>& o) {
-  cmd->add_option("-o,--out", o->out, "CSV of estimates (default: standard output)");
-  cmd->add_option("--plot", o->plot, "SVG plot of estimates and data against time");
-  cmd->add_option("--json", o->json, "JSON report: method, options, metrics");
+  cmd->add_option("-o,--out", o->out, "CSV of estimates (default: standard output)")
+      ->check(output_file_validator());
+  cmd->add_option("--plot", o->plot, "SVG plot of estimates and data against time")
+      ->check(output_file_validator());
+  cmd->add_option("--json", o->json, "JSON report: method, options, metrics")
+      ->check(output_file_validator());
   cmd->add_flag("--stream", o->stream,
                 "read rows from standard input, write the estimate of each row as it arrives");
   cmd->add_option("--option", o->options, "any method option as KEY=VALUE (repeatable)")

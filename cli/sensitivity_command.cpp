@@ -95,7 +95,8 @@ void add_sensitivity_command(CLI::App& app, int& status) {
   CLI::App* cmd = app.add_subcommand(
       "sensitivity", "Rank params (and element values) by their effect on node temperatures");
   cmd->add_option("MODEL", o->model, "model file (.tnet)")->required();
-  cmd->add_option("--json", o->json, "write the matrix and the ranking as JSON");
+  cmd->add_option("--json", o->json, "write the matrix and the ranking as JSON")
+      ->check(output_file_validator());
   cmd->add_flag("--elements", o->elements,
                 "also every numeric element key and node capacity (relative 1 % steps)");
   cmd->add_option("--case", o->cases, "case(s) to use (default: every case with data)");

@@ -320,8 +320,10 @@ void add_simulate_command(CLI::App& app, int& status) {
                   "simulated time, e.g. 2500, 3h, 45min (overrides the case)");
   cmd->add_option("--output", o->output_interval,
                   "output interval, e.g. 10, 1min (default: duration/1000)");
-  cmd->add_option("-o,--out", o->out, "CSV output file (default: standard output)");
-  cmd->add_option("--plot", o->plot, "SVG plot of node temperatures against time");
+  cmd->add_option("-o,--out", o->out, "CSV output file (default: standard output)")
+      ->check(output_file_validator());
+  cmd->add_option("--plot", o->plot, "SVG plot of node temperatures against time")
+      ->check(output_file_validator());
   cmd->add_flag("--sensors", o->sensors,
                 "add each sensor's reading as a column named after the sensor (select them with "
                 "--nodes like nodes)");
@@ -346,7 +348,8 @@ void add_simulate_command(CLI::App& app, int& status) {
                   "CSV per node: min, max and their times, time-weighted mean (and --band)");
   cmd->add_option("--json", o->json,
                   "the run as JSON: model, case, unit, nodes, times, temperatures[row][node], "
-                  "flow_columns and flows[row][column] (W, as --flows; --elements selects)");
+                  "flow_columns and flows[row][column] (W, as --flows; --elements selects)")
+      ->check(output_file_validator());
   cmd->add_option("--band", o->band,
                   "LO..HI in degC: --summary adds the time each node spends outside it");
   cmd->add_flag("--stats", o->stats, "print solver statistics to standard error");

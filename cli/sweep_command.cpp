@@ -255,9 +255,10 @@ void add_sweep_command(CLI::App& app, int& status) {
   cmd->add_option("--band", o->band, "LO..HI in degC: adds each node's time outside it, s");
   cmd->add_option("--duration", o->duration, "simulated time (overrides the case)");
   cmd->add_option("--output", o->output_interval, "output interval (overrides the case)");
-  cmd->add_option("-o,--out", o->out, "CSV table (default: standard output)");
-  cmd->add_option("--plot", o->plot,
-                  "SVG of each node's min, mean and max against the first param");
+  cmd->add_option("-o,--out", o->out, "CSV table (default: standard output)")
+      ->check(output_file_validator());
+  cmd->add_option("--plot", o->plot, "SVG of each node's min, mean and max against the first param")
+      ->check(output_file_validator());
   cmd->add_option("--rtol", o->rtol, "relative tolerance")
       ->check(rule_validator(relative_tolerance_rule, "NUMBER"));
   cmd->add_option("--atol", o->atol, "absolute tolerance, K")

@@ -85,6 +85,18 @@ check "calibrate --criterion prediction --html: exit 0, the innovations' tests o
         grep -q "innovations" cp.html'
 
 # ----------------------------------------------------------------------------- refusals
+# Every other file an option writes refuses an empty name too, while the options are read
+# (before this, `-o ''`, `--plot ''` and `--write ''` wrote nothing and said nothing, exit 0).
+for spec in "calibrate -o" "calibrate --plot" "check --json" "design -o" "design --json" \
+  "design --plot" "diagnose --write" "diagnose --plot" "estimate -o" "estimate --plot" \
+  "estimate --json" "sensitivity --json" "simulate -o" "simulate --plot" "simulate --json" \
+  "sweep -o" "sweep --plot"; do
+  read -r c opt <<<"$spec"
+  run "$c" m.tnet "$opt" ''
+  check "$spec '': exit 2, an output needs a file name" \
+    eval 'test "$rc" -eq 2 && grep -q "needs a file name" err.txt'
+done
+
 mkdir -p adir
 for cmd in diagnose calibrate; do
   run "$cmd" m.tnet --html adir
