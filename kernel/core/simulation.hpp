@@ -4,6 +4,7 @@
 #include "kernel/core/energy_account.hpp"
 #include "kernel/core/integrator.hpp"
 #include "kernel/core/network.hpp"
+#include "kernel/core/row_matrix.hpp"
 
 #include <functional>
 #include <optional>
@@ -24,10 +25,10 @@ struct SimulationOptions {
 
 /// Temperatures of every node (nodes and boundaries, spec order) at each output time, in K.
 struct SimulationResult {
-  std::vector<std::string> names;         ///< node names, spec order (then sensors, if asked)
-  std::vector<double> times;              ///< output times, s
-  std::vector<std::vector<double>> temps; ///< temps[k][i]: node i at times[k], K
-  SolverStats stats;                      ///< solver counters (transient or steady)
+  std::vector<std::string> names; ///< node names, spec order (then sensors, if asked)
+  std::vector<double> times;      ///< output times, s
+  RowMatrix temps;                ///< temps[k][i]: node i at times[k], K
+  SolverStats stats;              ///< solver counters (transient or steady)
 };
 
 /// The state at t = 0 of a case, for every command that runs one: the nodes' T0 (else the case's

@@ -66,10 +66,10 @@ namespace {
 /// Integrates a case to the measured times: every node's temperature into `nodes` and the
 /// series' simulated values into `series`, each when given.
 void run_case(lang::NetworkSpec spec, const std::vector<double>& times,
-              const MeasuredData* measured, std::vector<Series>* series,
-              std::vector<std::vector<double>>* nodes) {
+              const MeasuredData* measured, std::vector<Series>* series, RowMatrix* nodes) {
   if (times.empty()) return;
   Network net(std::move(spec));
+  if (nodes) nodes->reserve(times.size(), net.spec().nodes.size());
   const SolverOptions solver = diagnosis_solver();
   std::vector<double> T = start_state(net, solver);
   std::vector<double> all(net.spec().nodes.size());
@@ -99,12 +99,9 @@ void run_case(lang::NetworkSpec spec, const std::vector<double>& times,
 } // namespace
 
 /// Simulates a case at the measured times: temperatures of every node (spec order), K.
-std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
-                                               const std::vector<double>& times,
-                                               const MeasuredData* measured,
-                                               std::vector<Series>* series) {
-  std::vector<std::vector<double>> out;
-  out.reserve(times.size());
+RowMatrix simulate_case(lang::NetworkSpec spec, const std::vector<double>& times,
+                        const MeasuredData* measured, std::vector<Series>* series) {
+  RowMatrix out;
   run_case(std::move(spec), times, measured, series, &out);
   return out;
 }

@@ -165,7 +165,7 @@ private:
   void load_cases();
   void place_known_events();
   void simulate_baseline();
-  void build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all,
+  void build_screen(CaseEvidence& ce, const RowMatrix& all,
                     const std::set<int>& distrusted = {}) const;
   // case_simulation.cpp
   void make_folds();
@@ -251,10 +251,9 @@ private:
 /// Simulates a case at the measured times: temperatures of every node (spec order), K; with
 /// `measured`, also the simulated value of each of its series into `series` (a node's
 /// temperature, or its sensor's reading).
-std::vector<std::vector<double>> simulate_case(lang::NetworkSpec spec,
-                                               const std::vector<double>& times,
-                                               const MeasuredData* measured = nullptr,
-                                               std::vector<Series>* series = nullptr);
+RowMatrix simulate_case(lang::NetworkSpec spec, const std::vector<double>& times,
+                        const MeasuredData* measured = nullptr,
+                        std::vector<Series>* series = nullptr);
 
 /// Simulates a case at the measured times: the simulated value of each of the data's series only
 /// (what a refit compares; the other nodes' temperatures are not kept).

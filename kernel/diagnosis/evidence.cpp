@@ -141,14 +141,14 @@ std::vector<double> jumps(const lang::NetworkSpec& spec, double t0, double t1) {
 
 } // namespace
 
-void Engine::build_screen(CaseEvidence& ce, const std::vector<std::vector<double>>& all,
+void Engine::build_screen(CaseEvidence& ce, const RowMatrix& all,
                           const std::set<int>& distrusted) const {
   const auto& t = ce.times();
   const std::size_t nk = t.size(), nn = ce.spec.nodes.size();
   constexpr int half = 4;
   ce.T = all;
-  ce.dTdt.assign(nk, std::vector<double>(nn, 0.0));
-  ce.q.assign(nk, std::vector<double>(nn, std::numeric_limits<double>::quiet_NaN()));
+  ce.dTdt.assign(nk, nn, 0.0);
+  ce.q.assign(nk, nn, std::numeric_limits<double>::quiet_NaN());
   ce.rows.clear();
   Network net(ce.spec);
   std::vector<int> unknown_of(nn, -1);

@@ -150,7 +150,7 @@ std::vector<double> lowpass(const std::vector<double>& times, const std::vector<
 std::map<std::string, double> start_temperatures(const Evidence& ev, int node) {
   std::map<std::string, double> out;
   for (const auto& ce : ev.cases)
-    if (!ce.T.empty()) out[ce.name] = ce.T.front().at(static_cast<std::size_t>(node));
+    if (!ce.T.empty()) out[ce.name] = ce.T.at(0, static_cast<std::size_t>(node));
   return out;
 }
 

@@ -5,6 +5,7 @@
 
 #include "kernel/core/measured_data.hpp"
 #include "kernel/core/registry.hpp"
+#include "kernel/core/row_matrix.hpp"
 #include "kernel/diagnosis/events.hpp"
 #include "lang/model.hpp"
 #include "lang/network_spec.hpp"
@@ -25,9 +26,9 @@ struct CaseEvidence {
   lang::NetworkSpec spec;                     ///< the case at the declared param values
   MeasuredData measured;                      ///< its data (K)
   std::vector<std::vector<double>> simulated; ///< baseline, per measured series, at the times
-  std::vector<std::vector<double>> T;         ///< T[k][node]: smoothed measured, else simulated
-  std::vector<std::vector<double>> dTdt;      ///< dTdt[k][node]: smoothed slope, K/s
-  std::vector<std::vector<double>> q;         ///< q[k][node]: unexplained heat flow, W
+  RowMatrix T;                                ///< T[k][node]: smoothed measured, else simulated
+  RowMatrix dTdt;                             ///< dTdt[k][node]: smoothed slope, K/s
+  RowMatrix q;                                ///< q[k][node]: unexplained heat flow, W
   std::vector<int> rows;                      ///< spec nodes with q (measured unknown nodes)
   /// Times (measured times) of the case, s.
   const std::vector<double>& times() const { return measured.times; }

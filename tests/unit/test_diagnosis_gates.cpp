@@ -126,8 +126,8 @@ TEST_CASE("diagnosis gates: a screen basis asked only on its support fits the sa
   ce.rows = {0, 1, 3};
   const double nan = std::nan("");
   for (int k = 0; k < 50; ++k)
-    ce.q.push_back(
-        {std::sin(0.1 * k) + 0.3, 0.5 * std::cos(0.2 * k), nan, k % 7 == 0 ? nan : 0.01 * k});
+    ce.q.push_back(std::vector<double>{std::sin(0.1 * k) + 0.3, 0.5 * std::cos(0.2 * k), nan,
+                                       k % 7 == 0 ? nan : 0.01 * k});
   ev.sum_screen();
   std::size_t asked = 0;
   const auto basis = [&](std::size_t, int node, std::size_t k) {

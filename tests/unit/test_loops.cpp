@@ -112,9 +112,7 @@ void check_same_results(const NetworkSpec& a, const NetworkSpec& b) {
   Network na(a), nb(b);
   SimulationResult ra = simulate(na), rb = simulate(nb);
   REQUIRE(ra.times == rb.times);
-  REQUIRE(ra.temps.size() == rb.temps.size());
-  for (std::size_t k = 0; k < ra.temps.size(); ++k)
-    CHECK(ra.temps[k] == rb.temps[k]);
+  CHECK(ra.temps == rb.temps);
 }
 
 const char* const kPanelLoops = R"(model panel
