@@ -198,24 +198,37 @@ Evaluated Engine::evaluated(const Entry& e, const Base& base, Refit refit) const
   return out;
 }
 
+namespace {
+/// Iterations of a fit from one of a kind's other starts: enough to show where it leads.
+constexpr int kBriefIterations = 3;
+} // namespace
+
 Engine::Fit Engine::fit_all_data(const Hypothesis& h, const Candidate& c, const Base& base,
                                  int max_iter, double rtol) const {
-  // From the candidate's start, then from each of its kind's other starts (a mass's place and
-  // time constant: from one start a refit can stay where it began, the building envelope's wall
-  // at its first guess); the lowest SSE is kept. A restart that beats the fits so far within a
-  // third of the iterations goes on from there with the full count.
+  // From the candidate's start, then briefly (kBriefIterations) from each of its kind's
+  // other starts (a mass's place and time constant: from one start a refit can stay where it
+  // began, the building envelope's wall at its first guess); the best brief fit, when it beats the
+  // first, goes on from there with the full count (one continuation, not one per improvement).
   // The standard errors are those of the fit kept, found once at the end: a restart's covariance
   // (its own copies of the Jacobian) is not made beside the fits still alive.
   Fit best = fit(h, c, c.start, Part{}, base, max_iter, rtol, nullptr, false);
   bool moved = best.ok && best.moved;
+  // (the best brief fit's point and SSE only: its residuals and Jacobian would live beside the
+  // next brief fit's for nothing, as the continuation starts again from its point)
+  std::vector<double> lead;
+  double lead_sse = std::numeric_limits<double>::infinity();
   for (const auto& s : h.restarts(c)) {
-    Fit a = fit(h, c, s, Part{}, base, std::max(3, max_iter / 3), rtol, nullptr, false);
+    Fit a = fit(h, c, s, Part{}, base, kBriefIterations, rtol, nullptr, false);
     if (!a.ok) continue;
     moved = moved || a.moved;
-    if (best.ok && !(a.sse < best.sse)) continue;
-    best = Fit{}; // (replaced by `more` or `a` whatever comes: its Jacobian need not live on)
-    Fit more = fit(h, c, a.p, Part{}, base, max_iter, rtol, nullptr, false);
-    best = more.ok && more.sse <= a.sse ? std::move(more) : std::move(a);
+    if (a.sse < lead_sse) {
+      lead_sse = a.sse;
+      lead = std::move(a.p);
+    }
+  }
+  if (!lead.empty() && (!best.ok || lead_sse < best.sse)) {
+    Fit more = fit(h, c, lead, Part{}, base, max_iter, rtol, nullptr, false);
+    if (more.ok && (!best.ok || more.sse < best.sse)) best = std::move(more);
   }
   best.moved = moved;
   if (best.ok) set_std_errors(c, best);
