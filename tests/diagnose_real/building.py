@@ -88,6 +88,14 @@ def output_error(exe, d, data, fails):
               f"{x['rmse_after']:.4f} K, held-out {x['validation_rmse_after']:.4f} K")
     if not f or f[0]["kind"] != "wall_mass" or f[0].get("element") != "envelope":
         fails.append("the first finding is not the envelope (wall_mass inside 'envelope')")
+    # Once the envelope's node exists, a share of the sun onto it (the true structure's split) is
+    # a candidate of the next steps: refitted, whether it is selected or not.
+    onto_wall = [x for x in f[1:] + rep["rejected"]
+                 if x["kind"] == "input_split" and x.get("element") == "sun"
+                 and any(n.startswith("diag_wall_envelope") for n in x["nodes"])]
+    print(f"sun onto the envelope's node refitted {len(onto_wall)} time(s)")
+    if f and f[0]["kind"] == "wall_mass" and not onto_wall:
+        fails.append("no share of the sun onto the envelope's node was refitted")
     final = f[-1]["rmse_after"] if f else rep["baseline"]["rmse"]
     print(f"final RMSE {final:.4f} K; limit {TOLERANCE} x {ref:.4f} = {TOLERANCE * ref:.4f} K")
     if final > TOLERANCE * ref:
