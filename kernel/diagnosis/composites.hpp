@@ -100,6 +100,11 @@ public:
   /// The parameters of part i within p.
   std::vector<double> slice(const std::vector<double>& p, std::size_t i) const;
   std::vector<Candidate> propose(const Evidence&) const override { return {}; }
+  /// The last part (the candidate a step adds on top of the findings) is another kind's.
+  bool degenerate(const Candidate&, const std::vector<double>& p) const override {
+    return !parts_.empty() &&
+           parts_.back().h->degenerate(parts_.back().c, slice(p, parts_.size() - 1));
+  }
   lang::ParamValues overrides(const Candidate&, const std::vector<double>& p) const override;
   void extend(const Candidate&, const std::vector<double>& p,
               lang::NetworkSpec& spec) const override;

@@ -148,6 +148,7 @@ std::size_t Selection::rerank_jointly(const std::vector<Applied>& applied, const
     e.holdout_r = std::move(jres[k].holdout_r);
     e.holdout_rho = std::move(jres[k].holdout_rho);
     e.holdout_sse = jres[k].holdout_sse;
+    e.degenerate = jres[k].degenerate; // (at the joint fit's values: a share may reach its bound)
   }
   judge(nres, base);
   for (std::size_t i = 0; i < nres.size(); ++i)

@@ -7,6 +7,7 @@
 #include "app/diagnosis_output.hpp"
 #include "kernel/core/network.hpp"
 #include "kernel/core/simulation.hpp"
+#include "kernel/diagnosis/composites.hpp"
 #include "kernel/diagnosis/diagnosis.hpp"
 #include "kernel/diagnosis/report.hpp"
 
@@ -14,6 +15,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -172,4 +174,32 @@ TEST_CASE("diagnose masses: a share of the heater's power heats the slab (input_
   std::string text;
   const DiagnosisReport again = rediagnose(dir, path, f, text);
   CHECK_MESSAGE(again.findings.empty(), diagnosis_text(again));
+}
+
+TEST_CASE("a share into a mass on its upper bound is the heater's own mass, also on top of "
+          "findings") {
+  // The forward selection judges a step's candidate by its refit together with the findings
+  // (a Compose of them and it): there too a split with all the power it may move is degenerate.
+  const std::unique_ptr<Hypothesis> split =
+      HypothesisRegistry::global().find("input_split")->create();
+  Candidate onto; // a share onto another node (the finding applied first)
+  onto.kind = "input_split";
+  onto.nodes = {"air", "slab"};
+  onto.names = {"share"};
+  onto.start = {0.3};
+  onto.lo = {0.005};
+  onto.hi = {1.0};
+  Candidate mass = onto; // a share into a mass of its own (the step's candidate)
+  mass.nodes = {"air"};
+  mass.names = {"share", "C", "tau"};
+  mass.start = {0.5, 1e4, 900.0};
+  mass.lo = {0.005, 10.0, 600.0};
+  mass.hi = {0.95, 1e7, 1e6};
+  CHECK(split->degenerate(mass, {0.95, 1e4, 900.0}));
+  CHECK_FALSE(split->degenerate(mass, {0.5, 1e4, 900.0}));
+  const detail::Compose both({{split.get(), onto, {1.0}}, {split.get(), mass, {0.5, 1e4, 900.0}}});
+  CHECK(both.degenerate(both.candidate(), {0.3, 0.95, 1e4, 900.0}));
+  CHECK_FALSE(both.degenerate(both.candidate(), {0.3, 0.5, 1e4, 900.0}));
+  // (the finding below it on its own bound says nothing of the step's candidate)
+  CHECK_FALSE(both.degenerate(both.candidate(), {1.0, 0.5, 1e4, 900.0}));
 }
