@@ -35,7 +35,7 @@ void Document::analyse() {
   lang::set_path_policy(policy);
   // A lower limit on what loops and submodels generate than the command line's: the editor gets
   // an answer within seconds (docs/language.md, Limits).
-  lang::LoadOptions options = load_options(ModelPlugins::never, "the language server");
+  lang::LoadOptions options = app::load_options(app::ModelPlugins::never, "the language server");
   options.max_generated = editor_max_generated;
   options.too_large_note =
       fmt::format("the language server stops at {} to answer within seconds; thermnet lint checks "
