@@ -313,6 +313,7 @@ def main() -> int:
     ap.add_argument("--hours", type=float, default=HOURS, help=argparse.SUPPRESS)  # tests: shorter cases
     ap.add_argument("--output", type=float, default=OUTPUT, help=argparse.SUPPRESS)
     a = ap.parse_args()
+    binary = os.path.abspath(a.binary) if os.sep in a.binary else a.binary  # it runs in the instance's folder
     root = a.keep or tempfile.mkdtemp(prefix="thermnet_panel_")
     argv = [x for k, x in enumerate(sys.argv[1:]) if x != "--note" and (k == 0 or sys.argv[k] != "--note")]
     cmd = shlex.join(["bench/panel_hit_rate.py"] + argv)
@@ -334,7 +335,7 @@ def main() -> int:
             r = {"instance": i, "seed": a.seed + i, "effect": effect, "place": place, "first": "–",
                  "verdict": "dry run", "wall_s": 0.0, "cpu_s": 0.0, "simulations": 0, "refits": 0}
             if not a.dry_run:
-                d = run_diagnose(a.binary, folder, a.threads, a.timeout)
+                d = run_diagnose(binary, folder, a.threads, a.timeout)
                 r.update({k: d[k] for k in ("wall_s", "cpu_s", "simulations", "refits")})
                 if d["timed_out"]:
                     r["verdict"] = "timeout"
