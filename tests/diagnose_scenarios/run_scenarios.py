@@ -210,7 +210,10 @@ def main() -> int:
     ap.add_argument("--ids", help="comma-separated scenario ids (default: all)")
     ap.add_argument("--smoke", action="store_true", help="only the scenarios marked smoke in the table")
     ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--timeout", type=float, default=240.0, help="seconds per diagnosis (a timeout is a miss)")
+    # THERMNET_TEST_TIMEOUT_SCALE stretches the default for slow builds (scripts/asan-suite sets it).
+    scale = float(os.environ.get("THERMNET_TEST_TIMEOUT_SCALE", "1"))
+    ap.add_argument("--timeout", type=float, default=240.0 * scale,
+                    help="seconds per diagnosis (a timeout is a miss; default 240 s times THERMNET_TEST_TIMEOUT_SCALE)")
     ap.add_argument("--verify", action="store_true", help="check each truth against `thermnet simulate`")
     ap.add_argument("--markdown")
     ap.add_argument("--json")

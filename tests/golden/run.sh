@@ -112,6 +112,8 @@ hostile_run() {
   shift 5
   local start end out status
   [ "${HOSTILE_NO_ULIMIT:-0}" = 1 ] && mem_mb=0
+  # THERMNET_TEST_TIMEOUT_SCALE (an integer) stretches the limit for slow builds (sanitizers).
+  limit=$((limit * ${THERMNET_TEST_TIMEOUT_SCALE:-1}))
   start=$(date +%s.%N)
   out=$(
     [ "$mem_mb" -gt 0 ] && ulimit -v $((mem_mb * 1024))
