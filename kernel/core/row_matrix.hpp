@@ -104,11 +104,6 @@ public:
   std::span<const double> operator[](std::size_t k) const {
     return {data_.data() + k * cols_, cols_};
   }
-  /// Row k; throws std::out_of_range past the last row.
-  std::span<const double> at(std::size_t k) const {
-    if (k >= rows_) throw std::out_of_range("RowMatrix: row out of range");
-    return (*this)[k];
-  }
   /// Value i of row k; throws std::out_of_range outside the table.
   double at(std::size_t k, std::size_t i) const {
     if (k >= rows_ || i >= cols_) throw std::out_of_range("RowMatrix: value out of range");
@@ -144,8 +139,6 @@ public:
     cols_ = 0;
     data_.clear();
   }
-  /// Returns unused capacity.
-  void shrink_to_fit() { data_.shrink_to_fit(); }
   /// First row.
   iterator begin() { return {data_.data(), cols_, 0}; }
   /// Past the last row.

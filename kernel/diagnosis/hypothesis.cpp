@@ -187,6 +187,16 @@ std::optional<double> steady_start(const lang::NetworkSpec& spec, int node,
   return std::isfinite(T) && T > 0.0 ? std::optional<double>(T) : std::nullopt;
 }
 
+bool on_model_sites(const Candidate& c, const lang::NetworkSpec& declared, AddedNodes nodes) {
+  if (!c.element.empty() &&
+      std::none_of(declared.elements.begin(), declared.elements.end(),
+                   [&](const lang::ElementSpec& e) { return e.name == c.element; }))
+    return false;
+  return nodes == AddedNodes::allowed ||
+         std::all_of(c.nodes.begin(), c.nodes.end(),
+                     [&](const std::string& n) { return declared.node_index(n) >= 0; });
+}
+
 Candidate with_start_share(const Candidate& c) {
   Candidate out = c;
   out.names.emplace_back(kStartShare);

@@ -254,6 +254,14 @@ inline constexpr const char* kStartShare = "start_share";
 /// would be fitted on a left-out case's own data when cases are held out in turn.
 Candidate with_start_share(const Candidate& c);
 
+/// Whether a candidate may name nodes an applied finding added (not in the declared model).
+enum class AddedNodes { refused, allowed };
+
+/// True when the candidate is a site of the model's own: its element (if any) is declared in
+/// `declared`, and, where `nodes` is refused, so is every node it names. An element a finding
+/// added (a split's heater) never is; a node it added (the envelope) may be, by policy.
+bool on_model_sites(const Candidate& c, const lang::NetworkSpec& declared, AddedNodes nodes);
+
 /// The share of a fit p where the candidate carries one (with_start_share); nullopt otherwise.
 std::optional<double> start_share(const Candidate& c, const std::vector<double>& p);
 

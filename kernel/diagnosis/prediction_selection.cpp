@@ -429,16 +429,10 @@ private:
         // is left to the output-error criterion.
         if (c.measurement_side && c.kind != "sensor_lag") continue;
         // An element an applied finding added (a split's heater) is not a site of the model's
-        // own; a node it added (the envelope a split may heat) is.
-        if (!c.element.empty() &&
-            std::none_of(declared.elements.begin(), declared.elements.end(),
-                         [&](const lang::ElementSpec& e) { return e.name == c.element; }))
-          continue;
-        // The capacity of a node an applied finding added is already one of its free params.
-        if (c.kind == "capacity_error" &&
-            std::none_of(declared.nodes.begin(), declared.nodes.end(), [&](const auto& n) {
-              return std::find(c.nodes.begin(), c.nodes.end(), n.name) != c.nodes.end();
-            }))
+        // own; a node it added (the envelope a split may heat) is, except for its capacity,
+        // already one of the finding's free params.
+        if (!on_model_sites(c, declared,
+                            c.kind == "capacity_error" ? AddedNodes::refused : AddedNodes::allowed))
           continue;
         if (!c.start_T.empty()) c = with_start_share(c);
         bool taken = false;

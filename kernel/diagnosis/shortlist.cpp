@@ -260,13 +260,8 @@ std::vector<Entry> Selection::propose(const Evidence& ev) const {
       // An element or node added by an applied finding (a heater's own mass) is not a site of
       // the model's own; but a share of a measured input may heat a node a finding added (the sun
       // onto the envelope a wall_mass added, as the published building structures have it).
-      if (!c.element.empty() &&
-          std::none_of(declared.elements.begin(), declared.elements.end(),
-                       [&](const lang::ElementSpec& e) { return e.name == c.element; }))
-        continue;
-      if (!hyps_[i]->reroutes() &&
-          std::any_of(c.nodes.begin(), c.nodes.end(),
-                      [&](const std::string& n) { return declared.node_index(n) < 0; }))
+      if (!on_model_sites(c, declared,
+                          hyps_[i]->reroutes() ? AddedNodes::allowed : AddedNodes::refused))
         continue;
       if (!c.start_T.empty()) c = with_start_share(c);
       Entry e;
