@@ -38,6 +38,11 @@ std::vector<std::size_t> boundary_exchanges(const std::vector<Entry>& entries, c
 std::vector<std::size_t> tied_node_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
                                              const Candidate& c);
 
+/// Indices into `entries` of the links of c's mechanism that name, in place of one end of the link
+/// c, a node an element links to that end (measured nodes first, 6 at most per end).
+std::vector<std::size_t> neighbour_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
+                                             const Candidate& c);
+
 /// The counterparts among entries[beside] to refit: those whose proxy (`Entry::proxy`) is the site
 /// of an entries[refitted] whose refit (res, same indices) failed, or has a ΔBIC below
 /// reference_bic + kSignificantBic and an RMSE among the `best` sites of its kind that do, and

@@ -181,19 +181,19 @@ std::vector<std::size_t> few_unobserved(const std::vector<Entry>& side, std::siz
   return out;
 }
 
-/// Indices of the candidates (`by_site`: shapes without mechanism) of c's kind, either mechanism,
-/// whose nodes are c's with the one at position n replaced by each of `by`, in the order of `by`;
-/// at most `most` distinct replacements.
+/// Indices of the candidates (`by_site`: shapes with `mechanism`, or without one when it is
+/// empty) of c's kind whose nodes are c's with the one at position n replaced by each of `by`, in
+/// the order of `by`; at most `most` distinct replacements.
 std::vector<std::size_t> exchanged(const Shapes& by_site, const lang::NetworkSpec& spec,
-                                   const Candidate& c, std::size_t n, const std::vector<int>& by,
-                                   std::size_t most) {
+                                   const Candidate& c, const std::string& mechanism, std::size_t n,
+                                   const std::vector<int>& by, std::size_t most) {
   std::vector<std::size_t> out;
   std::size_t found = 0;
   for (int u : by) {
     if (found >= most) break;
     std::vector<std::string> nodes = c.nodes;
     nodes[n] = spec.nodes[static_cast<std::size_t>(u)].name;
-    auto it = by_site.find(shape_key(c.kind, "", nodes));
+    auto it = by_site.find(shape_key(c.kind, mechanism, nodes));
     if (it == by_site.end()) continue;
     out.insert(out.end(), it->second.begin(), it->second.end());
     ++found;
@@ -204,18 +204,21 @@ std::vector<std::size_t> exchanged(const Shapes& by_site, const lang::NetworkSpe
 /// Spec node -> the nodes an element links it to (neighbours).
 using Near = std::vector<std::set<int>>;
 
-/// For each node of c, the candidates exchanged (`exchanged`) for the nodes by(near, node) lists.
+/// For each node of c, the candidates exchanged (`exchanged`) for the nodes by(near, node) lists:
+/// of either mechanism, or of c's own with `same_mechanism`.
 std::vector<std::size_t> exchanges(const std::vector<Entry>& entries, const Evidence& ev,
                                    const Candidate& c,
-                                   const std::function<std::vector<int>(const Near&, int)>& by) {
+                                   const std::function<std::vector<int>(const Near&, int)>& by,
+                                   bool same_mechanism = false) {
   const auto& spec = ev.cases.front().spec;
   const Near near = neighbours(spec);
-  const Shapes by_site = shapes(entries, false);
+  const Shapes by_site = shapes(entries, same_mechanism);
+  const std::string mechanism = same_mechanism ? c.mechanism : "";
   std::vector<std::size_t> out;
   for (std::size_t n = 0; n < c.nodes.size(); ++n) {
     const int node = spec.node_index(c.nodes[n]);
     if (node < 0) continue;
-    const auto more = exchanged(by_site, spec, c, n, by(near, node), kBeside);
+    const auto more = exchanged(by_site, spec, c, mechanism, n, by(near, node), kBeside);
     out.insert(out.end(), more.begin(), more.end());
   }
   return out;
@@ -398,6 +401,26 @@ std::vector<std::size_t> beside_gaining(const std::vector<Entry>& entries,
     if (gaining.count(entries[i].proxy) != 0 || known.count(entries[i].proxy) == 0)
       out.push_back(i);
   return out;
+}
+
+std::vector<std::size_t> neighbour_exchanges(const std::vector<Entry>& entries, const Evidence& ev,
+                                             const Candidate& c) {
+  // A path the model lacks shows as unexplained heat at both its ends, and at the nodes tied
+  // closely to them; the screen may rank a pair with one end's neighbour first (a box linked to
+  // the panel cell under the other box: bench/panel_hit_rate.py's misses).
+  if (c.kind != "missing_link" || c.nodes.size() != 2) return {};
+  const auto& spec = ev.cases.front().spec;
+  return exchanges(
+      entries, ev, c,
+      [&](const Near& near, int node) {
+        std::vector<int> ends;
+        if (spec.nodes[static_cast<std::size_t>(node)].boundary) return ends;
+        for (int u : near[static_cast<std::size_t>(node)])
+          if (!spec.nodes[static_cast<std::size_t>(u)].boundary) ends.push_back(u);
+        std::stable_partition(ends.begin(), ends.end(), [&](int u) { return ev.measured(u); });
+        return ends;
+      },
+      true);
 }
 
 } // namespace thermnet::detail

@@ -1,6 +1,7 @@
 // Which candidates stand in for one another across a boundary: a link to an unmeasured node tied
-// to a boundary against the link to that boundary (boundary_exchanges), and a link to a boundary
-// against the link to the nodes tied to it (tied_node_exchanges).
+// to a boundary against the link to that boundary (boundary_exchanges), a link to a boundary
+// against the link to the nodes tied to it (tied_node_exchanges), and a link against the links
+// from one of its ends to the other end's neighbours (neighbour_exchanges).
 
 #include "kernel/diagnosis/selection.hpp"
 
@@ -83,6 +84,47 @@ conductance gd b c G = 0.5
   }
   SUBCASE("a candidate naming no boundary has no tied-node exchange") {
     CHECK(tied_node_exchanges(entries, ev, entries[0].c).empty());
+  }
+}
+
+TEST_CASE("diagnosis exchanges: a link's ends for their neighbours, same mechanism") {
+  // A chain a - b - c - d, a tied to the boundary sink; b is not measured.
+  test::TempDir dir("neighbours");
+  const std::string path = dir.write("m.tnet", R"(
+boundary sink T = 20
+node a C = 10
+node b C = 10
+node c C = 10
+node d C = 10
+conductance g0 a sink G = 5
+conductance g1 a b G = 1
+conductance g2 b c G = 1
+conductance g3 c d G = 1
+)");
+  test::LoadedModel m(path, test::Lint::clean);
+  Evidence ev;
+  ev.cases.emplace_back();
+  ev.cases.front().spec = m.model->instantiate();
+  const auto& spec = ev.cases.front().spec;
+  ev.cases.front().rows = {spec.node_index("a"), spec.node_index("c"), spec.node_index("d")};
+  REQUIRE(ev.unobserved(spec.node_index("b")));
+
+  const std::vector<Entry> entries = {entry("missing_link", {"a", "c"}, "linear"),
+                                      entry("missing_link", {"b", "c"}, "linear"),
+                                      entry("missing_link", {"b", "c"}, "radiation"),
+                                      entry("missing_link", {"a", "d"}, "linear"),
+                                      entry("missing_link", {"a", "b"}, "linear"),
+                                      entry("missing_link", {"sink", "c"}, "linear"),
+                                      entry("missing_source", {"c"})};
+
+  SUBCASE("each end for its neighbours that are nodes, measured ones first") {
+    // a -> b (the sink is a boundary: tied_node_exchanges' business); c -> d (measured), then b.
+    CHECK(named(entries, neighbour_exchanges(entries, ev, entries[0].c)) ==
+          std::vector<std::string>{"missing_link:linear:b,c", "missing_link:linear:a,d",
+                                   "missing_link:linear:a,b"});
+  }
+  SUBCASE("only links have neighbour exchanges") {
+    CHECK(neighbour_exchanges(entries, ev, entries[6].c).empty());
   }
 }
 
