@@ -40,12 +40,24 @@ std::vector<std::string> named(const std::vector<Entry>& entries,
   return out;
 }
 
+/// Evidence of one case of the model `text` whose measured nodes are `measured` (no data: the
+/// exchanges read the network and which nodes are measured only).
+Evidence evidence_of(const std::string& text, const std::vector<std::string>& measured) {
+  test::TempDir dir("exchanges");
+  test::LoadedModel m(dir.write("m.tnet", text), test::Lint::clean);
+  Evidence ev;
+  ev.cases.emplace_back();
+  ev.cases.front().spec = m.model->instantiate();
+  for (const auto& name : measured)
+    ev.cases.front().rows.push_back(ev.cases.front().spec.node_index(name));
+  return ev;
+}
+
 } // namespace
 
 TEST_CASE("diagnosis exchanges: boundaries for unmeasured ends, tied nodes for boundaries") {
   // sink is a boundary; a (measured) and b (unmeasured) are bolted to it; c (measured) is free.
-  test::TempDir dir("exchanges");
-  const std::string path = dir.write("m.tnet", R"(
+  const Evidence ev = evidence_of(R"(
 boundary sink T = 20
 node a C = 10
 node b C = 10
@@ -54,14 +66,9 @@ conductance ga a sink G = 5
 conductance gb b sink G = 5
 conductance gc a c G = 0.5
 conductance gd b c G = 0.5
-)");
-  test::LoadedModel m(path, test::Lint::clean);
-  Evidence ev;
-  ev.cases.emplace_back();
-  ev.cases.front().spec = m.model->instantiate();
-  const auto& spec = ev.cases.front().spec;
-  ev.cases.front().rows = {spec.node_index("a"), spec.node_index("c")};
-  REQUIRE(ev.unobserved(spec.node_index("b")));
+)",
+                                  {"a", "c"});
+  REQUIRE(ev.unobserved(ev.cases.front().spec.node_index("b")));
 
   const std::vector<Entry> entries = {entry("missing_link", {"c", "b"}, "linear"),
                                       entry("missing_link", {"sink", "c"}, "linear"),
@@ -89,8 +96,7 @@ conductance gd b c G = 0.5
 
 TEST_CASE("diagnosis exchanges: a link's ends for their neighbours, same mechanism") {
   // A chain a - b - c - d, a tied to the boundary sink; b is not measured.
-  test::TempDir dir("neighbours");
-  const std::string path = dir.write("m.tnet", R"(
+  const Evidence ev = evidence_of(R"(
 boundary sink T = 20
 node a C = 10
 node b C = 10
@@ -100,14 +106,9 @@ conductance g0 a sink G = 5
 conductance g1 a b G = 1
 conductance g2 b c G = 1
 conductance g3 c d G = 1
-)");
-  test::LoadedModel m(path, test::Lint::clean);
-  Evidence ev;
-  ev.cases.emplace_back();
-  ev.cases.front().spec = m.model->instantiate();
-  const auto& spec = ev.cases.front().spec;
-  ev.cases.front().rows = {spec.node_index("a"), spec.node_index("c"), spec.node_index("d")};
-  REQUIRE(ev.unobserved(spec.node_index("b")));
+)",
+                                  {"a", "c", "d"});
+  REQUIRE(ev.unobserved(ev.cases.front().spec.node_index("b")));
 
   const std::vector<Entry> entries = {entry("missing_link", {"a", "c"}, "linear"),
                                       entry("missing_link", {"b", "c"}, "linear"),
