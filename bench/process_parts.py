@@ -36,13 +36,15 @@ from process_time import timed  # noqa: E402
 PY = "/usr/bin/python3"
 
 
-def solve_wall(stderr):
-    m = re.search(r"([0-9.]+) s wall", stderr)
+def solve_wall(t):
+    """The integration's wall time that `thermnet simulate --stats` prints (standard error)."""
+    m = re.search(r"([0-9.]+) s wall", t.stderr)
     return float(m.group(1)) if m else float("nan")
 
 
-def scipy_solve(stdout):
-    m = re.search(r"wall_s ([0-9.eE+-]+)", stdout)
+def scipy_solve(t):
+    """solve_ivp's wall time that bench/scipy_reference.py prints (standard output)."""
+    m = re.search(r"wall_s ([0-9.eE+-]+)", t.stdout)
     return float(m.group(1)) if m else float("nan")
 
 
@@ -84,7 +86,7 @@ def main():
             wall[name].append(t.wall_s)
             cpu[name].append(t.cpu_s)
             if solve:
-                inner[name].append(solve(t.stderr if "SciPy" not in name else t.stdout))
+                inner[name].append(solve(t))
         print(f"round {r + 1}/{a.repeat} done", flush=True)
 
     med = {k: statistics.median(v) for k, v in wall.items()}
