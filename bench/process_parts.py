@@ -58,6 +58,8 @@ def main():
     a = ap.parse_args()
     if a.repeat < 1:
         sys.exit("process_parts.py: --repeat must be at least 1")
+    if a.nodes < 2:
+        sys.exit("process_parts.py: --nodes must be at least 2")
     exe = os.path.abspath(a.thermnet)
     rows, cols = plate.shape_for_nodes(a.nodes)
     base, _ = plate.generate(rows, cols, a.workdir, a.nodes)
