@@ -302,6 +302,8 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("binary", help="path to thermnet")
     ap.add_argument("--instances", type=int, required=True)
+    ap.add_argument("--first", type=int, default=0,
+                    help="start at this instance (its seed is --seed plus it): a study continued")
     ap.add_argument("--seed", type=int, required=True)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--keep", help="write the instances into this folder and keep them")
@@ -313,6 +315,8 @@ def main() -> int:
     ap.add_argument("--hours", type=float, default=HOURS, help=argparse.SUPPRESS)  # tests: shorter cases
     ap.add_argument("--output", type=float, default=OUTPUT, help=argparse.SUPPRESS)
     a = ap.parse_args()
+    if not 0 <= a.first < a.instances:
+        ap.error("--first must be at least 0 and below --instances")
     binary = os.path.abspath(a.binary) if os.sep in a.binary else a.binary  # it runs in the instance's folder
     root = a.keep or tempfile.mkdtemp(prefix="thermnet_panel_")
     argv = [x for k, x in enumerate(sys.argv[1:]) if x != "--note" and (k == 0 or sys.argv[k] != "--note")]
@@ -320,12 +324,13 @@ def main() -> int:
     head = ["# `thermnet diagnose` on random 72-node three-case panels: the hit rate (issue 55)", "",
             "Written by bench/panel_hit_rate.py (its doc says what an instance is and how it is scored).", "",
             *[x for n in a.note for x in (n, "")], f"Command: `{cmd}`", f"Started {dt.datetime.now(dt.timezone.utc):%Y-%m-%d %H:%M} UTC; "
-            f"{a.instances} instances asked, seeds {a.seed}..{a.seed + a.instances - 1}, --threads {a.threads}, "
+            f"instances {a.first}..{a.instances - 1} asked, seeds {a.seed + a.first}..{a.seed + a.instances - 1}, "
+            f"--threads {a.threads}, "
             f"timeout {a.timeout:g} s."]
     rows, tail = [], []
     print(HEADER, flush=True)
     try:
-        for i in range(a.instances):
+        for i in range(a.first, a.instances):
             if past(a.stop_at):
                 tail = [f"- stopped before instance {i}: --stop-at {a.stop_at} UTC reached"]
                 break
