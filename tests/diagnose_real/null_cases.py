@@ -48,8 +48,10 @@ from scipy.stats import beta
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from building_truth import ou  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from timeout_scale import timeout_scale  # noqa: E402
 
-TIMEOUT_S = 600 * float(os.environ.get("THERMNET_TEST_TIMEOUT_SCALE", "1"))  # scaled for slow builds
+TIMEOUT_S = 600 * timeout_scale()  # scaled for slow builds
 UNITS = {"C": "J/K", "G": "W/K", "R": "K/W", "A": "m^2"}
 
 

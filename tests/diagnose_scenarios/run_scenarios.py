@@ -27,10 +27,12 @@ import tempfile
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import generate  # noqa: E402
 import identifiability  # noqa: E402
 import score as sc  # noqa: E402
+from timeout_scale import timeout_scale  # noqa: E402
 
 SKIP = 77
 EVENTS_OPTION = "--events"  # how the lid's events reach diagnosis (proposed for issue 14)
@@ -211,7 +213,7 @@ def main() -> int:
     ap.add_argument("--smoke", action="store_true", help="only the scenarios marked smoke in the table")
     ap.add_argument("--threads", type=int, default=2)
     # THERMNET_TEST_TIMEOUT_SCALE stretches the default for slow builds (scripts/asan-suite sets it).
-    scale = float(os.environ.get("THERMNET_TEST_TIMEOUT_SCALE", "1"))
+    scale = timeout_scale()
     ap.add_argument("--timeout", type=float, default=240.0 * scale,
                     help="seconds per diagnosis (a timeout is a miss; default 240 s times THERMNET_TEST_TIMEOUT_SCALE)")
     ap.add_argument("--verify", action="store_true", help="check each truth against `thermnet simulate`")

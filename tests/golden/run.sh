@@ -13,6 +13,12 @@
 # right exit status in bounded time, never in a signal. BIG_MB sets the size of the large-file
 # test (default 20; 100 MB takes about 20 s on a 2-core machine).
 set -u
+# The factor on the hostile runs' time limits (slow builds: scripts/asan-suite sets 10).
+timeout_scale=${THERMNET_TEST_TIMEOUT_SCALE:-1}
+[[ $timeout_scale =~ ^[1-9][0-9]*$ ]] || {
+  echo "THERMNET_TEST_TIMEOUT_SCALE='$timeout_scale': expected a positive integer" >&2
+  exit 2
+}
 
 if [ $# -lt 1 ]; then
   echo "usage: $0 THERMNET [--update] [--golden | --hostile]" >&2
@@ -112,8 +118,8 @@ hostile_run() {
   shift 5
   local start end out status
   [ "${HOSTILE_NO_ULIMIT:-0}" = 1 ] && mem_mb=0
-  # THERMNET_TEST_TIMEOUT_SCALE (an integer) stretches the limit for slow builds (sanitizers).
-  limit=$((limit * ${THERMNET_TEST_TIMEOUT_SCALE:-1}))
+  # THERMNET_TEST_TIMEOUT_SCALE stretches the limit for slow builds (sanitizers).
+  limit=$((limit * timeout_scale))
   start=$(date +%s.%N)
   out=$(
     [ "$mem_mb" -gt 0 ] && ulimit -v $((mem_mb * 1024))
