@@ -204,6 +204,16 @@ std::vector<std::size_t> exchanged(const Shapes& by_site, const lang::NetworkSpe
 /// Spec node -> the nodes an element links it to (neighbours).
 using Near = std::vector<std::set<int>>;
 
+/// The nodes (not boundaries) an element links `node` to, the measured ones first.
+std::vector<int> nodes_near(const Near& near, const Evidence& ev, int node) {
+  const auto& spec = ev.cases.front().spec;
+  std::vector<int> out;
+  for (int u : near[static_cast<std::size_t>(node)])
+    if (!spec.nodes[static_cast<std::size_t>(u)].boundary) out.push_back(u);
+  std::stable_partition(out.begin(), out.end(), [&](int u) { return ev.measured(u); });
+  return out;
+}
+
 /// For each node of c, the candidates exchanged (`exchanged`) for the nodes by(near, node) lists:
 /// of either mechanism, or of c's own with `same_mechanism`.
 std::vector<std::size_t> exchanges(const std::vector<Entry>& entries, const Evidence& ev,
@@ -238,12 +248,8 @@ std::vector<std::size_t> tied_node_exchanges(const std::vector<Entry>& entries, 
                                              const Candidate& c) {
   const auto& spec = ev.cases.front().spec;
   return exchanges(entries, ev, c, [&](const Near& near, int node) {
-    std::vector<int> tied;
-    if (!spec.nodes[static_cast<std::size_t>(node)].boundary) return tied;
-    for (int u : near[static_cast<std::size_t>(node)])
-      if (!spec.nodes[static_cast<std::size_t>(u)].boundary) tied.push_back(u);
-    std::stable_partition(tied.begin(), tied.end(), [&](int u) { return ev.measured(u); });
-    return tied;
+    return spec.nodes[static_cast<std::size_t>(node)].boundary ? nodes_near(near, ev, node)
+                                                               : std::vector<int>{};
   });
 }
 
@@ -413,12 +419,8 @@ std::vector<std::size_t> neighbour_exchanges(const std::vector<Entry>& entries, 
   return exchanges(
       entries, ev, c,
       [&](const Near& near, int node) {
-        std::vector<int> ends;
-        if (spec.nodes[static_cast<std::size_t>(node)].boundary) return ends;
-        for (int u : near[static_cast<std::size_t>(node)])
-          if (!spec.nodes[static_cast<std::size_t>(u)].boundary) ends.push_back(u);
-        std::stable_partition(ends.begin(), ends.end(), [&](int u) { return ev.measured(u); });
-        return ends;
+        return spec.nodes[static_cast<std::size_t>(node)].boundary ? std::vector<int>{}
+                                                                   : nodes_near(near, ev, node);
       },
       true);
 }
