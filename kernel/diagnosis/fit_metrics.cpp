@@ -146,8 +146,12 @@ FitMetrics Engine::metrics(const CaseSims& sims) const {
 bool Engine::at_floor(const FitMetrics& m) const {
   // Nothing is wrong when the whole fit, every node and every span of kWindow samples are within
   // the measurement noise. A span's sum of squares is sigma^2 chi^2(kWindow) under noise alone;
-  // its limit is that distribution's quantile at 1 % over the number of disjoint spans (a
-  // Bonferroni bound), so noise alone passes a whole diagnosis with about 99 % probability.
+  // its limit is that distribution's quantile at 1 % over the number of spans looked at (a
+  // Bonferroni bound), so noise alone passes a whole diagnosis with at least 99 % probability.
+  // The spans slide by one sample (window_rmse), so there are about as many as measured points:
+  // counting only the disjoint ones (a tenth as many) let pure noise fail the test in 4 % of
+  // diagnoses of 120 series of 961 samples (simulated), and a 72-node panel fitted to its noise
+  // (RMSE 0.309 K, noise 0.31 K, worst span 2.25 sigma against a limit of 2.17) went on searching.
   const double nf = ev_.noise_floor;
   double worst = 0.0, worst_window = 0.0, points = 0.0;
   for (const auto& [name, nm] : m.nodes) {
@@ -155,7 +159,7 @@ bool Engine::at_floor(const FitMetrics& m) const {
     worst_window = std::max(worst_window, nm.window_rmse);
     points += static_cast<double>(nm.points);
   }
-  const double spans = std::max(1.0, points / static_cast<double>(kWindow));
+  const double spans = std::max(1.0, points);
   const boost::math::chi_squared chi2(static_cast<double>(kWindow));
   const double window_limit =
       nf * std::sqrt(boost::math::quantile(boost::math::complement(chi2, 0.01 / spans)) /
