@@ -8,13 +8,17 @@
 
 namespace thermnet::importer::sinda {
 
-namespace {
-
 bool blank(char c) {
   return c == ' ' || c == '\t' || c == '\v' || c == '\f' || c == 0x1a;
 }
 
-} // namespace
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && blank(s.front()))
+    s.remove_prefix(1);
+  while (!s.empty() && blank(s.back()))
+    s.remove_suffix(1);
+  return s;
+}
 
 bool is_comment_line(std::string_view line) {
   return !line.empty() && (line[0] == 'C' || line[0] == 'c') &&

@@ -19,6 +19,13 @@ struct Field {
   lang::Span at;         ///< where it stands
 };
 
+/// True for a blank of SINDA input: space, tab, vertical tab, form feed or the DOS end-of-file
+/// mark (0x1a).
+bool blank(char c);
+
+/// s without its leading and trailing blanks.
+std::string_view trim(std::string_view s);
+
 /// True for a comment line: `C` or `c` in column 1 followed by a blank or nothing.
 bool is_comment_line(std::string_view line);
 

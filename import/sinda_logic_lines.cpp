@@ -16,18 +16,6 @@ namespace thermnet::importer::sinda {
 
 namespace {
 
-bool blank(char c) {
-  return c == ' ' || c == '\t' || c == '\v' || c == '\f';
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && blank(s.front()))
-    s.remove_prefix(1);
-  while (!s.empty() && blank(s.back()))
-    s.remove_suffix(1);
-  return s;
-}
-
 /// The line in upper case without blanks or its `$` comment.
 std::string squeezed(std::string_view text) {
   std::string out;

@@ -26,18 +26,6 @@ enum class Block {
   other         // any other block: not translated
 };
 
-bool blank(char c) {
-  return c == ' ' || c == '\t' || c == '\v' || c == '\f' || c == 0x1a;
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && blank(s.front()))
-    s.remove_prefix(1);
-  while (!s.empty() && blank(s.back()))
-    s.remove_suffix(1);
-  return s;
-}
-
 /// Whether a line starts with `word` (any case) followed by a blank or its end, after `skip`
 /// leading characters.
 bool starts_with_word(std::string_view text, std::string_view word) {
