@@ -135,7 +135,7 @@ struct Finding {
 /// a model error no finding kind names looks like (its autocorrelation, its periodogram, its
 /// correlation with each input at each lag).
 struct StructuralError {
-  bool remains = false;     ///< the error left is far above the noise floor (2x or more)
+  bool remains = false;     ///< the error left is 2x the noise floor or more, and >= --min-gain
   double rmse = 0.0;        ///< K, after the findings
   double independent = 0.0; ///< independent points the residuals hold (n over their AR(1) time)
   /// (lag s, autocorrelation) at lags of 1, 2, 5, 10, 20, 50... samples (below half a case)

@@ -159,6 +159,41 @@ TEST_CASE("diagnose: a model's own simulation fed back gives no finding") {
   CHECK_FALSE(r.structural.remains);
 }
 
+TEST_CASE("diagnose: an error far above the noise but below --min-gain is no structural error") {
+  // The truth warms the wall by 7 mK more (0.01 W): smooth and exact, far above its noise floor
+  // (the rounding to 6 decimals), below the 0.05 K that a finding must gain somewhere. No finding
+  // can be made there, so the report must not say that a structural error remains; with a
+  // practical floor of 1 mK a finding is possible, and made: the source, 0.00997 W.
+  test::TempDir dir;
+  const std::string path = dir.write("model.tnet", box("", true));
+  {
+    std::string truth = box("", false);
+    truth.insert(truth.find("case open"), "heater tiny wall P = 0.01 [W]\n");
+    test::LoadedModel gen(dir.write("gen.tnet", truth));
+    write_data(dir, *gen.model, "open", {"air", "wall"}, 0.0, 6, 1);
+    write_data(dir, *gen.model, "shut", {"air", "wall"}, 0.0, 6, 2);
+  }
+  test::LoadedModel m(path, test::Lint::clean);
+  DiagnosisOptions opt;
+  opt.threads = 1;
+  const DiagnosisReport r = diagnose(*m.model, opt);
+  INFO(diagnosis_text(r));
+  double worst = 0.0;
+  for (const auto& [name, nm] : r.baseline.nodes)
+    worst = std::max(worst, nm.window_rmse);
+  CHECK(r.findings.empty());
+  CHECK(r.baseline.rmse >= 2.0 * r.noise_floor);
+  CHECK(worst < opt.min_gain);
+  CHECK_FALSE(r.structural.remains);
+  opt.min_gain = 1e-3;
+  const DiagnosisReport fine = diagnose(*m.model, opt);
+  INFO(diagnosis_text(fine));
+  REQUIRE(fine.findings.size() == 1);
+  CHECK(fine.findings[0].candidate.kind == "missing_source");
+  CHECK(fine.findings[0].candidate.nodes == std::vector<std::string>{"wall"});
+  CHECK(fine.findings[0].values[0] == doctest::Approx(0.01).epsilon(0.05));
+}
+
 TEST_CASE("diagnose: more cases than --case-folds are held out in turn, each case once") {
   // Seven runs of the box at different heater powers, the truth with a leak to the room: with 3
   // case folds case i joins fold i mod 3; with 7, each case is left out alone. Either way every
