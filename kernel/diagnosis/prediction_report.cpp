@@ -70,6 +70,7 @@ nlohmann::json prediction_json(const DiagnosisReport& r) {
       x["values"] = finding_values(f);
       x["given"] = f.given;
       x["significant"] = f.significant;
+      if (f.fit_failed) x["fit_failed"] = true;
       x["likelihood"] = likelihood_test_json(*f.likelihood);
       rej.push_back(std::move(x));
     }
@@ -121,7 +122,7 @@ std::string prediction_diagnosis_text(const DiagnosisReport& r) {
   }
   std::vector<const Finding*> tested;
   for (const auto& f : r.rejected)
-    if (f.likelihood) tested.push_back(&f);
+    if (f.likelihood && !f.fit_failed) tested.push_back(&f);
   std::stable_sort(tested.begin(), tested.end(), [](const Finding* a, const Finding* b) {
     return a->likelihood->ratio.p_value < b->likelihood->ratio.p_value;
   });
@@ -132,6 +133,15 @@ std::string prediction_diagnosis_text(const DiagnosisReport& r) {
                      what(*f), f->given, f->given == 1 ? "" : "s", f->likelihood->ratio.statistic,
                      f->likelihood->ratio.df, f->likelihood->ratio.p_value,
                      f->significant ? " (significant, a better one was selected)" : "");
+  std::vector<std::string> failed;
+  for (const auto& f : r.rejected)
+    if (f.likelihood && f.fit_failed)
+      failed.push_back(
+          fmt::format("{} (given {} finding{})", what(f), f.given, f.given == 1 ? "" : "s"));
+  if (!failed.empty())
+    s += fmt::format("\nRefits that failed (each ended below the likelihood of the model it "
+                     "extends; not a measure of its gain): {}\n",
+                     fmt::join(failed, "; "));
   for (const auto& n : p.notes)
     s += "note: " + n + "\n";
   return s;

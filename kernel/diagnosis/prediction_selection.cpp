@@ -32,6 +32,10 @@ constexpr std::size_t kFullFits = 2;
 // building's ln L of 3000): far below the differences a likelihood-ratio test resolves, and a
 // quarter fewer likelihoods than the default tolerance on the building's selection.
 constexpr double kFullTolerance = 1e-7;
+// A candidate's structure holds the one it extends (its added state's share or capacity at a
+// bound), so its refit reaches that likelihood or nearly: a likelihood ratio below minus this
+// (ln L lower by half a unit, thousands of times the fits' tolerance) is a refit that failed.
+constexpr double kFailedRatio = 1.0;
 
 /// A structure of the selection: the declared model, the findings applied so far and optionally a
 /// free candidate, with the ranged params and the applied findings' values free.
@@ -136,6 +140,7 @@ public:
         if (t.ratio.statistic < 0)
           f.evidence += "; the refit stayed below the likelihood of the model it extends (a "
                         "local maximum of the candidate's likelihood)";
+        f.fit_failed = t.ratio.statistic < -kFailedRatio;
         f.significant = t.ratio.df > 0 && t.ratio.p_value < threshold;
         f.likelihood = t;
         if (f.significant && (best == cands.size() || fits[i].fit.bic < fits[best].fit.bic))

@@ -85,6 +85,33 @@ check "diagnose: its likelihood-ratio test is significant (p below its threshold
   test "$(js d.json "j['findings'][0]['likelihood']['p_value'] < j['findings'][0]['likelihood']['threshold']")" = True
 check "diagnose: the whiteness figure is written" grep -q "autocorrelation" d.svg
 
+# The building's own simulation fed back (exact data: the one-node model's temperatures at 9
+# decimals): no finding; the candidates whose refits end below the likelihood of the model they
+# extend are listed as failed fits, never as a test's p-value (issue 50).
+ROOT=$(cd "$HERE/../.." && pwd)
+mkdir exact && cp "$ROOT/models/building/building.tnet" "$ROOT/models/building/building.csv" exact/
+(cd exact && "$TN" simulate building.tnet --nodes Ti --output 300 >sim.csv && "$PY" - <<'PY'
+import csv
+rows = list(csv.DictReader(open("building.csv")))
+sim = {round(float(r["time"])): r["Ti"] for r in csv.DictReader(open("sim.csv"))}
+for r in rows:
+    r["yTi"] = sim[round(float(r["Time"]))]
+w = csv.DictWriter(open("building.csv", "w", newline=""), fieldnames=list(rows[0]))
+w.writeheader()
+w.writerows(rows)
+PY
+) || { echo "cannot make the exact data"; exit 1; }
+run diagnose exact/building.tnet --criterion prediction --json e.json --html e.html --threads 2
+check "exact data: exit 0, no finding" test "$rc $(js e.json "len(j['findings'])")" = "0 0"
+check "exact data: each failed refit is marked in the JSON and ended below the model it extends" \
+  test "$(js e.json "sum(1 for x in j['prediction']['rejected'] if x.get('fit_failed') and x['likelihood']['statistic'] < -1)")" -ge 1
+check "exact data: no refit below the model it extends goes unmarked" \
+  test "$(js e.json "[x['kind'] for x in j['prediction']['rejected'] if x['likelihood']['statistic'] < -1 and not x.get('fit_failed')]")" = "[]"
+check "exact data: the text lists them as failed refits, not among the p-values" \
+  eval 'grep -q "^Refits that failed (each ended below the likelihood" out.txt &&
+        ! sed -n "/^Not selected/,/^$/p" out.txt | grep -q "heater_mass heating"'
+check "exact data: the report page marks them too" grep -q "heater_mass at Ti, element heating (fit failed" e.html
+
 # The criterion is refused where it does not apply
 run calibrate house_1node.tnet --criterion output-error --whiteness-plot w.svg
 check "--whiteness-plot without --criterion prediction: usage error (2)" test "$rc" -eq 2
