@@ -386,8 +386,11 @@ void add_findings(HtmlPage& page, const DiagnosisReport& r) {
               "ΔBIC"};
     t.align = {Align::left, Align::left, Align::right, Align::right, Align::right, Align::right};
     for (const auto& f : r.rejected)
-      t.rows.push_back({what_of(f.candidate), values_words(f.candidate.names, f.values),
-                        page_number(f.rmse_after), page_number(f.validation_rmse_after),
+      t.rows.push_back({what_of(f.candidate) + (f.fit_failed ? " (fit failed: not a measure of "
+                                                               "its gain)"
+                                                             : ""),
+                        values_words(f.candidate.names, f.values), page_number(f.rmse_after),
+                        page_number(f.validation_rmse_after),
                         f.likelihood ? std::string("—") : page_number(f.holdout_z, 3),
                         page_number(f.delta_bic, 4)});
     page.table(t);
