@@ -7,7 +7,6 @@
 #include "kernel/diagnosis/prediction_selection.hpp"
 #include "kernel/diagnosis/selection.hpp"
 
-#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <optional>
@@ -59,11 +58,8 @@ DiagnosisReport diagnose(const lang::Model& model, const DiagnosisOptions& optio
     // An error left far above the noise, and somewhere as large as the gain a finding must make
     // (--min-gain): below that no finding is accepted, so none is missing (a model's own
     // simulation fed back, its solver's millikelvins against a noise floor of their jitter).
-    double worst_window = 0.0;
-    for (const auto& [name, nm] : last->metrics.nodes)
-      worst_window = std::max(worst_window, nm.window_rmse);
     rep.structural.remains = !last->at_floor && last->metrics.rmse >= 2.0 * rep.noise_floor &&
-                             worst_window >= options.min_gain;
+                             last->metrics.worst_window_rmse() >= options.min_gain;
   }
   // (a selection draws its findings' curves itself: `after` is the best finding's model, as
   // --plot draws it, and the steps every finding's)

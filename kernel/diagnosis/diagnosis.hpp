@@ -77,6 +77,8 @@ struct FitMetrics {
   double r2 = 0.0;                                                 ///< 1 - SSE / SST
   std::map<std::string, NodeMetrics> nodes;                        ///< per node, every case
   std::map<std::string, std::map<std::string, NodeMetrics>> cases; ///< per case, per node
+  /// The largest window_rmse of any node, K.
+  double worst_window_rmse() const;
 };
 
 /// A candidate that fits the data as well as a finding's own (within the held-out test's spread).

@@ -143,6 +143,21 @@ FitMetrics Engine::metrics(const CaseSims& sims) const {
   return fm;
 }
 
+} // namespace thermnet::detail
+
+namespace thermnet {
+
+double FitMetrics::worst_window_rmse() const {
+  double worst = 0.0;
+  for (const auto& [name, nm] : nodes)
+    worst = std::max(worst, nm.window_rmse);
+  return worst;
+}
+
+} // namespace thermnet
+
+namespace thermnet::detail {
+
 bool Engine::at_floor(const FitMetrics& m) const {
   // Nothing is wrong when the whole fit, every node and every span of kWindow samples are within
   // the measurement noise. A span's sum of squares is sigma^2 chi^2(kWindow) under noise alone;
@@ -153,10 +168,10 @@ bool Engine::at_floor(const FitMetrics& m) const {
   // diagnoses of 120 series of 961 samples (simulated), and a 72-node panel fitted to its noise
   // (RMSE 0.309 K, noise 0.31 K, worst span 2.25 sigma against a limit of 2.17) went on searching.
   const double nf = ev_.noise_floor;
-  double worst = 0.0, worst_window = 0.0, points = 0.0;
+  const double worst_window = m.worst_window_rmse();
+  double worst = 0.0, points = 0.0;
   for (const auto& [name, nm] : m.nodes) {
     worst = std::max(worst, nm.rmse);
-    worst_window = std::max(worst_window, nm.window_rmse);
     points += static_cast<double>(nm.points);
   }
   const double spans = std::max(1.0, points);
