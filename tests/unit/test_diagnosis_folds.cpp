@@ -64,6 +64,22 @@ case shut {{ duration = 5400; output = 30; h.P = step(0: 0 [W], 600: 20 [W], 360
                      data ? "; data \"shut.csv\"" : "");
 }
 
+/// Writes the box model (its cases reading data) and the data of both cases: the simulated air
+/// and wall of the model `truth` at 6 decimals, no noise. Returns the model's path.
+std::string box_with_exact_data(const test::TempDir& dir, const std::string& truth) {
+  test::LoadedModel gen(dir.write("gen.tnet", truth));
+  write_data(dir, *gen.model, "open", {"air", "wall"}, 0.0, 6, 1);
+  write_data(dir, *gen.model, "shut", {"air", "wall"}, 0.0, 6, 2);
+  return dir.write("model.tnet", box("", true));
+}
+
+/// The diagnosis's options on one thread.
+DiagnosisOptions one_thread() {
+  DiagnosisOptions opt;
+  opt.threads = 1;
+  return opt;
+}
+
 /// The box with `runs` cases, run c heated by 10 + 5c W for its first 1800 s of 3600 s: `extra` is
 /// what the network adds, `in_case(c)` what case c's block adds.
 std::string box_runs(int runs, const std::string& extra,
@@ -143,16 +159,8 @@ TEST_CASE("diagnose: a model's own simulation fed back gives no finding") {
   // Exact data (the model's simulation at 6 decimals): any candidate lowers an error of a
   // micro-kelvin by a fraction of it, which no user would act on (the practical floor).
   test::TempDir dir;
-  const std::string path = dir.write("model.tnet", box("", true));
-  {
-    test::LoadedModel gen(dir.write("gen.tnet", box("", false)));
-    write_data(dir, *gen.model, "open", {"air", "wall"}, 0.0, 6, 1);
-    write_data(dir, *gen.model, "shut", {"air", "wall"}, 0.0, 6, 2);
-  }
-  test::LoadedModel m(path, test::Lint::clean);
-  DiagnosisOptions opt;
-  opt.threads = 1;
-  const DiagnosisReport r = diagnose(*m.model, opt);
+  test::LoadedModel m(box_with_exact_data(dir, box("", false)), test::Lint::clean);
+  const DiagnosisReport r = diagnose(*m.model, one_thread());
   INFO(diagnosis_text(r));
   CHECK(r.findings.empty());
   CHECK(r.baseline.rmse < 5e-3); // (the data's solver tolerances are not the diagnosis's)
@@ -165,17 +173,10 @@ TEST_CASE("diagnose: an error far above the noise but below --min-gain is no str
   // can be made there, so the report must not say that a structural error remains; with a
   // practical floor of 1 mK a finding is possible, and made: the source, 0.00997 W.
   test::TempDir dir;
-  const std::string path = dir.write("model.tnet", box("", true));
-  {
-    std::string truth = box("", false);
-    truth.insert(truth.find("case open"), "heater tiny wall P = 0.01 [W]\n");
-    test::LoadedModel gen(dir.write("gen.tnet", truth));
-    write_data(dir, *gen.model, "open", {"air", "wall"}, 0.0, 6, 1);
-    write_data(dir, *gen.model, "shut", {"air", "wall"}, 0.0, 6, 2);
-  }
-  test::LoadedModel m(path, test::Lint::clean);
-  DiagnosisOptions opt;
-  opt.threads = 1;
+  std::string truth = box("", false);
+  truth.insert(truth.find("case open"), "heater tiny wall P = 0.01 [W]\n");
+  test::LoadedModel m(box_with_exact_data(dir, truth), test::Lint::clean);
+  DiagnosisOptions opt = one_thread();
   const DiagnosisReport r = diagnose(*m.model, opt);
   INFO(diagnosis_text(r));
   CHECK(r.findings.empty());
