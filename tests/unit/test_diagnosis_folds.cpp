@@ -139,9 +139,8 @@ TEST_CASE("diagnose: an event only one case holds is tested within that case") {
   }
   dir.write("events.csv", "case,event,start,end\nopen,lid,900,1500\nopen,lid,3300,3900\n");
   test::LoadedModel m(dir.write("model.tnet", box("", true)), test::Lint::clean);
-  DiagnosisOptions opt;
+  DiagnosisOptions opt = one_thread();
   opt.events = read_events((dir.path / "events.csv").string(), m.model->run_case_names());
-  opt.threads = 1;
   const DiagnosisReport r = diagnose(*m.model, opt);
   INFO(diagnosis_text(r));
   CHECK(r.validation == "cases_and_time");
@@ -205,8 +204,7 @@ TEST_CASE("diagnose: more cases than --case-folds are held out in turn, each cas
       write_data(dir, *gen.model, fmt::format("c{}", c), {"air", "wall"}, 0.05, 4, 20 + c);
   }
   test::LoadedModel m(dir.write("model.tnet", box_runs(7, "", data_of)), test::Lint::clean);
-  DiagnosisOptions opt;
-  opt.threads = 1;
+  DiagnosisOptions opt = one_thread();
   opt.top = 1;
   opt.case_folds = 3;
   const DiagnosisReport grouped = diagnose(*m.model, opt);
@@ -250,9 +248,8 @@ TEST_CASE("diagnose: case folds beside a case split by its event") {
   }
   dir.write("events.csv", "case,event,start,end\nc3,lid,900,1500\n");
   test::LoadedModel m(dir.write("model.tnet", box_runs(4, "", data_of)), test::Lint::clean);
-  DiagnosisOptions opt;
+  DiagnosisOptions opt = one_thread();
   opt.events = read_events((dir.path / "events.csv").string(), m.model->run_case_names());
-  opt.threads = 1;
   opt.top = 1;
   opt.case_folds = 2;
   const DiagnosisReport r = diagnose(*m.model, opt);
