@@ -15,8 +15,8 @@
 set -u
 # The factor on the hostile runs' time limits (slow builds: scripts/asan-suite sets 10).
 timeout_scale=${THERMNET_TEST_TIMEOUT_SCALE:-1}
-[[ $timeout_scale =~ ^[1-9][0-9]*$ ]] || {
-  echo "THERMNET_TEST_TIMEOUT_SCALE='$timeout_scale': expected a positive integer" >&2
+[[ $timeout_scale =~ ^[1-9][0-9]{0,3}$ ]] || {
+  echo "THERMNET_TEST_TIMEOUT_SCALE='$timeout_scale': expected a whole number from 1 to 9999" >&2
   exit 2
 }
 
