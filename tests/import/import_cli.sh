@@ -79,6 +79,13 @@ timport nosigma.sin
 check "a radiation conductor without SIGMA: error saying what to add" \
   eval 'test "$rc" -eq 1 && has "needs SIGMA in HEADER CONTROL DATA, GLOBAL"'
 
+# DOS end-of-file marks (0x1a, which the reader admits as text) inside control and option lines
+# are blanks there as in every other block: the deck imports and the title is written without them.
+printf 'HEADER CONTROL DATA, GLOBAL\n      UID = SI,\x1a ABSZRO = -273.15\x1a\nHEADER OPTIONS DATA\n\x1aTITLE\x1a A BOX\x1a\nHEADER NODE DATA, MAIN\n      1, 20.0, 100.0\n     -2, 0.0, 0.0\nHEADER CONDUCTOR DATA, MAIN\n      1, 1, 2, 0.5\n' >ctrlz.sin
+timport ctrlz.sin -o ctrlz.tnet
+check "0x1a marks in control and option lines: imported, the title written clean" \
+  eval 'test "$rc" -eq 0 && grep -qx "# TITLE A BOX" ctrlz.tnet && ! grep -q $'"'"'\x1a'"'"' ctrlz.tnet'
+
 # Untranslated parts: listed with file and line; the import fails unless --allow-partial.
 printf '%s\nHEADER ARRAY DATA, MAIN\n      10 = 0.0, 1.0\n      20.0, 2.0\n      END\nHEADER VARIABLES 0, MAIN\n      MAIN.Q1 = MAIN.Q1 + 4.0\n      IF (TIMEN .GT. 10.0) MAIN.Q1 = 0.0\nF     X = 1.0\nHEADER FLOW DATA, LOOP, FID = 717\n      LU DEF, TLENT = 70.0\nHEADER CONDUCTOR DATA, MAIN\n      SIV 7, 1, 2, 10, 0.5\n' \
   "$good" >partial.sin
